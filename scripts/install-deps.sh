@@ -1,0 +1,21 @@
+#!/bin/sh
+# install-deps.sh: install what peristatic needs to build, test and plot on
+# Debian (12 or later). Installs only the packages that are missing; needs
+# root (or sudo). Safe to run again.
+set -eu
+PKGS="build-essential autoconf automake libtool pkg-config \
+libsuitesparse-dev libgsl-dev libyaml-dev libopenblas-dev gnuplot-nox"
+missing=""
+for p in $PKGS; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" \
+    || missing="$missing $p"
+done
+if [ -z "$missing" ]; then
+  echo "install-deps: all dependencies present"
+  exit 0
+fi
+echo "install-deps: installing:$missing"
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO="sudo"
+$SUDO apt-get update -q
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends $missing

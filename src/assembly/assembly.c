@@ -1,0 +1,358 @@
+/* assembly.c: dof map, two-horizon block pattern, internal forces and the
+ * consistent tangent (material D q q^T, geometric (T/l)(I - q q^T), and the
+ * rank-one family terms of the mean strain). */
+#include "ps_assembly.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int cmp_int(const void *u, const void *v) {
+  ps_int a = *(const ps_int *)u, b = *(const ps_int *)v;
+  return a < b ? -1 : a > b;
+}
+
+/* block index of particle P in column Q, or -1 */
+static ps_int find_block(const ps_system *s, ps_int P, ps_int Q) {
+  ps_int lo = s->bptr[Q], hi = s->bptr[Q + 1] - 1;
+  while (lo <= hi) {
+    ps_int mid = lo + (hi - lo) / 2;
+    if (s->bidx[mid] == P) return mid;
+    if (s->bidx[mid] < P)
+      lo = mid + 1;
+    else
+      hi = mid - 1;
+  }
+  return -1;
+}
+
+/* position in Kfull of entry (al, be) of block s in column Q */
+static inline ps_int kpos(const ps_system *s, ps_int Q, ps_int blk, int al, int be) {
+  int d = s->dim;
+  ps_int len = s->bptr[Q + 1] - s->bptr[Q];
+  return (ps_int)d * d * s->bptr[Q] + (ps_int)be * d * len +
+         (blk - s->bptr[Q]) * d + al;
+}
+
+void ps_system_free(ps_system *s) {
+  free(s->fixed);
+  free(s->free_of_dof);
+  free(s->dof_of_free);
+  free(s->bptr);
+  free(s->bidx);
+  free(s->Kfull);
+  free(s->slot_ab);
+  free(s->slot_ba);
+  free(s->slot_diag);
+  free(s->fam_slot_ptr);
+  free(s->fam_slot);
+  free(s->fam_members_ptr);
+  free(s->fam_members);
+  free(s->fam_member_arm);
+  free(s->A.p);
+  free(s->A.i);
+  free(s->A.x);
+  free(s->A_src);
+  free(s->l);
+  free(s->q);
+  free(s->T);
+  free(s->g);
+  ps_arm_tangent_free(&s->tan);
+  memset(s, 0, sizeof *s);
+}
+
+#define ALLOC(ptr, n)                                                        \
+  do {                                                                       \
+    (ptr) = ps_calloc((size_t)(n), sizeof *(ptr), ctx);                      \
+    if (!(ptr)) {                                                            \
+      status = PS_ERR_NOMEM;                                                 \
+      goto cleanup;                                                          \
+    }                                                                        \
+  } while (0)
+
+int ps_system_create(ps_system *s, const ps_network *net,
+                     const unsigned char *fixed, ps_ctx *ctx) {
+  int status = PS_OK, d = net->dim;
+  ps_int n = net->n_particle;
+  ps_int *mark = NULL, *list = NULL;
+  memset(s, 0, sizeof *s);
+  s->net = net;
+  s->dim = d;
+  s->n_dof = (ps_int)d * n;
+  ALLOC(s->fixed, s->n_dof);
+  ALLOC(s->free_of_dof, s->n_dof);
+  memcpy(s->fixed, fixed, (size_t)s->n_dof);
+  for (ps_int j = 0; j < s->n_dof; j++)
+    s->free_of_dof[j] = s->fixed[j] ? -1 : s->n_free++;
+  if (s->n_free == 0) {
+    status = ps_error(ctx, PS_ERR_INPUT, "every dof is prescribed: nothing to solve");
+    goto cleanup;
+  }
+  ALLOC(s->dof_of_free, s->n_free);
+  for (ps_int j = 0; j < s->n_dof; j++)
+    if (!s->fixed[j]) s->dof_of_free[s->free_of_dof[j]] = j;
+
+  /* members M_a = {a} u family(a), sorted; remember family positions */
+  ALLOC(s->fam_members_ptr, n + 1);
+  for (ps_int a = 0; a < n; a++)
+    s->fam_members_ptr[a + 1] =
+        s->fam_members_ptr[a] + (net->fam_ptr[a + 1] - net->fam_ptr[a]) + 1;
+  ALLOC(s->fam_members, s->fam_members_ptr[n]);
+  ALLOC(s->fam_member_arm, s->fam_members_ptr[n]);
+  ps_int maxM = 0;
+  for (ps_int a = 0; a < n; a++) {
+    ps_int m = s->fam_members_ptr[a], placed = 0;
+    for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
+      ps_int i = net->fam_arm[k], other = net->a[i] == a ? net->b[i] : net->a[i];
+      if (!placed && other > a) {
+        s->fam_members[m] = a;
+        s->fam_member_arm[m++] = -1;
+        placed = 1;
+      }
+      s->fam_members[m] = other;
+      s->fam_member_arm[m++] = k; /* position in fam_arm / tan.w */
+    }
+    if (!placed) {
+      s->fam_members[m] = a;
+      s->fam_member_arm[m++] = -1;
+    }
+    if (m - s->fam_members_ptr[a] > maxM) maxM = m - s->fam_members_ptr[a];
+  }
+
+  /* column Q's particles: union of M_c over c in M_Q */
+  ALLOC(mark, n);
+  for (ps_int a = 0; a < n; a++) mark[a] = -1;
+  ALLOC(s->bptr, n + 1);
+  ps_int cap = 0;
+  ALLOC(list, 1);
+  for (int pass = 0; pass < 2; pass++) {
+    ps_int nnz = 0;
+    for (ps_int Q = 0; Q < n; Q++) {
+      ps_int cnt = 0;
+      for (ps_int m = s->fam_members_ptr[Q]; m < s->fam_members_ptr[Q + 1]; m++) {
+        ps_int c = s->fam_members[m];
+        for (ps_int r = s->fam_members_ptr[c]; r < s->fam_members_ptr[c + 1]; r++) {
+          ps_int P = s->fam_members[r];
+          if (mark[P] != Q + pass * n) {
+            mark[P] = Q + pass * n;
+            if (pass == 1) s->bidx[nnz + cnt] = P;
+            cnt++;
+          }
+        }
+      }
+      if (pass == 1) qsort(&s->bidx[nnz], (size_t)cnt, sizeof(ps_int), cmp_int);
+      nnz += cnt;
+      if (pass == 0) s->bptr[Q + 1] = nnz;
+    }
+    if (pass == 0) {
+      ALLOC(s->bidx, nnz);
+      for (ps_int a = 0; a < n; a++) mark[a] = -1;
+    }
+    (void)cap;
+  }
+  ps_int nblk = s->bptr[n];
+  ALLOC(s->Kfull, (ps_int)d * d * nblk);
+
+  /* arm and diagonal slots */
+  ALLOC(s->slot_ab, net->n_arm);
+  ALLOC(s->slot_ba, net->n_arm);
+  ALLOC(s->slot_diag, n);
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    s->slot_ab[i] = find_block(s, net->a[i], net->b[i]);
+    s->slot_ba[i] = find_block(s, net->b[i], net->a[i]);
+  }
+  for (ps_int a = 0; a < n; a++) s->slot_diag[a] = find_block(s, a, a);
+
+  /* family slots: block (M[p], M[q]) in column M[q], merge walk */
+  ALLOC(s->fam_slot_ptr, n + 1);
+  for (ps_int a = 0; a < n; a++) {
+    ps_int m = s->fam_members_ptr[a + 1] - s->fam_members_ptr[a];
+    s->fam_slot_ptr[a + 1] = s->fam_slot_ptr[a] + m * m;
+  }
+  ALLOC(s->fam_slot, s->fam_slot_ptr[n]);
+  for (ps_int a = 0; a < n; a++) {
+    const ps_int *M = &s->fam_members[s->fam_members_ptr[a]];
+    ps_int m = s->fam_members_ptr[a + 1] - s->fam_members_ptr[a];
+    ps_int *out = &s->fam_slot[s->fam_slot_ptr[a]];
+    for (ps_int qq = 0; qq < m; qq++) {
+      ps_int Q = M[qq], blk = s->bptr[Q];
+      for (ps_int pp = 0; pp < m; pp++) {
+        while (s->bidx[blk] < M[pp]) blk++;
+        out[qq * m + pp] = blk;
+      }
+    }
+  }
+
+  /* free-free lower triangle and its gather map */
+  ALLOC(s->A.p, s->n_free + 1);
+  for (int pass = 0; pass < 2; pass++) {
+    ps_int nnz = 0;
+    for (ps_int jf = 0; jf < s->n_free; jf++) {
+      ps_int j = s->dof_of_free[jf], Q = j / d;
+      int be = (int)(j % d);
+      for (ps_int blk = s->bptr[Q]; blk < s->bptr[Q + 1]; blk++)
+        for (int al = 0; al < d; al++) {
+          ps_int r = s->bidx[blk] * d + al, rf = s->free_of_dof[r];
+          if (rf < jf) continue; /* prescribed (-1) or upper triangle */
+          if (pass == 1) {
+            s->A.i[nnz] = rf;
+            s->A_src[nnz] = kpos(s, Q, blk, al, be);
+          }
+          nnz++;
+        }
+      if (pass == 0) s->A.p[jf + 1] = nnz;
+    }
+    if (pass == 0) {
+      ALLOC(s->A.i, nnz);
+      ALLOC(s->A.x, nnz);
+      ALLOC(s->A_src, nnz);
+    }
+  }
+  s->A.n = s->n_free;
+
+  ALLOC(s->l, net->n_arm);
+  ALLOC(s->q, (ps_int)d * net->n_arm);
+  ALLOC(s->T, net->n_arm);
+  ALLOC(s->g, (ps_int)d * maxM);
+  PS_CHECK_GOTO(ps_arm_tangent_alloc(&s->tan, net, ctx));
+cleanup:
+  free(mark);
+  free(list);
+  if (status < 0) ps_system_free(s);
+  return status;
+}
+
+void ps_system_dof_name(const ps_system *s, const double *X, ps_int dof,
+                        char *buf, size_t len) {
+  ps_int a = dof / s->dim;
+  const char *ax = "xyz";
+  if (s->dim == 2)
+    snprintf(buf, len, "particle %lld at (%g, %g), dof %c", (long long)a,
+             X[2 * a], X[2 * a + 1], ax[dof % s->dim]);
+  else
+    snprintf(buf, len, "particle %lld at (%g, %g, %g), dof %c", (long long)a,
+             X[3 * a], X[3 * a + 1], X[3 * a + 2], ax[dof % s->dim]);
+}
+
+/* add sign * k (d x d, column-major k[be*d+al]) to block blk of column Q */
+static inline void add_block(ps_system *s, ps_int Q, ps_int blk, const double *k,
+                             double sign) {
+  int d = s->dim;
+  ps_int len = s->bptr[Q + 1] - s->bptr[Q];
+  double *base = &s->Kfull[(ps_int)d * d * s->bptr[Q] + (blk - s->bptr[Q]) * d];
+  for (int be = 0; be < d; be++)
+    for (int al = 0; al < d; al++) base[(ps_int)be * d * len + al] += sign * k[be * d + al];
+}
+
+int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
+                   const double *X, const double *u, double *f,
+                   double *energy, int want_tangent, ps_ctx *ctx) {
+  const ps_network *net = s->net;
+  int d = s->dim;
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    ps_int a = net->a[i], b = net->b[i];
+    double l2 = 0.0;
+    double *q = &s->q[i * d];
+    for (int k = 0; k < d; k++) {
+      q[k] = (X[b * d + k] + u[b * d + k]) - (X[a * d + k] + u[a * d + k]);
+      l2 += q[k] * q[k];
+    }
+    double l = sqrt(l2);
+    if (!(l > 0) || !isfinite(l)) {
+      if (st->broken[i]) { /* a broken arm's geometry does not matter */
+        s->l[i] = net->r0[i];
+        for (int k = 0; k < d; k++) q[k] = k == 0;
+        continue;
+      }
+      return ps_error(ctx, PS_ERR_SOLVER,
+                      "arm %lld: particles %lld and %lld moved onto each other "
+                      "(length %g)",
+                      (long long)i, (long long)a, (long long)b, l);
+    }
+    s->l[i] = l;
+    for (int k = 0; k < d; k++) q[k] /= l;
+  }
+  PS_CHECK(model->type->evaluate(model, s->l, st, s->T, energy,
+                                 want_tangent ? &s->tan : NULL, ctx));
+  memset(f, 0, (size_t)s->n_dof * sizeof *f);
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    double T = s->T[i];
+    if (T == 0.0) continue;
+    const double *q = &s->q[i * d];
+    for (int k = 0; k < d; k++) {
+      f[net->a[i] * d + k] -= T * q[k]; /* dl/dy_a = -q */
+      f[net->b[i] * d + k] += T * q[k];
+    }
+  }
+  if (!want_tangent) return PS_OK;
+
+  ps_int nblk = s->bptr[net->n_particle];
+  memset(s->Kfull, 0, (size_t)(d * d * nblk) * sizeof *s->Kfull);
+  double kmat[9];
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    if (st->broken[i]) continue;
+    const double *q = &s->q[i * d];
+    double D = s->tan.D[i], Tl = s->T[i] / s->l[i];
+    for (int be = 0; be < d; be++)
+      for (int al = 0; al < d; al++)
+        kmat[be * d + al] = D * q[al] * q[be] + Tl * ((al == be) - q[al] * q[be]);
+    ps_int a = net->a[i], b = net->b[i];
+    add_block(s, a, s->slot_diag[a], kmat, 1.0);
+    add_block(s, b, s->slot_diag[b], kmat, 1.0);
+    add_block(s, b, s->slot_ab[i], kmat, -1.0);
+    add_block(s, a, s->slot_ba[i], kmat, -1.0);
+  }
+  /* rank-one family terms c_a g_a g_a^T */
+  for (ps_int c = 0; c < net->n_particle; c++) {
+    double cc = s->tan.c[c];
+    if (cc == 0.0) continue;
+    const ps_int *M = &s->fam_members[s->fam_members_ptr[c]];
+    const ps_int *Mk = &s->fam_member_arm[s->fam_members_ptr[c]];
+    ps_int m = s->fam_members_ptr[c + 1] - s->fam_members_ptr[c], self = -1;
+    double *g = s->g;
+    for (ps_int p = 0; p < m; p++) {
+      double *gp = &g[p * d];
+      if (Mk[p] < 0) {
+        self = p;
+        continue;
+      }
+      ps_int i = net->fam_arm[Mk[p]];
+      double w = s->tan.w[Mk[p]];
+      double sgn = net->a[i] == c ? 1.0 : -1.0; /* unit vector c -> other */
+      for (int k = 0; k < d; k++) gp[k] = w * sgn * s->q[i * d + k];
+    }
+    double *gs = &g[self * d];
+    for (int k = 0; k < d; k++) gs[k] = 0.0;
+    for (ps_int p = 0; p < m; p++)
+      if (p != self)
+        for (int k = 0; k < d; k++) gs[k] -= g[p * d + k];
+    const ps_int *slot = &s->fam_slot[s->fam_slot_ptr[c]];
+    for (ps_int qq = 0; qq < m; qq++) {
+      const double *gq = &g[qq * d];
+      for (ps_int pp = 0; pp < m; pp++) {
+        const double *gp = &g[pp * d];
+        for (int be = 0; be < d; be++)
+          for (int al = 0; al < d; al++)
+            kmat[be * d + al] = cc * gp[al] * gq[be];
+        add_block(s, M[qq], slot[qq * m + pp], kmat, 1.0);
+      }
+    }
+  }
+  for (ps_int k = 0; k < s->A.p[s->n_free]; k++) s->A.x[k] = s->Kfull[s->A_src[k]];
+  return PS_OK;
+}
+
+void ps_system_coupling(const ps_system *s, const double *du, double *out) {
+  int d = s->dim;
+  memset(out, 0, (size_t)s->n_free * sizeof *out);
+  for (ps_int j = 0; j < s->n_dof; j++) {
+    if (!s->fixed[j] || du[j] == 0.0) continue;
+    ps_int Q = j / d;
+    int be = (int)(j % d);
+    for (ps_int blk = s->bptr[Q]; blk < s->bptr[Q + 1]; blk++)
+      for (int al = 0; al < d; al++) {
+        ps_int rf = s->free_of_dof[s->bidx[blk] * d + al];
+        if (rf >= 0) out[rf] += s->Kfull[kpos(s, Q, blk, al, be)] * du[j];
+      }
+  }
+}

@@ -1,0 +1,72 @@
+/* ps_assembly.h: the discrete system of an arm network: dof map and
+ * prescribed dofs, residual (internal forces), energy, and the consistent
+ * tangent stiffness
+ *   K = sum_arms [ D q q^T + (T/l)(I - q q^T) ] (x) [[1,-1],[-1,1]]
+ *     + sum_a c_a g_a g_a^T,   g_a = sum_{i in family a} w_{a,i} dl_i/dy
+ * on a fixed sparsity pattern (two horizons wide: every pair of particles
+ * that share a family), computed once per network, so the symbolic
+ * factorisation runs once. Broken arms stay in the pattern as zeros. */
+#ifndef PS_ASSEMBLY_H
+#define PS_ASSEMBLY_H
+
+#include "../model/ps_model.h"
+
+/* dof of particle a, direction k: a * dim + k. */
+typedef struct ps_system {
+  const ps_network *net;
+  int dim;
+  ps_int n_dof;             /* dim * n_particle */
+  unsigned char *fixed;     /* [n_dof] 1: prescribed displacement */
+  ps_int n_free;
+  ps_int *free_of_dof;      /* [n_dof] index among free dofs, or -1 */
+  ps_int *dof_of_free;      /* [n_free] */
+
+  /* particle-block pattern, both triangles: column Q holds the particles
+   * bidx[bptr[Q] .. bptr[Q+1]) (sorted). Values of all dofs, dof CSC: the
+   * entry (P*dim + al, Q*dim + be) with P = bidx[bptr[Q] + k] sits at
+   *   Kfull[dim*dim*bptr[Q] + be*dim*len_Q + k*dim + al]. */
+  ps_int *bptr, *bidx;
+  double *Kfull;
+  ps_int *slot_ab;          /* [n_arm] position of block (a, b) in column b */
+  ps_int *slot_ba;          /* [n_arm] position of block (b, a) in column a */
+  ps_int *slot_diag;        /* [n_particle] position of block (a, a) */
+  ps_int *fam_slot_ptr;     /* [n_particle + 1] */
+  ps_int *fam_slot;         /* per family, |M|^2 block positions, M = {a} u
+                               family, in sorted particle order */
+  ps_int *fam_members_ptr;  /* [n_particle + 1] */
+  ps_int *fam_members;      /* sorted members of each M_a */
+  ps_int *fam_member_arm;   /* arm joining a to that member (-1 for a) */
+
+  ps_csc A;                 /* free-free lower triangle (for linsolve) */
+  ps_int *A_src;            /* [nnz(A)] position in Kfull */
+
+  /* per-arm work: current length, direction, tension */
+  double *l, *q, *T;
+  ps_arm_tangent tan;
+  double *g;                /* workspace dim * max |M| */
+} ps_system;
+
+/* Build the dof map and the pattern for a network and a prescribed-dof
+ * mask (copied). Returns PS_OK, PS_ERR_NOMEM, PS_ERR_INPUT (no free dof). */
+int ps_system_create(ps_system *sys, const ps_network *net,
+                     const unsigned char *fixed, ps_ctx *ctx);
+void ps_system_free(ps_system *sys);
+
+/* Evaluate at displacements u[n_dof] (positions y = X + u): arm lengths,
+ * tensions (model), internal forces f[n_dof] = dPsi/dy (at free dofs the
+ * residual, at prescribed dofs the reactions), *energy; when want_tangent,
+ * also Kfull and sys->A. Returns PS_OK, PS_ERR_INPUT if an arm has zero
+ * length (two particles moved onto each other: names them). */
+int ps_system_eval(ps_system *sys, const ps_model *model, ps_arm_state *st,
+                   const double *X, const double *u, double *f,
+                   double *energy, int want_tangent, ps_ctx *ctx);
+
+/* out[n_free] = K_fp du_p: the coupling of prescribed increments du[n_dof]
+ * (free entries ignored) into the free rows, from the last Kfull. */
+void ps_system_coupling(const ps_system *sys, const double *du, double *out);
+
+/* Name of a dof for messages: "particle 1234 (x = .., y = ..), dof y". */
+void ps_system_dof_name(const ps_system *sys, const double *X, ps_int dof,
+                        char *buf, size_t len);
+
+#endif

@@ -1,0 +1,217 @@
+/* geom.c: particle clouds: boxes and lattices, the elliptic crack disk of
+ * Eq. 114, the analytical field of Eq. 116, sizes by Eq. 115 and Eq. 44. */
+#include "ps_geom.h"
+
+#include <complex.h>
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_math.h>
+#include <gsl/gsl_rng.h>
+#include <gsl/gsl_sf_ellint.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+int ps_particles_alloc(ps_particles *p, int dim, ps_int n, ps_ctx *ctx) {
+  memset(p, 0, sizeof *p);
+  if (dim != 2 && dim != 3)
+    return ps_error(ctx, PS_ERR_INPUT, "dimension must be 2 or 3 (got %d)", dim);
+  if (n <= 0)
+    return ps_error(ctx, PS_ERR_INPUT, "a cloud needs at least one particle");
+  p->dim = dim;
+  p->n = n;
+  p->x = ps_calloc((size_t)(n * dim), sizeof *p->x, ctx);
+  p->volume = ps_calloc((size_t)n, sizeof *p->volume, ctx);
+  p->h = ps_calloc((size_t)n, sizeof *p->h, ctx);
+  p->block = ps_calloc((size_t)n, sizeof *p->block, ctx);
+  if (!p->x || !p->volume || !p->h || !p->block) {
+    ps_particles_free(p);
+    return PS_ERR_NOMEM;
+  }
+  return PS_OK;
+}
+
+void ps_particles_free(ps_particles *p) {
+  free(p->x);
+  free(p->volume);
+  free(p->h);
+  free(p->block);
+  free(p->zone_xi);
+  free(p->in_boundary_zone);
+  memset(p, 0, sizeof *p);
+}
+
+int ps_geom_box(ps_particles *p, int dim, const ps_int counts[3], double d,
+                const char *lattice, double jitter, unsigned long seed,
+                ps_ctx *ctx) {
+  int hex = 0;
+  if (strcmp(lattice, "hex") == 0)
+    hex = 1;
+  else if (strcmp(lattice, "square") != 0)
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "lattice must be \"square\" or \"hex\" (got \"%s\")", lattice);
+  if (hex && dim != 2)
+    return ps_error(ctx, PS_ERR_INPUT, "the hex lattice is 2D only");
+  if (!(d > 0))
+    return ps_error(ctx, PS_ERR_INPUT, "spacing must be > 0 (got %g)", d);
+  if (!(jitter >= 0 && jitter < 0.5))
+    return ps_error(ctx, PS_ERR_INPUT, "jitter must be in [0, 0.5) (got %g)", jitter);
+  ps_int n = 1;
+  for (int k = 0; k < dim; k++) {
+    if (counts[k] < 1)
+      return ps_error(ctx, PS_ERR_INPUT, "particle count along axis %d must be >= 1", k);
+    n *= counts[k];
+  }
+  PS_CHECK(ps_particles_alloc(p, dim, n, ctx));
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  if (!rng) return ps_error(ctx, PS_ERR_NOMEM, "cannot allocate RNG");
+  gsl_rng_set(rng, seed);
+  double dy = hex ? d * sqrt(3.0) / 2.0 : d;
+  double vol = hex ? d * dy : pow(d, dim);
+  ps_int a = 0;
+  ps_int nz = dim == 3 ? counts[2] : 1;
+  for (ps_int kz = 0; kz < nz; kz++)
+    for (ps_int j = 0; j < counts[1]; j++)
+      for (ps_int i = 0; i < counts[0]; i++, a++) {
+        double *x = &p->x[a * dim];
+        x[0] = (i + 0.5) * d + (hex && (j % 2) ? 0.5 * d : 0.0);
+        x[1] = (j + 0.5) * dy;
+        if (dim == 3) x[2] = (kz + 0.5) * d;
+        if (jitter > 0)
+          for (int k = 0; k < dim; k++)
+            x[k] += jitter * d * (2.0 * gsl_rng_uniform(rng) - 1.0);
+        p->volume[a] = vol;
+      }
+  gsl_rng_free(rng);
+  return PS_OK;
+}
+
+void ps_disk_params_default(ps_disk_params *dp) {
+  dp->c = 1.0 / 24.0;
+  dp->n_eta = 20;
+  dp->n_xi = 40;
+  dp->per_zone = 5;
+  dp->xi_min = -M_PI;
+  dp->xi_max = M_PI;
+  dp->jitter = 0.3;
+  dp->seed = 11;
+}
+
+/* int sinh^2 and int sin^2 (antiderivatives) */
+static double Ish2(double t) { return 0.25 * sinh(2 * t) - 0.5 * t; }
+static double Isn2(double t) { return 0.5 * t - 0.25 * sin(2 * t); }
+
+int ps_geom_disk(ps_particles *p, const ps_disk_params *dp, ps_ctx *ctx) {
+  if (!(dp->c > 0))
+    return ps_error(ctx, PS_ERR_INPUT, "disk.c must be > 0 (got %g)", dp->c);
+  if (dp->n_eta < 1 || dp->n_xi < 3 || dp->per_zone < 1)
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "disk needs n_eta >= 1, n_xi >= 3, per_zone >= 1");
+  if (!(dp->xi_min < 0 && dp->xi_max > 0))
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "disk xi range must contain 0 (the crack): got (%g, %g)",
+                    dp->xi_min, dp->xi_max);
+  if (!(dp->jitter >= 0 && dp->jitter < 0.5))
+    return ps_error(ctx, PS_ERR_INPUT, "disk.jitter must be in [0, 0.5) (got %g)",
+                    dp->jitter);
+  int m = dp->per_zone;
+  ps_int n = (ps_int)dp->n_eta * dp->n_xi * m * m;
+  PS_CHECK(ps_particles_alloc(p, 2, n, ctx));
+  p->zone_xi = ps_calloc((size_t)n, sizeof *p->zone_xi, ctx);
+  p->in_boundary_zone = ps_calloc((size_t)n, 1, ctx);
+  if (!p->zone_xi || !p->in_boundary_zone) {
+    ps_particles_free(p);
+    return PS_ERR_NOMEM;
+  }
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  if (!rng) return ps_error(ctx, PS_ERR_NOMEM, "cannot allocate RNG");
+  gsl_rng_set(rng, dp->seed);
+  double dxi = (dp->xi_max - dp->xi_min) / (dp->n_xi * m);
+  double deta = M_PI / (dp->n_eta * m);
+  double c2 = dp->c * dp->c;
+  ps_int a = 0;
+  for (int zi = 0; zi < dp->n_xi; zi++)
+    for (int zj = 0; zj < dp->n_eta; zj++)
+      for (int si = 0; si < m; si++)
+        for (int sj = 0; sj < m; sj++, a++) {
+          int ci = zi * m + si, cj = zj * m + sj;
+          double xi0 = dp->xi_min + ci * dxi, eta0 = cj * deta;
+          double xi = xi0 + 0.5 * dxi, eta = eta0 + 0.5 * deta;
+          if (dp->jitter > 0) {
+            xi += dp->jitter * dxi * (2.0 * gsl_rng_uniform(rng) - 1.0);
+            eta += dp->jitter * deta * (2.0 * gsl_rng_uniform(rng) - 1.0);
+          }
+          p->x[2 * a] = dp->c * cosh(xi) * cos(eta);
+          p->x[2 * a + 1] = dp->c * sinh(xi) * sin(eta);
+          /* exact area of the sub-cell: c^2 int int (sinh^2 xi + sin^2 eta) */
+          p->volume[a] = c2 * ((Ish2(xi0 + dxi) - Ish2(xi0)) * deta +
+                               (Isn2(eta0 + deta) - Isn2(eta0)) * dxi);
+          p->zone_xi[a] = zi;
+          p->in_boundary_zone[a] = (zi == 0 || zi == dp->n_xi - 1);
+        }
+  gsl_rng_free(rng);
+  return PS_OK;
+}
+
+void ps_geom_elliptic_coords(double x, double y, double c, double *xi,
+                             double *eta) {
+  double complex z = cacosh((x + I * y) / c); /* Re >= 0, Im in [-pi, pi] */
+  *xi = creal(z);
+  *eta = cimag(z);
+}
+
+void ps_geom_eq116(double x, double y, double c, double S, double G,
+                   double kappa, double *u, double *v) {
+  double xi, eta;
+  ps_geom_elliptic_coords(x, y, c, &xi, &eta);
+  double sh = sinh(xi), ch = cosh(xi), sn = sin(eta), cs = cos(eta);
+  double den = ch * ch - cs * cs;
+  double fac = kappa - (den > 0 ? (sh * sh - sn * sn) / den : -1.0);
+  double pre = S * c / (4.0 * G);
+  /* u - i v = pre (sinh xi cos eta - i cosh xi sin eta) fac */
+  *u = pre * sh * cs * fac;
+  *v = pre * ch * sn * fac;
+}
+
+double ps_geom_ellipse_perimeter(double c, double xi) {
+  double a = c * cosh(xi);
+  double e = 1.0 / cosh(xi); /* eccentricity: foci at +-c */
+  gsl_sf_result r;
+  if (gsl_sf_ellint_Ecomp_e(e, GSL_PREC_DOUBLE, &r) != GSL_SUCCESS) return NAN;
+  return 4.0 * a * r.val;
+}
+
+int ps_geom_sizes_eq115(ps_particles *p, int n_nearest, ps_ctx *ctx) {
+  if (n_nearest < 1)
+    return ps_error(ctx, PS_ERR_INPUT, "size_neighbours must be >= 1 (got %d)",
+                    n_nearest);
+  if (p->n < n_nearest + 1)
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "Eq. 115 with n = %d needs at least %d particles (have %lld)",
+                    n_nearest, n_nearest + 1, (long long)p->n);
+  ps_kdtree *t = NULL;
+  PS_CHECK(ps_kdtree_build(&t, p->x, p->n, p->dim, ctx));
+  ps_int idx[64];
+  double dist[64];
+  int k = n_nearest > 64 ? 64 : n_nearest;
+  int status = PS_OK;
+  for (ps_int a = 0; a < p->n; a++) {
+    int f = ps_kdtree_knn(t, a, k, idx, dist);
+    double s = 0.0;
+    for (int j = 0; j < f; j++) s += dist[j];
+    if (!(dist[0] > 0)) {
+      status = ps_error(ctx, PS_ERR_INPUT,
+                        "particle %lld coincides with particle %lld", (long long)a,
+                        (long long)idx[0]);
+      break;
+    }
+    p->h[a] = s / (2.0 * k); /* Eq. 115 */
+  }
+  ps_kdtree_free(&t);
+  return status;
+}
+
+void ps_geom_sizes_eq44(ps_particles *p) {
+  int N = p->dim;
+  for (ps_int a = 0; a < p->n; a++)
+    p->h[a] = pow(N * p->volume[a] / (2.0 * (N - 1) * M_PI), 1.0 / N);
+}

@@ -1,0 +1,106 @@
+/* ps_geom.h: particle clouds and their generators: regular/jittered boxes,
+ * the hexagonal lattice, the elliptic crack disk (Olsson et al. 2021,
+ * Eq. 114), particle sizes (Eq. 115) and a k-d tree for neighbour queries.
+ * Units: SI (m); in 2D volumes are areas per unit thickness (m^2). */
+#ifndef PS_GEOM_H
+#define PS_GEOM_H
+
+#include "../util/ps_util.h"
+
+/* A particle cloud in N = dim dimensions. */
+typedef struct ps_particles {
+  int dim;          /* N = 2 or 3 */
+  ps_int n;         /* number of particles */
+  double *x;        /* reference positions, x[a*dim + k], m */
+  double *volume;   /* quadrature volume V_a (m^N; m^2 per metre in 2D) */
+  double *h;        /* particle size h_a, m (horizon = alpha h_a) */
+  int *block;       /* block id per particle (0 unless given) */
+  /* elliptic disk only (NULL otherwise): zone ring index i_xi in [0, n_xi)
+   * and the flag "in the boundary zone" (outermost ring of zones). */
+  int *zone_xi;
+  unsigned char *in_boundary_zone;
+} ps_particles;
+
+/* Allocate a cloud of n particles in dim dimensions (all arrays zeroed).
+ * Returns PS_OK or PS_ERR_NOMEM / PS_ERR_INPUT (dim not 2 or 3). */
+int ps_particles_alloc(ps_particles *p, int dim, ps_int n, ps_ctx *ctx);
+/* Free all arrays; safe on a zeroed or already freed cloud. */
+void ps_particles_free(ps_particles *p);
+
+/* Box on a lattice: counts[k] particles along axis k, spacing d (m), lower
+ * corner at the origin. lattice: "square" (cubic in 3D) or "hex" (2D only,
+ * rows offset by d/2 and spaced d sqrt(3)/2). jitter in [0, 0.5): each
+ * particle moved uniformly by up to jitter*d per axis (GSL mt19937, seed).
+ * Volumes: d^N (square) or d^2 sqrt(3)/2 (hex). Sizes h are NOT set: call
+ * ps_geom_sizes_eq115. Returns PS_OK, PS_ERR_INPUT, PS_ERR_NOMEM. */
+int ps_geom_box(ps_particles *p, int dim, const ps_int counts[3], double d,
+                const char *lattice, double jitter, unsigned long seed,
+                ps_ctx *ctx);
+
+/* Parameters of the elliptic crack disk (section 10.2 of the paper). */
+typedef struct ps_disk_params {
+  double c;          /* half crack length, m (paper: 1/24) */
+  int n_eta, n_xi;   /* zones along eta in (0, pi) and xi in (xi_min, xi_max) */
+  int per_zone;      /* particles per zone edge (paper: 5, so 5x5) */
+  double xi_min, xi_max; /* default (-pi, pi): see doc/model.md */
+  double jitter;     /* in [0, 0.5): shift within the sub-cell, fraction */
+  unsigned long seed;
+} ps_disk_params;
+
+/* Fill *dp with the paper's Table 1 defaults (c = 1/24, 20 x 40 zones, 5x5). */
+void ps_disk_params_default(ps_disk_params *dp);
+
+/* The elliptic disk of Eq. 114 with a crack between the foci: each zone of
+ * the (xi, eta) grid holds per_zone^2 particles at sub-cell centres,
+ * jittered within their sub-cell; the volume of a particle is the exact
+ * area of its sub-cell, c^2 int int (sinh^2 xi + sin^2 eta). Marks the
+ * outermost ring of zones as boundary zone. Sizes are NOT set.
+ * Returns PS_OK, PS_ERR_INPUT, PS_ERR_NOMEM. */
+int ps_geom_disk(ps_particles *p, const ps_disk_params *dp, ps_ctx *ctx);
+
+/* Eq. 116 (plane strain: kappa = 3 - 4 nu; plane stress: (3 - nu)/(1 + nu)):
+ * displacement (u, v) at (x, y) of the elliptic-crack plate under the
+ * equibiaxial remote stress S, shear modulus G, evaluated on the principal
+ * branch (xi >= 0, eta in (-pi, pi]) of z = c cosh(xi + i eta). */
+void ps_geom_eq116(double x, double y, double c, double S, double G,
+                   double kappa, double *u, double *v);
+
+/* Elliptic coordinates (xi >= 0, eta in (-pi, pi]) of (x, y): principal
+ * branch of the complex arccosh of (x + i y)/c. */
+void ps_geom_elliptic_coords(double x, double y, double c, double *xi,
+                             double *eta);
+
+/* Perimeter of the ellipse xi = const (semi-axes c cosh xi, c sinh xi),
+ * by the complete elliptic integral of the second kind (GSL). */
+double ps_geom_ellipse_perimeter(double c, double xi);
+
+/* Particle sizes by Eq. 115: h_a = sum over the n nearest neighbours of
+ * |x_b - x_a| / (2 n). Returns PS_OK, PS_ERR_INPUT (fewer than n+1
+ * particles, or coincident particles), PS_ERR_NOMEM. */
+int ps_geom_sizes_eq115(ps_particles *p, int n_nearest, ps_ctx *ctx);
+
+/* Particle sizes by Eq. 44 from the volume: h = (N V / (2 (N-1) pi))^(1/N). */
+void ps_geom_sizes_eq44(ps_particles *p);
+
+/* ---- k-d tree over a cloud (static, built once) ---- */
+typedef struct ps_kdtree ps_kdtree;
+
+/* Build a k-d tree over n points x[i*dim + k]. The points are not copied:
+ * keep x alive. Returns PS_OK or PS_ERR_NOMEM. */
+int ps_kdtree_build(ps_kdtree **tree, const double *x, ps_int n, int dim,
+                    ps_ctx *ctx);
+void ps_kdtree_free(ps_kdtree **tree);
+
+/* All points within distance < radius of point q; appends their indices to
+ * *out (grown with ps_realloc; *cap is its capacity) and sets *count.
+ * Returns PS_OK or PS_ERR_NOMEM. */
+int ps_kdtree_radius(const ps_kdtree *t, const double *q, double radius,
+                     ps_int **out, ps_int *cap, ps_int *count, ps_ctx *ctx);
+
+/* The k nearest points to point index i (itself excluded), distances in
+ * dist[0..k-1] ascending, indices in idx. Returns the number found (< k
+ * when the tree has fewer than k+1 points). */
+int ps_kdtree_knn(const ps_kdtree *t, ps_int i, int k, ps_int *idx,
+                  double *dist);
+
+#endif

@@ -1,0 +1,123 @@
+/* cholmod.c: CHOLMOD backend (supernodal LL^T, 64-bit indices). The
+ * symbolic analysis (fill-reducing ordering, supernodes) runs once per
+ * pattern; each factor call reuses it. A matrix that is not positive
+ * definite is reported with its failing column (L->minor) as a recoverable
+ * status. The global error handler is left NULL and c.print = 0: statuses
+ * are read from c.status after each call. */
+#include "ps_linsolve.h"
+
+#include <cholmod.h>
+#include <stdlib.h>
+
+typedef struct {
+  cholmod_common c;
+  cholmod_factor *L;
+  cholmod_sparse Ah; /* header over the caller's arrays (no copy) */
+  cholmod_dense *X, *B;
+  ps_int n;
+} chol_state;
+
+static int chol_create(void **state, ps_ctx *ctx) {
+  chol_state *s = ps_calloc(1, sizeof *s, ctx);
+  if (!s) return PS_ERR_NOMEM;
+  cholmod_l_start(&s->c);
+  s->c.print = 0;
+  s->c.error_handler = NULL;
+  s->c.supernodal = CHOLMOD_SUPERNODAL;
+  s->c.final_ll = 1;
+  s->c.quick_return_if_not_posdef = 1;
+  *state = s;
+  return PS_OK;
+}
+
+static void set_header(chol_state *s, const ps_csc *A) {
+  cholmod_sparse *h = &s->Ah;
+  h->nrow = h->ncol = (size_t)A->n;
+  h->nzmax = (size_t)A->p[A->n];
+  h->p = A->p;
+  h->i = A->i;
+  h->nz = NULL;
+  h->x = A->x;
+  h->z = NULL;
+  h->stype = -1; /* lower triangle stored */
+  h->itype = CHOLMOD_LONG;
+  h->xtype = CHOLMOD_REAL;
+  h->dtype = CHOLMOD_DOUBLE;
+  h->sorted = 1;
+  h->packed = 1;
+}
+
+static int chol_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st,
+                        ps_ctx *ctx) {
+  chol_state *s = state;
+  double t = ps_wtime();
+  set_header(s, A);
+  if (s->L) cholmod_l_free_factor(&s->L, &s->c);
+  s->L = cholmod_l_analyze(&s->Ah, &s->c);
+  if (!s->L || s->c.status < CHOLMOD_OK)
+    return ps_error(ctx, PS_ERR_SOLVER, "CHOLMOD analysis failed (status %d)",
+                    s->c.status);
+  s->n = A->n;
+  st->t_analyze += ps_wtime() - t;
+  st->n_analyze++;
+  return PS_OK;
+}
+
+static int chol_factor(void *state, const ps_csc *A, ps_int *bad_col,
+                       ps_linsolve_stats *st, ps_ctx *ctx) {
+  chol_state *s = state;
+  double t = ps_wtime();
+  set_header(s, A);
+  *bad_col = -1;
+  int ok = cholmod_l_factorize(&s->Ah, s->L, &s->c);
+  st->t_factor += ps_wtime() - t;
+  st->n_factor++;
+  st->flops_factor = s->c.fl;
+  st->nnz_factor = s->c.lnz;
+  if (s->c.status == CHOLMOD_NOT_POSDEF) {
+    *bad_col = (ps_int)s->L->minor;
+    return PS_NOT_POSDEF;
+  }
+  if (!ok || s->c.status < CHOLMOD_OK)
+    return ps_error(ctx, PS_ERR_SOLVER, "CHOLMOD factorisation failed (status %d)",
+                    s->c.status);
+  return PS_OK;
+}
+
+static int chol_solve(void *state, const double *b, double *x,
+                      ps_linsolve_stats *st, ps_ctx *ctx) {
+  chol_state *s = state;
+  double t = ps_wtime();
+  cholmod_dense B = {0};
+  B.nrow = B.ncol = 1;
+  B.nrow = (size_t)s->n;
+  B.d = B.nzmax = (size_t)s->n;
+  B.x = (void *)b;
+  B.xtype = CHOLMOD_REAL;
+  B.dtype = CHOLMOD_DOUBLE;
+  cholmod_dense *X = cholmod_l_solve(CHOLMOD_A, s->L, &B, &s->c);
+  if (!X || s->c.status < CHOLMOD_OK) {
+    if (X) cholmod_l_free_dense(&X, &s->c);
+    return ps_error(ctx, PS_ERR_SOLVER, "CHOLMOD solve failed (status %d)",
+                    s->c.status);
+  }
+  const double *xx = X->x;
+  for (ps_int k = 0; k < s->n; k++) x[k] = xx[k];
+  cholmod_l_free_dense(&X, &s->c);
+  st->t_solve += ps_wtime() - t;
+  st->n_solve++;
+  return PS_OK;
+}
+
+static void chol_destroy(void **state) {
+  chol_state *s = *state;
+  if (!s) return;
+  if (s->L) cholmod_l_free_factor(&s->L, &s->c);
+  cholmod_l_finish(&s->c);
+  free(s);
+  *state = NULL;
+}
+
+static const ps_linsolve_type chol_type = {"cholmod", chol_create, chol_analyze,
+                                           chol_factor, chol_solve, chol_destroy};
+const ps_linsolve_type *const ps_linsolve_cholmod = &chol_type;

@@ -1,0 +1,61 @@
+/* ps_linsolve.h: sparse direct solvers behind one table of operations.
+ * Analyse once per pattern, factor per matrix, solve per right-hand side.
+ * Backends: "cholmod" (supernodal LL^T, the default: the tangent is
+ * symmetric and, in tension-driven runs, positive definite) and "umfpack"
+ * (unsymmetric LU with pivoting, for indefinite tangents). A PETSc backend
+ * would be one more file with one more table. */
+#ifndef PS_LINSOLVE_H
+#define PS_LINSOLVE_H
+
+#include "../util/ps_util.h"
+
+typedef struct ps_linsolve_stats {
+  double t_analyze, t_factor, t_solve; /* accumulated wall seconds */
+  ps_int n_analyze, n_factor, n_solve;
+  double nnz_factor;                   /* nnz(L) (+ nnz(U) for LU) */
+  double flops_factor;                 /* of the last factorisation */
+} ps_linsolve_stats;
+
+typedef struct ps_linsolve_type {
+  const char *name;
+  int (*create)(void **state, ps_ctx *ctx);
+  /* symbolic analysis of A's pattern (lower triangle CSC). PS_OK or fatal */
+  int (*analyze)(void *state, const ps_csc *A, ps_linsolve_stats *st,
+                 ps_ctx *ctx);
+  /* numeric factorisation with the analysed pattern. Returns PS_OK,
+   * PS_NOT_POSDEF or PS_SINGULAR (recoverable; *bad_col = the failing
+   * column, or -1 if unknown), or a fatal status. */
+  int (*factor)(void *state, const ps_csc *A, ps_int *bad_col,
+                ps_linsolve_stats *st, ps_ctx *ctx);
+  /* x = A \ b with the last factor (x and b may not alias). */
+  int (*solve)(void *state, const double *b, double *x, ps_linsolve_stats *st,
+               ps_ctx *ctx);
+  void (*destroy)(void **state);
+} ps_linsolve_type;
+
+extern const ps_linsolve_type *const ps_linsolve_cholmod;
+extern const ps_linsolve_type *const ps_linsolve_umfpack;
+
+/* Look a backend up by name; NULL if unknown. */
+const ps_linsolve_type *ps_linsolve_type_find(const char *name);
+
+/* A solver object: a backend, its state and its statistics. */
+typedef struct ps_linsolve {
+  const ps_linsolve_type *type;
+  void *state;
+  int analysed;
+  ps_linsolve_stats stats;
+} ps_linsolve;
+
+/* Create / destroy. Returns PS_OK or a fatal status. */
+int ps_linsolve_create(ps_linsolve *ls, const ps_linsolve_type *type,
+                       ps_ctx *ctx);
+void ps_linsolve_destroy(ps_linsolve *ls);
+/* Factor A (analysing its pattern on first use). Statuses as ->factor. */
+int ps_linsolve_factor(ps_linsolve *ls, const ps_csc *A, ps_int *bad_col,
+                       ps_ctx *ctx);
+/* x = A \ b with the last factor. */
+int ps_linsolve_solve(ps_linsolve *ls, const double *b, double *x,
+                      ps_ctx *ctx);
+
+#endif

@@ -1,0 +1,103 @@
+/* fibre.c: the virtual-fibre model of Olsson, Ander & Williams (2021).
+ *   S_a(q_ab) = G(N+2)(eps_ab - eps_p_ab) + (N K - G(N+2)) epsbar_a  (Eq. 110)
+ *   T_ab      = A_ab S_a + A_ba S_b                                  (Eq. 70)
+ *   epsbar_a  = sum_b A_ab r0_ab eps_ab / sum_b A_ab r0_ab  (intact arms)
+ * (the energy-consistent mean strain of MODEL-NOTES), with the stored
+ * (incremental) energy
+ *   Psi = sum_arms (A_ab + A_ba) r0 psi(eps - eps_p_n)
+ *       + sum_a 1/2 (N K - G(N+2)) R_a epsbar_a^2,   R_a = sum_b A_ab r0_ab
+ * where psi(e) = G(N+2) e^2/2 for |e| <= eps_y and G(N+2)(eps_y |e| -
+ * eps_y^2/2) beyond (perfect plasticity, Eq. 111, backward Euler from the
+ * committed eps_p_n). dPsi/dl_ab = T_ab exactly, so the tangent is
+ * symmetric. Breaking (Eq. 118): eps_p r0 > delta, tension only. */
+#include "ps_model.h"
+
+#include <math.h>
+
+/* weight of particle p's side of arm i */
+static inline double side_weight(const ps_network *net, ps_int i, ps_int p) {
+  return net->a[i] == p ? net->A_ab[i] : net->A_ba[i];
+}
+
+static int fibre_evaluate(const ps_model *m, const double *l, ps_arm_state *st,
+                          double *T, double *energy, ps_arm_tangent *tan,
+                          ps_ctx *ctx) {
+  (void)ctx;
+  const ps_network *net = m->net;
+  const ps_material *mat = &m->mat;
+  int N = net->dim;
+  double Gc = mat->G * (N + 2);      /* G(N+2) */
+  double Kc = N * mat->K - Gc;       /* N K - G(N+2) */
+  double ey = mat->yield_strain;
+  int plastic = mat->plastic;
+  double *R = m->R, *eb = m->epsbar;
+  double psi = 0.0;
+
+  /* mean strain per particle over its intact arms */
+  for (ps_int a = 0; a < net->n_particle; a++) {
+    double Ra = 0.0, num = 0.0;
+    for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
+      ps_int i = net->fam_arm[k];
+      if (st->broken[i]) continue;
+      double Ar = side_weight(net, i, a) * net->r0[i];
+      Ra += Ar;
+      num += Ar * (l[i] - net->r0[i]) / net->r0[i];
+    }
+    R[a] = Ra;
+    eb[a] = Ra > 0 ? num / Ra : 0.0;
+    psi += 0.5 * Kc * Ra * eb[a] * eb[a];
+    if (tan) tan->c[a] = Ra > 0 ? Kc / Ra : 0.0;
+  }
+
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    if (st->broken[i]) {
+      T[i] = 0.0;
+      st->eps_p_trial[i] = st->eps_p[i];
+      st->yielding[i] = 0;
+      if (tan) tan->D[i] = 0.0;
+      continue;
+    }
+    double r0 = net->r0[i];
+    double eps = (l[i] - r0) / r0;
+    double e = eps - st->eps_p[i]; /* trial elastic strain */
+    double ee = e;                 /* returned elastic strain */
+    int yielding = 0;
+    if (plastic && fabs(e) > ey) { /* Eq. 111 */
+      ee = e > 0 ? ey : -ey;
+      yielding = 1;
+      psi += (net->A_ab[i] + net->A_ba[i]) * r0 * Gc * (ey * fabs(e) - 0.5 * ey * ey);
+    } else {
+      psi += (net->A_ab[i] + net->A_ba[i]) * r0 * 0.5 * Gc * e * e;
+    }
+    st->eps_p_trial[i] = eps - ee;
+    st->yielding[i] = (unsigned char)yielding;
+    double Sa = Gc * ee + Kc * eb[net->a[i]]; /* Eq. 110 */
+    double Sb = Gc * ee + Kc * eb[net->b[i]];
+    T[i] = net->A_ab[i] * Sa + net->A_ba[i] * Sb; /* Eq. 70 */
+    if (tan) tan->D[i] = yielding ? 0.0 : Gc * (net->A_ab[i] + net->A_ba[i]) / r0;
+  }
+  if (tan)
+    for (ps_int a = 0; a < net->n_particle; a++)
+      for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
+        ps_int i = net->fam_arm[k];
+        tan->w[k] = st->broken[i] ? 0.0 : side_weight(net, i, a);
+      }
+  *energy = psi;
+  return PS_OK;
+}
+
+static ps_int fibre_break_arms(const ps_model *m, ps_arm_state *st) {
+  const ps_network *net = m->net;
+  double delta = m->mat.delta;
+  if (!(delta > 0) || !isfinite(delta)) return 0;
+  ps_int nb = 0;
+  for (ps_int i = 0; i < net->n_arm; i++)
+    if (!st->broken[i] && st->eps_p[i] * net->r0[i] > delta) { /* Eq. 118 */
+      st->broken[i] = 1;
+      nb++;
+    }
+  return nb;
+}
+
+static const ps_model_type fibre_type = {"fibre", fibre_evaluate, fibre_break_arms};
+const ps_model_type *const ps_model_fibre = &fibre_type;

@@ -1,0 +1,118 @@
+/* material.c: parameter checks, derived moduli (Eq. 78-81), arm state and
+ * tangent storage, model lookup. */
+#include "ps_model.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+int ps_material_finish(ps_material *m, int dim, ps_ctx *ctx) {
+  if (!(m->E > 0) || !isfinite(m->E))
+    return ps_error(ctx, PS_ERR_INPUT, "material.E must be > 0 (got %g)", m->E);
+  if (!(m->nu > -1.0 && m->nu < 0.5))
+    return ps_error(ctx, PS_ERR_INPUT, "material.nu must be in (-1, 0.5) (got %g)",
+                    m->nu);
+  if (m->plastic && !(m->yield_strain > 0))
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "material.yield_strain must be > 0 (got %g)", m->yield_strain);
+  if (!(m->rho > 0))
+    return ps_error(ctx, PS_ERR_INPUT, "material.rho must be > 0 (got %g)", m->rho);
+  if (dim == 3 && m->plane != PS_SOLID_3D) m->plane = PS_SOLID_3D;
+  if (dim == 2 && m->plane == PS_SOLID_3D)
+    return ps_error(ctx, PS_ERR_INPUT, "a 2D case needs plane strain or plane stress");
+  double E = m->E, nu = m->nu;
+  m->G = E / (2.0 * (1.0 + nu)); /* Eq. 78 */
+  switch (m->plane) {
+  case PS_SOLID_3D:
+    m->K = E / (3.0 * (1.0 - 2.0 * nu)); /* Eq. 79 */
+    m->kappa = 3.0 - 4.0 * nu;
+    break;
+  case PS_PLANE_STRESS:
+    m->K = E / (2.0 * (1.0 - nu)); /* Eq. 80 */
+    m->kappa = (3.0 - nu) / (1.0 + nu);
+    break;
+  default:
+    m->K = E / (2.0 * (1.0 - 2.0 * nu) * (1.0 + nu)); /* Eq. 81 */
+    m->kappa = 3.0 - 4.0 * nu;
+    break;
+  }
+  m->sigma_y = E * m->yield_strain;
+  return PS_OK;
+}
+
+int ps_arm_state_alloc(ps_arm_state *st, ps_int n_arm, ps_ctx *ctx) {
+  memset(st, 0, sizeof *st);
+  st->n_arm = n_arm;
+  st->eps_p = ps_calloc((size_t)n_arm, sizeof *st->eps_p, ctx);
+  st->eps_p_trial = ps_calloc((size_t)n_arm, sizeof *st->eps_p_trial, ctx);
+  st->broken = ps_calloc((size_t)n_arm, 1, ctx);
+  st->yielding = ps_calloc((size_t)n_arm, 1, ctx);
+  if (!st->eps_p || !st->eps_p_trial || !st->broken || !st->yielding) {
+    ps_arm_state_free(st);
+    return PS_ERR_NOMEM;
+  }
+  return PS_OK;
+}
+
+void ps_arm_state_free(ps_arm_state *st) {
+  free(st->eps_p);
+  free(st->eps_p_trial);
+  free(st->broken);
+  free(st->yielding);
+  memset(st, 0, sizeof *st);
+}
+
+void ps_arm_state_copy(ps_arm_state *dst, const ps_arm_state *st) {
+  size_t n = (size_t)st->n_arm;
+  memcpy(dst->eps_p, st->eps_p, n * sizeof *st->eps_p);
+  memcpy(dst->eps_p_trial, st->eps_p_trial, n * sizeof *st->eps_p);
+  memcpy(dst->broken, st->broken, n);
+  memcpy(dst->yielding, st->yielding, n);
+}
+
+int ps_arm_tangent_alloc(ps_arm_tangent *t, const ps_network *net, ps_ctx *ctx) {
+  t->D = ps_calloc((size_t)net->n_arm, sizeof *t->D, ctx);
+  t->c = ps_calloc((size_t)net->n_particle, sizeof *t->c, ctx);
+  t->w = ps_calloc((size_t)(2 * net->n_arm), sizeof *t->w, ctx);
+  if (!t->D || !t->c || !t->w) {
+    ps_arm_tangent_free(t);
+    return PS_ERR_NOMEM;
+  }
+  return PS_OK;
+}
+
+void ps_arm_tangent_free(ps_arm_tangent *t) {
+  free(t->D);
+  free(t->c);
+  free(t->w);
+  memset(t, 0, sizeof *t);
+}
+
+const ps_model_type *ps_model_type_find(const char *name) {
+  const ps_model_type *const all[] = {ps_model_fibre};
+  for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
+    if (strcmp(all[i]->name, name) == 0) return all[i];
+  return NULL;
+}
+
+int ps_model_create(ps_model *m, const ps_model_type *type,
+                    const ps_network *net, const ps_material *mat,
+                    ps_ctx *ctx) {
+  memset(m, 0, sizeof *m);
+  m->type = type;
+  m->net = net;
+  m->mat = *mat;
+  m->R = ps_calloc((size_t)net->n_particle, sizeof *m->R, ctx);
+  m->epsbar = ps_calloc((size_t)net->n_particle, sizeof *m->epsbar, ctx);
+  if (!m->R || !m->epsbar) {
+    ps_model_free(m);
+    return PS_ERR_NOMEM;
+  }
+  return PS_OK;
+}
+
+void ps_model_free(ps_model *m) {
+  free(m->R);
+  free(m->epsbar);
+  memset(m, 0, sizeof *m);
+}

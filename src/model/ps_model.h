@@ -1,0 +1,106 @@
+/* ps_model.h: material models in arm-length space. A model maps the current
+ * arm lengths l to arm tensions T (N, per unit thickness in 2D), the stored
+ * energy, and the tangent dT/dl as a diagonal plus one rank-one term per
+ * particle family:
+ *   dT_i/dl_j = D_i delta_ij + sum_a c_a w_{a,i} w_{a,j},
+ * with w_a supported on a's family (the arms incident to a). Assembly owns
+ * the geometry (directions q, geometric stiffness, dof map). A new model is
+ * one file with one ps_model_type table. */
+#ifndef PS_MODEL_H
+#define PS_MODEL_H
+
+#include "../network/ps_network.h"
+
+enum ps_plane { PS_PLANE_STRAIN = 0, PS_PLANE_STRESS = 1, PS_SOLID_3D = 2 };
+enum ps_yield_rule {
+  PS_YIELD_TOTAL = 0,      /* Eq. 111 as printed: |eps - eps_p| > eps_y */
+  PS_YIELD_DEVIATORIC = 1  /* reserved: deviatoric reading (MODEL-NOTES) */
+};
+
+/* Material parameters (SI). */
+typedef struct ps_material {
+  double E;            /* Young's modulus, Pa (> 0) */
+  double nu;           /* Poisson's ratio, in (-1, 0.5) (< 0.5) */
+  int plane;           /* enum ps_plane; 3D needs PS_SOLID_3D */
+  double yield_strain; /* eps_y (> 0); ignored when plastic == 0 */
+  int plastic;         /* 0: elastic arms, 1: return mapping Eq. 111 */
+  double delta;        /* plastic elongation limit, m (Eq. 118); <= 0 or
+                          inf: arms never break */
+  double rho;          /* density, kg/m^3 (masses for output only) */
+  int yield_rule;      /* enum ps_yield_rule */
+  /* derived by ps_material_finish: */
+  double G;            /* shear modulus, Eq. 78 */
+  double K;            /* bulk modulus: Eq. 79 (3D), 80 (plane stress),
+                          81 (plane strain) */
+  double kappa;        /* Kolosov constant for Eq. 116 */
+  double sigma_y;      /* nominal yield stress E eps_y */
+} ps_material;
+
+/* Check the parameters and fill the derived ones. Returns PS_OK or
+ * PS_ERR_INPUT with a message naming the parameter. */
+int ps_material_finish(ps_material *m, int dim, ps_ctx *ctx);
+
+/* Per-arm state shared by all models. */
+typedef struct ps_arm_state {
+  ps_int n_arm;
+  double *eps_p;          /* committed plastic strain (of the last converged
+                             state) */
+  double *eps_p_trial;    /* from the last evaluate (return mapping from
+                             eps_p) */
+  unsigned char *broken;  /* 1: arm broken (Eq. 118), carries nothing */
+  unsigned char *yielding;/* 1: on the yield surface in the last evaluate */
+} ps_arm_state;
+
+int ps_arm_state_alloc(ps_arm_state *st, ps_int n_arm, ps_ctx *ctx);
+void ps_arm_state_free(ps_arm_state *st);
+/* Copy st into dst (both allocated for the same n_arm). */
+void ps_arm_state_copy(ps_arm_state *dst, const ps_arm_state *st);
+
+/* Tangent in arm-length space (see top of file). */
+typedef struct ps_arm_tangent {
+  double *D;  /* [n_arm] N/m */
+  double *c;  /* [n_particle] family coefficient */
+  double *w;  /* [2 n_arm] aligned with net->fam_arm */
+} ps_arm_tangent;
+
+int ps_arm_tangent_alloc(ps_arm_tangent *t, const ps_network *net, ps_ctx *ctx);
+void ps_arm_tangent_free(ps_arm_tangent *t);
+
+typedef struct ps_model ps_model;
+
+/* The operations every model provides. */
+typedef struct ps_model_type {
+  const char *name;
+  /* T[i], *energy (J, per unit thickness in 2D) and, when tan != NULL, the
+   * tangent, at arm lengths l; writes st->eps_p_trial and st->yielding.
+   * Broken arms get T = 0 and no stiffness. Returns PS_OK. */
+  int (*evaluate)(const ps_model *m, const double *l, ps_arm_state *st,
+                  double *T, double *energy, ps_arm_tangent *tan, ps_ctx *ctx);
+  /* After a converged, committed state: mark the arms that break; returns
+   * how many broke now. */
+  ps_int (*break_arms)(const ps_model *m, ps_arm_state *st);
+} ps_model_type;
+
+struct ps_model {
+  const ps_model_type *type;
+  const ps_network *net;
+  ps_material mat;
+  double *R;       /* [n_particle] workspace: sum_b A_ab r0_ab */
+  double *epsbar;  /* [n_particle] mean strain of the last evaluate */
+};
+
+/* The virtual-fibre model: Eq. 110 force flux density with the
+ * energy-consistent mean strain epsbar_a = sum_b A_ab r0 eps_ab / sum_b A_ab
+ * r0, return mapping Eq. 111, breaking Eq. 118. */
+extern const ps_model_type *const ps_model_fibre;
+
+/* Look a model type up by name ("fibre"); NULL if unknown. */
+const ps_model_type *ps_model_type_find(const char *name);
+
+/* Create a model on a network. Returns PS_OK, PS_ERR_NOMEM. */
+int ps_model_create(ps_model *m, const ps_model_type *type,
+                    const ps_network *net, const ps_material *mat,
+                    ps_ctx *ctx);
+void ps_model_free(ps_model *m);
+
+#endif

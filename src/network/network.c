@@ -1,0 +1,222 @@
+/* network.c: kernel (Eq. 112/113, Eq. 54), neighbour search by k-d tree,
+ * arm rule r < alpha max(h_a, h_b), pre-crack cuts, weights (Eq. 70). */
+#include "ps_network.h"
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_integration.h>
+#include <gsl/gsl_math.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct {
+  int dim, k;
+  double alpha;
+} zpar;
+
+static double z_integrand(double u, void *vp) {
+  const zpar *zp = vp;
+  double s = 1.0 - u * u / (zp->alpha * zp->alpha);
+  return gsl_pow_int(s, zp->k) * 2.0 * (zp->dim - 1) * M_PI *
+         gsl_pow_int(u, zp->dim - 1);
+}
+
+int ps_kernel_init(ps_kernel *K, int dim, int k, double alpha, ps_ctx *ctx) {
+  if (dim != 2 && dim != 3)
+    return ps_error(ctx, PS_ERR_INPUT, "kernel: dimension must be 2 or 3");
+  if (!(alpha > 0))
+    return ps_error(ctx, PS_ERR_INPUT, "kernel.alpha must be > 0 (got %g)", alpha);
+  if (k < 1)
+    return ps_error(ctx, PS_ERR_INPUT, "kernel.k must be >= 1 (got %d)", k);
+  K->dim = dim;
+  K->k = k;
+  K->alpha = alpha;
+  zpar zp = {dim, k, alpha};
+  gsl_function F = {z_integrand, &zp};
+  gsl_integration_workspace *w = gsl_integration_workspace_alloc(200);
+  if (!w) return ps_error(ctx, PS_ERR_NOMEM, "kernel: no memory for quadrature");
+  double res, err;
+  int rc = gsl_integration_qag(&F, 0.0, alpha, 0.0, 1e-13, 200,
+                               GSL_INTEG_GAUSS61, w, &res, &err);
+  gsl_integration_workspace_free(w);
+  if (rc != GSL_SUCCESS || !(res > 0))
+    return ps_error(ctx, PS_ERR_INTERNAL, "kernel: quadrature of Eq. 54 failed: %s",
+                    gsl_strerror(rc));
+  K->Z = res;
+  return PS_OK;
+}
+
+double ps_kernel_Z_k2(int dim, double alpha) {
+  double N = dim;
+  return 2.0 * (N - 1) * M_PI * pow(alpha, N) *
+         (1.0 / N - 2.0 / (N + 2) + 1.0 / (N + 4));
+}
+
+double ps_kernel_f(const ps_kernel *K, double u) {
+  if (u >= K->alpha) return 0.0;
+  double s = 1.0 - u * u / (K->alpha * K->alpha);
+  return gsl_pow_int(s, K->k) / K->Z;
+}
+
+double ps_kernel_df(const ps_kernel *K, double u) {
+  if (u >= K->alpha) return 0.0;
+  double a2 = K->alpha * K->alpha;
+  double s = 1.0 - u * u / a2;
+  return K->k * gsl_pow_int(s, K->k - 1) * (-2.0 * u / a2) / K->Z;
+}
+
+int ps_crack_cuts(const ps_crack *cr, const double *x, const double *y) {
+  /* proper intersection of segments x-y and p0-p1 (2D orientation tests) */
+  const double *p = cr->p0, *q = cr->p1;
+  double d1 = (q[0] - p[0]) * (x[1] - p[1]) - (q[1] - p[1]) * (x[0] - p[0]);
+  double d2 = (q[0] - p[0]) * (y[1] - p[1]) - (q[1] - p[1]) * (y[0] - p[0]);
+  double d3 = (y[0] - x[0]) * (p[1] - x[1]) - (y[1] - x[1]) * (p[0] - x[0]);
+  double d4 = (y[0] - x[0]) * (q[1] - x[1]) - (y[1] - x[1]) * (q[0] - x[0]);
+  return ((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0)) && d1 != 0 &&
+         d2 != 0;
+}
+
+typedef struct {
+  ps_int a, b;
+} pair;
+
+static int cmp_pair(const void *u, const void *v) {
+  const pair *p = u, *q = v;
+  if (p->a != q->a) return p->a < q->a ? -1 : 1;
+  if (p->b != q->b) return p->b < q->b ? -1 : 1;
+  return 0;
+}
+
+void ps_network_free(ps_network *net) {
+  free(net->a);
+  free(net->b);
+  free(net->r0);
+  free(net->A_ab);
+  free(net->A_ba);
+  free(net->fam_ptr);
+  free(net->fam_arm);
+  free(net->n_arm0);
+  memset(net, 0, sizeof *net);
+}
+
+int ps_network_build(ps_network *net, const ps_particles *p,
+                     const ps_kernel *K, const ps_crack *cracks, int n_cracks,
+                     ps_ctx *ctx) {
+  int status = PS_OK, dim = p->dim;
+  ps_kdtree *tree = NULL;
+  ps_int *nb = NULL, cap = 0, cnt = 0;
+  pair *pairs = NULL;
+  ps_int np = 0, pcap = 0;
+  memset(net, 0, sizeof *net);
+  if (K->dim != dim)
+    return ps_error(ctx, PS_ERR_INPUT, "kernel dimension %d differs from the cloud's %d",
+                    K->dim, dim);
+  double hmin = INFINITY, hmax = 0;
+  for (ps_int a = 0; a < p->n; a++) {
+    if (!(p->h[a] > 0) || !isfinite(p->h[a]))
+      return ps_error(ctx, PS_ERR_INPUT, "particle %lld: size h must be > 0 (got %g)",
+                      (long long)a, p->h[a]);
+    if (!(p->volume[a] > 0) || !isfinite(p->volume[a]))
+      return ps_error(ctx, PS_ERR_INPUT,
+                      "particle %lld: volume must be > 0 (got %g)", (long long)a,
+                      p->volume[a]);
+    if (p->h[a] < hmin) hmin = p->h[a];
+    if (p->h[a] > hmax) hmax = p->h[a];
+  }
+  PS_CHECK_GOTO(ps_kdtree_build(&tree, p->x, p->n, dim, ctx));
+  /* every particle finds the others inside its own horizon alpha h_a; the
+   * union of both directions gives the rule r < alpha max(h_a, h_b) */
+  for (ps_int a = 0; a < p->n; a++) {
+    PS_CHECK_GOTO(ps_kdtree_radius(tree, &p->x[a * dim], K->alpha * p->h[a], &nb,
+                                   &cap, &cnt, ctx));
+    for (ps_int j = 0; j < cnt; j++) {
+      ps_int b = nb[j];
+      if (b == a) continue;
+      int cut = 0;
+      for (int c = 0; c < n_cracks && !cut; c++)
+        cut = ps_crack_cuts(&cracks[c], &p->x[a * dim], &p->x[b * dim]);
+      if (cut) continue;
+      if (np >= pcap) {
+        pcap = pcap ? 2 * pcap : 1024;
+        PS_CHECK_GOTO(ps_realloc((void **)&pairs, (size_t)pcap, sizeof *pairs, ctx));
+      }
+      pairs[np].a = a < b ? a : b;
+      pairs[np].b = a < b ? b : a;
+      np++;
+    }
+  }
+  qsort(pairs, (size_t)np, sizeof *pairs, cmp_pair);
+  ps_int na = 0;
+  for (ps_int i = 0; i < np; i++)
+    if (i == 0 || cmp_pair(&pairs[i], &pairs[i - 1]) != 0) pairs[na++] = pairs[i];
+  net->dim = dim;
+  net->n_particle = p->n;
+  net->n_arm = na;
+  net->max_h_ratio = hmax / hmin;
+  net->a = ps_calloc((size_t)na, sizeof *net->a, ctx);
+  net->b = ps_calloc((size_t)na, sizeof *net->b, ctx);
+  net->r0 = ps_calloc((size_t)na, sizeof *net->r0, ctx);
+  net->A_ab = ps_calloc((size_t)na, sizeof *net->A_ab, ctx);
+  net->A_ba = ps_calloc((size_t)na, sizeof *net->A_ba, ctx);
+  net->fam_ptr = ps_calloc((size_t)p->n + 1, sizeof *net->fam_ptr, ctx);
+  net->fam_arm = ps_calloc((size_t)(2 * na), sizeof *net->fam_arm, ctx);
+  net->n_arm0 = ps_calloc((size_t)p->n, sizeof *net->n_arm0, ctx);
+  if (!net->a || !net->b || !net->r0 || !net->A_ab || !net->A_ba ||
+      !net->fam_ptr || !net->fam_arm || !net->n_arm0) {
+    status = PS_ERR_NOMEM;
+    goto cleanup;
+  }
+  double N1 = dim + 1;
+  for (ps_int i = 0; i < na; i++) {
+    ps_int a = pairs[i].a, b = pairs[i].b;
+    double r2 = 0;
+    for (int k = 0; k < dim; k++) {
+      double d = p->x[b * dim + k] - p->x[a * dim + k];
+      r2 += d * d;
+    }
+    double r = sqrt(r2);
+    net->a[i] = a;
+    net->b[i] = b;
+    net->r0[i] = r;
+    /* A_ab = -V_a V_b f'(r/h_a)/h_a^(N+1): Eq. 70 with m = rho V */
+    net->A_ab[i] = -p->volume[a] * p->volume[b] * ps_kernel_df(K, r / p->h[a]) /
+                   pow(p->h[a], N1);
+    net->A_ba[i] = -p->volume[a] * p->volume[b] * ps_kernel_df(K, r / p->h[b]) /
+                   pow(p->h[b], N1);
+    net->fam_ptr[a + 1]++;
+    net->fam_ptr[b + 1]++;
+  }
+  for (ps_int a = 0; a < p->n; a++) {
+    net->n_arm0[a] = net->fam_ptr[a + 1];
+    net->fam_ptr[a + 1] += net->fam_ptr[a];
+  }
+  {
+    /* fill families; arms are sorted by (a, b), so for each particle the
+     * arms come ordered by the other end once we fill "b-side" first */
+    ps_int *pos = ps_calloc((size_t)p->n, sizeof *pos, ctx);
+    if (!pos) {
+      status = PS_ERR_NOMEM;
+      goto cleanup;
+    }
+    for (ps_int a = 0; a < p->n; a++) pos[a] = net->fam_ptr[a];
+    /* arms where the particle is the b end have other end a < b, and these
+     * come first in increasing a; then arms where it is the a end */
+    for (ps_int i = 0; i < na; i++) net->fam_arm[pos[net->b[i]]++] = i;
+    for (ps_int i = 0; i < na; i++) net->fam_arm[pos[net->a[i]]++] = i;
+    free(pos);
+  }
+  for (ps_int a = 0; a < p->n; a++)
+    if (net->n_arm0[a] == 0) {
+      status = ps_error(ctx, PS_ERR_INPUT,
+                        "particle %lld at (%g, %g) has no arms: it lies farther than "
+                        "alpha h from every other particle",
+                        (long long)a, p->x[a * dim], p->x[a * dim + 1]);
+      goto cleanup;
+    }
+cleanup:
+  ps_kdtree_free(&tree);
+  free(nb);
+  free(pairs);
+  if (status < 0) ps_network_free(net);
+  return status;
+}

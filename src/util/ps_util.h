@@ -1,0 +1,101 @@
+/* ps_util.h: status codes, the run context, error reporting, timers and
+ * small memory helpers shared by every peristatic module. */
+#ifndef PS_UTIL_H
+#define PS_UTIL_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+/* 64-bit index for particles, arms, dofs and nonzeros (SuiteSparse_long). */
+typedef int64_t ps_int;
+
+/* Status codes. Negative = fatal (climb to main), positive = recoverable
+ * (the caller decides: cut the step, try another factorisation). */
+enum ps_status {
+  PS_OK = 0,
+  PS_NOT_POSDEF = 1,  /* Cholesky met a non-positive pivot */
+  PS_SINGULAR = 2,    /* the matrix is singular to working precision */
+  PS_DIVERGED = 3,    /* a nonlinear iteration failed to converge */
+  PS_ERR_NOMEM = -1,  /* out of memory */
+  PS_ERR_INPUT = -2,  /* bad input: case file, parameter, point cloud */
+  PS_ERR_IO = -3,     /* a file could not be read or written */
+  PS_ERR_SOLVER = -4, /* the linear or nonlinear solver failed for good */
+  PS_ERR_INTERNAL = -5 /* a bug: an invariant does not hold */
+};
+
+/* The run context, passed last to every call that can fail: holds the last
+ * error message, verbosity and the log stream. No global state. */
+typedef struct ps_ctx {
+  char msg[2048];   /* last error message, "" when none */
+  int verbosity;    /* 0 quiet, 1 progress lines, 2 Newton detail */
+  FILE *log;        /* progress stream (stderr by default) */
+} ps_ctx;
+
+/* Initialise a context: empty message, verbosity 1, log = stderr. */
+void ps_ctx_init(ps_ctx *ctx);
+
+/* Record a formatted error message in ctx->msg; returns status unchanged so
+ * callers can write `return ps_error(ctx, PS_ERR_INPUT, "...")`. */
+int ps_error(ps_ctx *ctx, int status, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* Append "(at file:line)" to ctx->msg when ctx->verbosity >= 2; returns
+ * status unchanged. Used by the PS_CHECK macros. */
+int ps_trace(ps_ctx *ctx, int status, const char *file, int line);
+
+/* Print a progress line to ctx->log when ctx->verbosity >= level. */
+void ps_log(const ps_ctx *ctx, int level, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* Return on a fatal (negative) status; positive statuses pass through to
+ * the caller's own handling. Needs a `ps_ctx *ctx` in scope. */
+#define PS_CHECK(call)                                                       \
+  do {                                                                       \
+    int ps_s_ = (call);                                                      \
+    if (ps_s_ < 0) return ps_trace(ctx, ps_s_, __FILE__, __LINE__);          \
+  } while (0)
+
+/* Same, but jump to `cleanup` with `status` set (for functions that own
+ * resources). Needs `int status` and a `cleanup:` label. */
+#define PS_CHECK_GOTO(call)                                                  \
+  do {                                                                       \
+    status = (call);                                                         \
+    if (status < 0) {                                                        \
+      ps_trace(ctx, status, __FILE__, __LINE__);                             \
+      goto cleanup;                                                          \
+    }                                                                        \
+  } while (0)
+
+/* calloc that records PS_ERR_NOMEM in ctx and returns NULL on failure. */
+void *ps_calloc(size_t count, size_t size, ps_ctx *ctx);
+/* realloc with the same contract; on failure *p is left untouched. */
+int ps_realloc(void **p, size_t count, size_t size, ps_ctx *ctx);
+
+/* Wall-clock seconds since an arbitrary origin (CLOCK_MONOTONIC). */
+double ps_wtime(void);
+
+/* Peak resident memory of this process in MiB (from getrusage). */
+double ps_peak_mib(void);
+
+/* Write a file atomically: open `path`.tmp for writing; commit renames it
+ * over `path`, abort removes it. A failed run leaves old outputs intact. */
+typedef struct ps_outfile {
+  FILE *f;
+  char path[1024];
+  char tmp[1040];
+} ps_outfile;
+int ps_outfile_open(ps_outfile *o, const char *path, ps_ctx *ctx);
+int ps_outfile_commit(ps_outfile *o, ps_ctx *ctx);
+void ps_outfile_abort(ps_outfile *o);
+
+/* A sparse symmetric matrix: the lower triangle (diagonal included) in
+ * compressed sparse columns, row indices sorted within each column. */
+typedef struct ps_csc {
+  ps_int n;    /* order */
+  ps_int *p;   /* [n + 1] column pointers */
+  ps_int *i;   /* [p[n]] row indices */
+  double *x;   /* [p[n]] values */
+} ps_csc;
+
+#endif

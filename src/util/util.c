@@ -1,0 +1,106 @@
+/* util.c: context, error messages, logging, timers, atomic output files. */
+#define _POSIX_C_SOURCE 200809L
+#include "ps_util.h"
+
+#include <errno.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <time.h>
+#include <unistd.h>
+
+void ps_ctx_init(ps_ctx *ctx) {
+  ctx->msg[0] = '\0';
+  ctx->verbosity = 1;
+  ctx->log = stderr;
+}
+
+int ps_error(ps_ctx *ctx, int status, const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(ctx->msg, sizeof ctx->msg, fmt, ap);
+  va_end(ap);
+  return status;
+}
+
+int ps_trace(ps_ctx *ctx, int status, const char *file, int line) {
+  if (ctx->verbosity >= 3) {
+    size_t n = strlen(ctx->msg);
+    if (n + 64 < sizeof ctx->msg)
+      snprintf(ctx->msg + n, sizeof ctx->msg - n, "\n  (at %s:%d)", file, line);
+  }
+  return status;
+}
+
+void ps_log(const ps_ctx *ctx, int level, const char *fmt, ...) {
+  if (ctx->verbosity < level || !ctx->log) return;
+  va_list ap;
+  va_start(ap, fmt);
+  vfprintf(ctx->log, fmt, ap);
+  va_end(ap);
+  fflush(ctx->log);
+}
+
+void *ps_calloc(size_t count, size_t size, ps_ctx *ctx) {
+  void *p = calloc(count ? count : 1, size ? size : 1);
+  if (!p)
+    ps_error(ctx, PS_ERR_NOMEM, "out of memory allocating %zu x %zu bytes",
+             count, size);
+  return p;
+}
+
+int ps_realloc(void **p, size_t count, size_t size, ps_ctx *ctx) {
+  void *q = realloc(*p, (count ? count : 1) * size);
+  if (!q)
+    return ps_error(ctx, PS_ERR_NOMEM, "out of memory growing to %zu x %zu bytes",
+                    count, size);
+  *p = q;
+  return PS_OK;
+}
+
+double ps_wtime(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+double ps_peak_mib(void) {
+  struct rusage ru;
+  if (getrusage(RUSAGE_SELF, &ru) != 0) return 0.0;
+  return (double)ru.ru_maxrss / 1024.0; /* ru_maxrss is KiB on Linux */
+}
+
+int ps_outfile_open(ps_outfile *o, const char *path, ps_ctx *ctx) {
+  if (strlen(path) >= sizeof o->path)
+    return ps_error(ctx, PS_ERR_IO, "%s: output path too long", path);
+  strcpy(o->path, path);
+  snprintf(o->tmp, sizeof o->tmp, "%s.tmp", path);
+  o->f = fopen(o->tmp, "w");
+  if (!o->f)
+    return ps_error(ctx, PS_ERR_IO, "%s: cannot open for writing: %s", o->tmp,
+                    strerror(errno));
+  return PS_OK;
+}
+
+int ps_outfile_commit(ps_outfile *o, ps_ctx *ctx) {
+  int bad = ferror(o->f);
+  if (fclose(o->f) != 0) bad = 1;
+  o->f = NULL;
+  if (bad) {
+    unlink(o->tmp);
+    return ps_error(ctx, PS_ERR_IO, "%s: write failed", o->path);
+  }
+  if (rename(o->tmp, o->path) != 0) {
+    unlink(o->tmp);
+    return ps_error(ctx, PS_ERR_IO, "%s: cannot rename from %s: %s", o->path,
+                    o->tmp, strerror(errno));
+  }
+  return PS_OK;
+}
+
+void ps_outfile_abort(ps_outfile *o) {
+  if (o->f) fclose(o->f);
+  o->f = NULL;
+  unlink(o->tmp);
+}

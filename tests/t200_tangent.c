@@ -1,0 +1,182 @@
+/* t200_tangent.c: the assembled tangent equals a central finite-difference
+ * Jacobian of the internal forces, and is symmetric, on a small irregular
+ * variable-size network with yielded arms, arms in compression and broken
+ * arms (2D plane strain, 2D plane stress and 3D). Also: T = dPsi/dl (the
+ * energy is the potential of the forces), zero force at rest and under a
+ * rigid rotation. Tolerance 1e-6 on the relative Frobenius error: central
+ * differences with step 1e-7 of the spacing have truncation error ~1e-10
+ * and round-off ~1e-9 here. */
+#include <gsl/gsl_rng.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "assembly/ps_assembly.h"
+#include "check.h"
+
+typedef struct {
+  ps_particles P;
+  ps_network net;
+  ps_model model;
+  ps_arm_state st;
+  ps_system sys;
+} fixture;
+
+static void setup(fixture *F, int dim, int plane, double nu, ps_ctx *ctx) {
+  memset(F, 0, sizeof *F);
+  ps_int counts[3] = {7, 6, dim == 3 ? 5 : 1};
+  if (ps_geom_box(&F->P, dim, counts, 1.0e-3, "square", 0.3, 7, ctx)) abort();
+  if (ps_geom_sizes_eq115(&F->P, 5, ctx)) abort();
+  /* variable sizes: grow h and V along x (factor up to 1.8) */
+  for (ps_int a = 0; a < F->P.n; a++) {
+    double s = 1.0 + 0.8 * F->P.x[a * dim] / 7.0e-3;
+    F->P.h[a] *= s;
+    F->P.volume[a] *= pow(s, dim);
+  }
+  ps_kernel K;
+  if (ps_kernel_init(&K, dim, 2, dim == 3 ? 3.0 : 3.5, ctx)) abort();
+  if (ps_network_build(&F->net, &F->P, &K, NULL, 0, ctx)) abort();
+  ps_material mat = {.E = 2.1e11, .nu = nu, .plane = plane,
+                     .yield_strain = 2.0e-3, .plastic = 1, .delta = 1.0,
+                     .rho = 7800};
+  if (ps_material_finish(&mat, dim, ctx)) abort();
+  if (ps_model_create(&F->model, ps_model_fibre, &F->net, &mat, ctx)) abort();
+  if (ps_arm_state_alloc(&F->st, F->net.n_arm, ctx)) abort();
+  unsigned char *fixed = calloc((size_t)(dim * F->P.n), 1);
+  if (ps_system_create(&F->sys, &F->net, fixed, ctx)) abort();
+  free(fixed);
+}
+
+static void teardown(fixture *F) {
+  ps_system_free(&F->sys);
+  ps_arm_state_free(&F->st);
+  ps_model_free(&F->model);
+  ps_network_free(&F->net);
+  ps_particles_free(&F->P);
+}
+
+static void run_case(int dim, int plane, double nu, const char *label) {
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  fixture F;
+  setup(&F, dim, plane, nu, &ctx);
+  ps_int nd = F.sys.n_dof;
+  double *u = calloc((size_t)nd, sizeof *u), *f = calloc((size_t)nd, sizeof *f);
+  double *fp = calloc((size_t)nd, sizeof *fp), *fm = calloc((size_t)nd, sizeof *fm);
+  double *Kd = calloc((size_t)(nd * nd), sizeof *Kd);
+  double E0;
+  /* rest state: zero forces */
+  ps_system_eval(&F.sys, &F.model, &F.st, F.P.x, u, f, &E0, 0, &ctx);
+  double fbig = 0;
+  for (ps_int j = 0; j < nd; j++) fbig = fbig > fabs(f[j]) ? fbig : fabs(f[j]);
+  ps_check(fbig == 0.0 && E0 == 0.0, "%s: zero force and energy at rest", label);
+
+  /* rigid rotation by 0.3 rad + translation: zero force (large rotation) */
+  for (ps_int a = 0; a < F.P.n; a++) {
+    const double *x = &F.P.x[a * dim];
+    double c = cos(0.3), s = sin(0.3);
+    u[a * dim] = c * x[0] - s * x[1] - x[0] + 1e-3;
+    u[a * dim + 1] = s * x[0] + c * x[1] - x[1] - 2e-3;
+  }
+  ps_system_eval(&F.sys, &F.model, &F.st, F.P.x, u, f, &E0, 0, &ctx);
+  double fn = 0, Tscale = 2.1e11 * 1e-3 * pow(1e-3, dim - 1);
+  for (ps_int j = 0; j < nd; j++) fn = fmax(fn, fabs(f[j]));
+  ps_check_le(fn / Tscale, 1e-9, "rigid rotation: max force / (E d^(N-1) 1e-3)");
+
+  /* deformed state: tension in x (yields), compression in y, noise */
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 3);
+  for (ps_int a = 0; a < F.P.n; a++) {
+    const double *x = &F.P.x[a * dim];
+    u[a * dim] = 3.1e-3 * x[0] + 0.4e-3 * x[1] + 2e-7 * gsl_rng_uniform(rng);
+    u[a * dim + 1] = -1.2e-3 * x[1] + 2e-7 * gsl_rng_uniform(rng);
+    if (dim == 3) u[a * dim + 2] = 0.7e-3 * x[2] + 2e-7 * gsl_rng_uniform(rng);
+  }
+  /* committed plastic strains and broken arms */
+  for (ps_int i = 0; i < F.net.n_arm; i++) {
+    F.st.eps_p[i] = 1.0e-3 * (gsl_rng_uniform(rng) - 0.3);
+    F.st.broken[i] = gsl_rng_uniform(rng) < 0.05;
+  }
+  gsl_rng_free(rng);
+  ps_system_eval(&F.sys, &F.model, &F.st, F.P.x, u, f, &E0, 1, &ctx);
+  ps_int ny = 0, nc = 0, nb = 0, nearkink = 0;
+  for (ps_int i = 0; i < F.net.n_arm; i++) {
+    if (F.st.broken[i]) {
+      nb++;
+      continue;
+    }
+    double eps = (F.sys.l[i] - F.net.r0[i]) / F.net.r0[i];
+    double e = eps - F.st.eps_p[i];
+    ny += F.st.yielding[i];
+    nc += F.sys.T[i] < 0;
+    if (fabs(fabs(e) - 2.0e-3) < 1e-7) nearkink++;
+  }
+  ps_check(ny > 0 && nc > 0 && nb > 0 && nearkink == 0,
+           "%s: %lld arms, %lld yielding, %lld in compression, %lld broken, none on "
+           "the kink",
+           label, (long long)F.net.n_arm, (long long)ny, (long long)nc, (long long)nb);
+  /* dense copy of the analytic tangent (all dofs free) */
+  const ps_csc *A = &F.sys.A;
+  for (ps_int j = 0; j < nd; j++)
+    for (ps_int k = A->p[j]; k < A->p[j + 1]; k++) {
+      Kd[A->i[k] * nd + j] = A->x[k];
+      Kd[j * nd + A->i[k]] = A->x[k];
+    }
+  /* symmetry of Kfull (both triangles assembled independently) */
+  double asym = 0, knorm = 0;
+  int d = dim;
+  const ps_system *S = &F.sys;
+  for (ps_int Q = 0; Q < F.P.n; Q++)
+    for (ps_int blk = S->bptr[Q]; blk < S->bptr[Q + 1]; blk++) {
+      ps_int P = S->bidx[blk], len = S->bptr[Q + 1] - S->bptr[Q];
+      ps_int blkT = -1;
+      for (ps_int b2 = S->bptr[P]; b2 < S->bptr[P + 1]; b2++)
+        if (S->bidx[b2] == Q) blkT = b2;
+      ps_int lenT = S->bptr[P + 1] - S->bptr[P];
+      for (int al = 0; al < d; al++)
+        for (int be = 0; be < d; be++) {
+          double v = S->Kfull[d * d * S->bptr[Q] + be * d * len + (blk - S->bptr[Q]) * d + al];
+          double vt = S->Kfull[d * d * S->bptr[P] + al * d * lenT + (blkT - S->bptr[P]) * d + be];
+          asym += (v - vt) * (v - vt);
+          knorm += v * v;
+        }
+    }
+  ps_check_le(sqrt(asym / knorm), 1e-13, "symmetry ||K - K^T|| / ||K||");
+
+  /* central differences */
+  double hstep = 1e-10; /* 1e-7 of the 1 mm spacing */
+  double num = 0, den = 0;
+  double Ep, Em, dE_fd, dE_an = 0;
+  for (ps_int j = 0; j < nd; j++) {
+    double u0 = u[j];
+    u[j] = u0 + hstep;
+    ps_system_eval(&F.sys, &F.model, &F.st, F.P.x, u, fp, &Ep, 0, &ctx);
+    u[j] = u0 - hstep;
+    ps_system_eval(&F.sys, &F.model, &F.st, F.P.x, u, fm, &Em, 0, &ctx);
+    u[j] = u0;
+    for (ps_int r = 0; r < nd; r++) {
+      double kfd = (fp[r] - fm[r]) / (2 * hstep);
+      num += (kfd - Kd[r * nd + j]) * (kfd - Kd[r * nd + j]);
+      den += Kd[r * nd + j] * Kd[r * nd + j];
+    }
+    if (j == 3) { /* energy: dPsi/du_j = f_j */
+      dE_fd = (Ep - Em) / (2 * hstep);
+      dE_an = f[j];
+      ps_check_rel(dE_fd, dE_an, 1e-6, "dPsi/du (central difference) = internal force");
+    }
+  }
+  ps_check_le(sqrt(num / den), 1e-6, "tangent vs central differences (rel. Frobenius)");
+  free(u);
+  free(f);
+  free(fp);
+  free(fm);
+  free(Kd);
+  teardown(&F);
+}
+
+int main(void) {
+  run_case(2, PS_PLANE_STRAIN, 0.3, "2D plane strain nu=0.3");
+  run_case(2, PS_PLANE_STRESS, 0.12, "2D plane stress nu=0.12 (N K < G(N+2))");
+  run_case(3, PS_SOLID_3D, 0.27, "3D nu=0.27");
+  return ps_check_summary();
+}

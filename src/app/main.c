@@ -1,3 +1,194 @@
-/* main.c: the peristatic command line (placeholder while the solver grows). */
+/* main.c: the peristatic command line: `peristatic run CASE.yaml`,
+ * `peristatic griffith CASE.yaml`, `peristatic info CASE.yaml`, --help. */
+#include <gsl/gsl_errno.h>
+#include <math.h>
 #include <stdio.h>
-int main(void) { puts("peristatic"); return 0; }
+#include <stdlib.h>
+#include <string.h>
+
+#include "app/ps_app.h"
+#include "config.h"
+
+static const char *HELP_MAIN =
+    "peristatic " PACKAGE_VERSION " - implicit static peridynamics (virtual-fibre arm network)\n"
+    "\n"
+    "Usage: peristatic COMMAND [OPTIONS] CASE.yaml\n"
+    "\n"
+    "Commands:\n"
+    "  run       solve the case along its load path to fracture (or max load)\n"
+    "  griffith  sweep the elongation limit delta over griffith.* values on one\n"
+    "            particle cloud; fit sigma_failure/sigma_y against sqrt(delta/c)\n"
+    "  info      build the particles and the arm network, print their sizes, exit\n"
+    "  help CMD  explain one command\n"
+    "\n"
+    "Options:\n"
+    "  -o, --out DIR   output directory (default: output.dir, else out/<case name>)\n"
+    "  -q, --quiet     no progress lines\n"
+    "  -v, --verbose   Newton iterations too (twice: source locations in errors)\n"
+    "  -h, --help      this text\n"
+    "\n"
+    "Each load increment prints one progress line:\n"
+    "  step  lambda  sig/sig_y  newton  residual  yielding  broken  tip/c\n"
+    "lambda is the load factor (disk: remote stress S / sigma_y of Eq. 116;\n"
+    "boundary cases: multiplier of loading.boundary displacements), sig/sig_y the\n"
+    "boundary stress over E eps_y, residual the final |r_free|/|reactions|,\n"
+    "yielding/broken the arm counts, tip/c the crack tip distance over c.\n"
+    "\n"
+    "Outputs (written to DIR.partial, renamed to DIR when the run completes, so a\n"
+    "failed run leaves earlier results intact): history.csv, summary.txt,\n"
+    "particles.csv, particles_NNNN.vtk and arms_NNNN.vtk (open in ParaView; warp\n"
+    "by 'displacement'). griffith adds griffith.csv, griffith_fit.txt, griffith.png.\n"
+    "\n"
+    "Example:\n"
+    "  peristatic run data/cases/small-disk.yaml\n"
+    "  peristatic griffith -o out/sweep data/cases/small-disk.yaml\n"
+    "\n"
+    "The case file format and every default: doc/peristatic.md. Exit status: 0 on\n"
+    "success, 1 on bad input, 2 on a solver failure, 3 on an I/O error.\n";
+
+static const char *HELP_RUN =
+    "peristatic run [-o DIR] [-q|-v] CASE.yaml\n"
+    "\n"
+    "Solves the case to equilibrium at each increment of the load factor with\n"
+    "Newton's method (consistent tangent, CHOLMOD, energy line search), commits\n"
+    "the plastic arm strains (Eq. 111), breaks arms whose plastic elongation\n"
+    "exceeds delta (Eq. 118) and re-equilibrates at the same load until no arm\n"
+    "breaks. A Newton failure halves the increment (path.min_step is the limit).\n"
+    "Stops when the crack tip passes path.stop_crack_tip * c (disk), when the\n"
+    "boundary stress falls below path.stop_load_drop of its peak, or at\n"
+    "path.max_load. Reports sigma_failure = the peak boundary stress.\n"
+    "A run in which nothing breaks ends with 'no fracture': not an error.\n";
+
+static const char *HELP_GRIFFITH =
+    "peristatic griffith [-o DIR] [-q|-v] CASE.yaml\n"
+    "\n"
+    "Runs the case once per value of griffith.delta_over_c (default the paper's\n"
+    "c/500 .. c/3250 in steps of 250 in the denominator) on one particle cloud.\n"
+    "Writes griffith.csv (delta/c, sqrt(delta/c), sigma_failure/sigma_y,\n"
+    "fractured, increments, Newton iterations, arms broken, wall time), the\n"
+    "least-squares line over the runs that fractured (griffith_fit.txt: slope,\n"
+    "intercept, R^2, and the nominal Griffith slope sqrt(2/(pi eps_y)) beside it),\n"
+    "and griffith.png (gnuplot). Griffith's law predicts a straight line through\n"
+    "the origin; see doc/griffith.md for how to read the plot.\n";
+
+static const char *HELP_INFO =
+    "peristatic info CASE.yaml\n"
+    "\n"
+    "Reads the case, builds the particle cloud and the arm network and prints\n"
+    "particles, arms, arms per particle, size ratio, free dofs and the time.\n";
+
+static int exit_code(int status) {
+  switch (status) {
+  case PS_ERR_INPUT: return 1;
+  case PS_ERR_IO: return 3;
+  default: return 2;
+  }
+}
+
+int main(int argc, char **argv) {
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  gsl_set_error_handler_off();
+  const char *cmd = NULL, *file = NULL, *out = NULL;
+  int verbosity = -1;
+  for (int i = 1; i < argc; i++) {
+    const char *a = argv[i];
+    if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+      const char *h = HELP_MAIN;
+      if (cmd && !strcmp(cmd, "run")) h = HELP_RUN;
+      if (cmd && !strcmp(cmd, "griffith")) h = HELP_GRIFFITH;
+      if (cmd && !strcmp(cmd, "info")) h = HELP_INFO;
+      fputs(h, stdout);
+      return 0;
+    } else if (!strcmp(a, "-o") || !strcmp(a, "--out")) {
+      if (++i >= argc) {
+        fprintf(stderr, "peristatic: %s needs a directory\n", a);
+        return 1;
+      }
+      out = argv[i];
+    } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
+      verbosity = 0;
+    } else if (!strcmp(a, "-v") || !strcmp(a, "--verbose")) {
+      verbosity = verbosity < 2 ? 2 : verbosity + 1;
+    } else if (!strcmp(a, "--version")) {
+      puts("peristatic " PACKAGE_VERSION);
+      return 0;
+    } else if (a[0] == '-') {
+      fprintf(stderr, "peristatic: unknown option '%s' (see peristatic --help)\n", a);
+      return 1;
+    } else if (!cmd) {
+      cmd = a;
+    } else if (!file) {
+      file = a;
+    } else {
+      fprintf(stderr, "peristatic: unexpected argument '%s'\n", a);
+      return 1;
+    }
+  }
+  if (!cmd) {
+    fputs(HELP_MAIN, stdout);
+    return 1;
+  }
+  if (!strcmp(cmd, "help")) {
+    const char *h = HELP_MAIN;
+    if (file && !strcmp(file, "run")) h = HELP_RUN;
+    if (file && !strcmp(file, "griffith")) h = HELP_GRIFFITH;
+    if (file && !strcmp(file, "info")) h = HELP_INFO;
+    fputs(h, stdout);
+    return 0;
+  }
+  if (strcmp(cmd, "run") && strcmp(cmd, "griffith") && strcmp(cmd, "info")) {
+    fprintf(stderr, "peristatic: unknown command '%s' (commands: run, griffith, info)\n",
+            cmd);
+    return 1;
+  }
+  if (!file) {
+    fprintf(stderr, "peristatic %s: no case file given (see peristatic help %s)\n", cmd,
+            cmd);
+    return 1;
+  }
+  ps_case cs;
+  ps_case_defaults(&cs);
+  int status = ps_case_load(&cs, file, &ctx);
+  if (status < 0) {
+    fprintf(stderr, "peristatic: %s\n", ctx.msg);
+    return exit_code(status);
+  }
+  ctx.verbosity = verbosity >= 0 ? verbosity : cs.verbosity;
+  char outdir[1100];
+  if (out)
+    snprintf(outdir, sizeof outdir, "%s", out);
+  else if (cs.out_dir[0])
+    snprintf(outdir, sizeof outdir, "%s", cs.out_dir);
+  else
+    snprintf(outdir, sizeof outdir, "out/%s", cs.name);
+  ps_problem pb;
+  double t0 = ps_wtime();
+  status = ps_problem_setup(&pb, &cs, &ctx);
+  if (status < 0) {
+    fprintf(stderr, "peristatic: %s\n", ctx.msg);
+    return exit_code(status);
+  }
+  if (!strcmp(cmd, "info")) {
+    printf("case: %s\nparticles: %lld\narms: %lld\narms_per_particle: %.2f\n"
+           "size_ratio_max_over_min: %.1f\nsetup_s: %.3f\n",
+           cs.name, (long long)pb.P.n, (long long)pb.net.n_arm,
+           2.0 * pb.net.n_arm / pb.P.n, pb.net.max_h_ratio, ps_wtime() - t0);
+  } else if (!strcmp(cmd, "run")) {
+    ps_run_result res;
+    status = ps_run(&pb, pb.mat.delta, outdir, &res, &ctx);
+    if (status >= 0)
+      ps_log(&ctx, 1, "# results in %s/ (summary.txt, history.csv, *.vtk)\n", outdir);
+  } else {
+    double slope, icpt, r2;
+    int nf;
+    status = ps_griffith(&pb, outdir, &slope, &icpt, &r2, &nf, &ctx);
+    if (status >= 0) ps_log(&ctx, 1, "# results in %s/ (griffith.csv, griffith.png)\n", outdir);
+  }
+  ps_problem_free(&pb);
+  if (status < 0) {
+    fprintf(stderr, "peristatic: %s\n", ctx.msg);
+    return exit_code(status);
+  }
+  return 0;
+}

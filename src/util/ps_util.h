@@ -89,6 +89,14 @@ int ps_outfile_open(ps_outfile *o, const char *path, ps_ctx *ctx);
 int ps_outfile_commit(ps_outfile *o, ps_ctx *ctx);
 void ps_outfile_abort(ps_outfile *o);
 
+/* Create directory `path` and its parents (mkdir -p). PS_OK or PS_ERR_IO. */
+int ps_mkdir_p(const char *path, ps_ctx *ctx);
+/* Remove a directory tree (rm -rf); PS_OK or PS_ERR_IO. */
+int ps_rm_rf(const char *path, ps_ctx *ctx);
+/* Replace directory `final` by `staging` (rename; the old tree is removed
+ * only after the new one is in place). PS_OK or PS_ERR_IO. */
+int ps_dir_commit(const char *staging, const char *final, ps_ctx *ctx);
+
 /* A sparse symmetric matrix: the lower triangle (diagonal included) in
  * compressed sparse columns, row indices sorted within each column. */
 typedef struct ps_csc {

@@ -1,5 +1,5 @@
 /* util.c: context, error messages, logging, timers, atomic output files. */
-#define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700
 #include "ps_util.h"
 
 #include <errno.h>
@@ -103,4 +103,59 @@ void ps_outfile_abort(ps_outfile *o) {
   if (o->f) fclose(o->f);
   o->f = NULL;
   unlink(o->tmp);
+}
+
+#include <ftw.h>
+#include <sys/stat.h>
+
+int ps_mkdir_p(const char *path, ps_ctx *ctx) {
+  char buf[1024];
+  if (strlen(path) >= sizeof buf)
+    return ps_error(ctx, PS_ERR_IO, "%s: path too long", path);
+  strcpy(buf, path);
+  for (char *p = buf + 1; *p; p++)
+    if (*p == '/') {
+      *p = '\0';
+      if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+        return ps_error(ctx, PS_ERR_IO, "%s: cannot create directory: %s", buf,
+                        strerror(errno));
+      *p = '/';
+    }
+  if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+    return ps_error(ctx, PS_ERR_IO, "%s: cannot create directory: %s", buf,
+                    strerror(errno));
+  return PS_OK;
+}
+
+static int rm_entry(const char *p, const struct stat *sb, int flag, struct FTW *f) {
+  (void)sb;
+  (void)flag;
+  (void)f;
+  return remove(p);
+}
+
+int ps_rm_rf(const char *path, ps_ctx *ctx) {
+  struct stat sb;
+  if (stat(path, &sb) != 0) return PS_OK; /* nothing there */
+  if (nftw(path, rm_entry, 32, FTW_DEPTH | FTW_PHYS) != 0)
+    return ps_error(ctx, PS_ERR_IO, "%s: cannot remove: %s", path, strerror(errno));
+  return PS_OK;
+}
+
+int ps_dir_commit(const char *staging, const char *final, ps_ctx *ctx) {
+  char old[1100];
+  struct stat sb;
+  snprintf(old, sizeof old, "%s.old", final);
+  PS_CHECK(ps_rm_rf(old, ctx));
+  int had = stat(final, &sb) == 0;
+  if (had && rename(final, old) != 0)
+    return ps_error(ctx, PS_ERR_IO, "%s: cannot move aside: %s", final, strerror(errno));
+  if (rename(staging, final) != 0) {
+    int e = errno;
+    if (had) rename(old, final);
+    return ps_error(ctx, PS_ERR_IO, "%s: cannot rename from %s: %s", final, staging,
+                    strerror(e));
+  }
+  if (had) PS_CHECK(ps_rm_rf(old, ctx));
+  return PS_OK;
 }

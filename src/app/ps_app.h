@@ -1,0 +1,67 @@
+/* ps_app.h: what the command line does, as a library: set a problem up
+ * from a case (geometry, sizes, network, material, boundary conditions),
+ * run it along the load path with progress lines and outputs, and the
+ * Griffith sweep over delta. Tests call these too. */
+#ifndef PS_APP_H
+#define PS_APP_H
+
+#include "../io/ps_io.h"
+#include "../post/ps_post.h"
+#include "../solver/ps_solver.h"
+
+typedef struct ps_problem {
+  ps_case cs;             /* the case (copy) */
+  ps_particles P;
+  ps_kernel kernel;
+  ps_network net;
+  ps_material mat;        /* finished; delta resolved (inf: no breaking) */
+  double c;               /* disk: half crack length (m); 0 otherwise */
+  unsigned char *fixed;   /* [n_dof] prescribed dofs */
+  double *ubar;           /* [n_dof] prescribed displacement at lambda 1 */
+  double *measure;        /* [n_dof] boundary-stress weights (normals) */
+  double measure_length;  /* m (2D) or m^2 (3D) */
+  double t_network;       /* wall seconds of geometry + network */
+} ps_problem;
+
+/* Build the particle cloud, sizes, network and boundary conditions of a
+ * case. Errors name the case file and line where one is known. Returns
+ * PS_OK, PS_ERR_INPUT, PS_ERR_IO, PS_ERR_NOMEM. */
+int ps_problem_setup(ps_problem *pb, const ps_case *cs, ps_ctx *ctx);
+void ps_problem_free(ps_problem *pb);
+
+/* Outcome of one run along the load path. */
+typedef struct ps_run_result {
+  double sigma_peak;        /* peak boundary stress, Pa: sigma_failure */
+  double lambda_peak;       /* load factor at the peak */
+  double sigma_y;           /* E eps_y, Pa */
+  int fractured;            /* 1: the crack ran (tip or load-drop stop) */
+  char stop_reason[160];
+  ps_int increments, newton_iterations, factorisations, arms_broken;
+  ps_int n_fallback, step_cuts;
+  double crack_tip;         /* in units of c (disk) */
+  double wall, t_assembly, t_analyze, t_factor, t_solve;
+} ps_run_result;
+
+/* Run the case's load path with elongation limit delta (m; inf: no
+ * breaking). When out_dir is not NULL, writes there (through
+ * out_dir.partial, renamed at the end so a failed run leaves earlier
+ * results intact): history.csv, particles.csv, summary.txt and VTK files
+ * (particles_NNNN.vtk, arms_NNNN.vtk). Returns PS_OK, or a fatal status
+ * (e.g. PS_ERR_SOLVER when Newton fails below the smallest increment). */
+int ps_run(ps_problem *pb, double delta, const char *out_dir,
+           ps_run_result *res, ps_ctx *ctx);
+
+/* Keep the solver of the last ps_run alive for inspection (tests): when
+ * keep != NULL, ps_run_keep hands the solver over instead of freeing it. */
+int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
+                ps_run_result *res, ps_solver *keep, ps_ctx *ctx);
+
+/* Griffith sweep over the case's delta/c values on one particle cloud:
+ * writes griffith.csv, griffith_fit.txt, griffith.gp and (with gnuplot)
+ * griffith.png into out_dir. The fit is over the runs that fractured.
+ * Returns PS_OK or a fatal status; fit results in *slope, *intercept, *r2
+ * (NAN when fewer than two runs fractured). */
+int ps_griffith(ps_problem *pb, const char *out_dir, double *slope,
+                double *intercept, double *r2, int *n_fractured, ps_ctx *ctx);
+
+#endif

@@ -1,0 +1,361 @@
+/* run.c: the load path of one case (increments, step cutting, breaking,
+ * stopping rules, progress lines, outputs) and the Griffith sweep. */
+#include "ps_app.h"
+
+#include <gsl/gsl_math.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "config.h"
+
+/* per-particle and per-arm fields for the VTK and CSV files */
+static int write_state(const ps_problem *pb, const ps_solver *s, const char *dir,
+                       int step, int final, ps_ctx *ctx) {
+  const ps_network *net = &pb->net;
+  const ps_particles *P = &pb->P;
+  int d = P->dim, status = PS_OK;
+  ps_int n = P->n, na = net->n_arm;
+  double *phi = ps_calloc((size_t)n, sizeof *phi, ctx);
+  double *pstrain = ps_calloc((size_t)n, sizeof *phi, ctx);
+  double *pplast = ps_calloc((size_t)n, sizeof *phi, ctx);
+  double *astrain = ps_calloc((size_t)na, sizeof *phi, ctx);
+  double *aplast = ps_calloc((size_t)na, sizeof *phi, ctx);
+  double *abroken = ps_calloc((size_t)na, sizeof *phi, ctx);
+  if (!phi || !pstrain || !pplast || !astrain || !aplast || !abroken) {
+    status = PS_ERR_NOMEM;
+    goto cleanup;
+  }
+  ps_post_damage(net, &s->st, phi);
+  double ey = pb->mat.yield_strain, delta = pb->mat.delta;
+  for (ps_int i = 0; i < na; i++) {
+    astrain[i] = (s->sys.l[i] - net->r0[i]) / net->r0[i] / ey;
+    aplast[i] = isfinite(delta) ? s->st.eps_p[i] * net->r0[i] / delta : 0.0;
+    abroken[i] = s->st.broken[i];
+    if (s->st.broken[i]) continue;
+    ps_int e[2] = {net->a[i], net->b[i]};
+    for (int k = 0; k < 2; k++) {
+      if (fabs(astrain[i]) > fabs(pstrain[e[k]])) pstrain[e[k]] = astrain[i];
+      if (aplast[i] > pplast[e[k]]) pplast[e[k]] = aplast[i];
+    }
+  }
+  char path[1200];
+  ps_field pf[5] = {{"displacement", 3, s->u, d},
+                    {"damage", 1, phi, 1},
+                    {"arm_strain_over_eps_y", 1, pstrain, 1},
+                    {"plastic_elongation_over_delta", 1, pplast, 1},
+                    {"h", 1, P->h, 1}};
+  ps_field af[3] = {{"arm_strain_over_eps_y", 1, astrain, 1},
+                    {"plastic_elongation_over_delta", 1, aplast, 1},
+                    {"broken", 1, abroken, 1}};
+  snprintf(path, sizeof path, "%s/particles_%04d.vtk", dir, step);
+  PS_CHECK_GOTO(ps_vtk_write(path, d, n, P->x, 0, NULL, NULL, pf, 5, NULL, 0, ctx));
+  snprintf(path, sizeof path, "%s/arms_%04d.vtk", dir, step);
+  PS_CHECK_GOTO(ps_vtk_write(path, d, n, P->x, na, net->a, net->b, pf, 5, af, 3, ctx));
+  if (final) {
+    ps_outfile o;
+    snprintf(path, sizeof path, "%s/particles.csv", dir);
+    PS_CHECK_GOTO(ps_outfile_open(&o, path, ctx));
+    fprintf(o.f, d == 2 ? "id,x,y,ux,uy,damage,volume,h,block\n"
+                        : "id,x,y,z,ux,uy,uz,damage,volume,h,block\n");
+    for (ps_int a = 0; a < n; a++) {
+      fprintf(o.f, "%lld", (long long)a);
+      for (int k = 0; k < d; k++) fprintf(o.f, ",%.10g", P->x[a * d + k]);
+      for (int k = 0; k < d; k++) fprintf(o.f, ",%.10g", s->u[a * d + k]);
+      fprintf(o.f, ",%.6g,%.6g,%.6g,%d\n", phi[a], P->volume[a], P->h[a], P->block[a]);
+    }
+    PS_CHECK_GOTO(ps_outfile_commit(&o, ctx));
+  }
+cleanup:
+  free(phi);
+  free(pstrain);
+  free(pplast);
+  free(astrain);
+  free(aplast);
+  free(abroken);
+  return status;
+}
+
+static void solver_opts_from_case(const ps_case *cs, ps_solver_opts *o) {
+  ps_solver_opts_default(o);
+  o->tolerance = cs->tolerance;
+  o->max_iterations = cs->max_iterations;
+  o->line_search = cs->line_search;
+  const ps_linsolve_type *t = ps_linsolve_type_find(cs->linear);
+  if (t) o->linear = t;
+}
+
+int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
+                ps_run_result *res, ps_solver *keep, ps_ctx *ctx) {
+  const ps_case *cs = &pb->cs;
+  int status = PS_OK;
+  ps_solver s;
+  ps_solver_opts opts;
+  FILE *hist = NULL;
+  char staging[1100] = "", path[1200];
+  double t0 = ps_wtime();
+  memset(res, 0, sizeof *res);
+  memset(&s, 0, sizeof s);
+  ps_material mat = pb->mat;
+  mat.delta = delta;
+  res->sigma_y = mat.sigma_y;
+  solver_opts_from_case(cs, &opts);
+  PS_CHECK_GOTO(ps_solver_create(&s, &pb->P, &pb->net, ps_model_type_find(cs->model),
+                                 &mat, pb->fixed, pb->ubar, &opts, ctx));
+  if (out_dir) {
+    snprintf(staging, sizeof staging, "%s.partial", out_dir);
+    PS_CHECK_GOTO(ps_rm_rf(staging, ctx));
+    PS_CHECK_GOTO(ps_mkdir_p(staging, ctx));
+    snprintf(path, sizeof path, "%s/history.csv", staging);
+    hist = fopen(path, "w");
+    if (!hist) {
+      status = ps_error(ctx, PS_ERR_IO, "%s: cannot open for writing", path);
+      goto cleanup;
+    }
+    fprintf(hist, "step,load_factor,boundary_stress_Pa,stress_over_sigma_y,"
+                  "newton_iterations,relative_residual,arms_yielding,arms_broken,"
+                  "crack_tip_over_c,wall_s\n");
+  }
+  ps_log(ctx, 1, "# %s: %lld particles, %lld arms, %lld free dofs, delta %s%.4g m\n",
+         cs->name, (long long)pb->P.n, (long long)pb->net.n_arm,
+         (long long)s.sys.n_free, isfinite(delta) ? "" : "(no breaking) ", delta);
+  ps_log(ctx, 1, "# %4s %9s %10s %6s %9s %8s %7s %6s\n", "step", "lambda", "sig/sig_y",
+         "newton", "residual", "yielding", "broken", "tip/c");
+  double dl_nominal = cs->load_step, dl = dl_nominal, peak = -INFINITY;
+  ps_int broken_total = 0;
+  int good_in_a_row = 0;
+  snprintf(res->stop_reason, sizeof res->stop_reason, "max_increments reached (%d)",
+           cs->max_increments);
+  for (int step = 1; step <= cs->max_increments; step++) {
+    double target = fmin(s.lambda + dl, cs->max_load);
+    ps_int its0 = s.newton_iterations;
+    status = ps_solver_step(&s, target, ctx);
+    if (status < 0) goto cleanup;
+    if (status == PS_DIVERGED) {
+      res->step_cuts++;
+      dl *= 0.5;
+      good_in_a_row = 0;
+      ps_log(ctx, 1, "  step %d: Newton did not converge (reason %d, residual %.2e); "
+                     "cutting the increment to %.4g\n",
+             step, s.last_reason, s.last_residual, dl);
+      if (dl < cs->min_step) {
+        status = ps_error(ctx, PS_ERR_SOLVER,
+                          "%s: Newton diverged at load factor %.6g (increment below "
+                          "path.min_step = %g; last relative residual %.3e). Try a "
+                          "smaller path.load_step or solver.linear: umfpack",
+                          cs->path, s.lambda + dl * 2, cs->min_step, s.last_residual);
+        goto cleanup;
+      }
+      step--;
+      continue;
+    }
+    ps_solver_commit(&s);
+    ps_int nb = 0;
+    int settle = ps_solver_break_and_settle(&s, cs->max_break_rounds, &nb, ctx);
+    if (settle < 0) {
+      status = settle;
+      goto cleanup;
+    }
+    broken_total += nb;
+    if (broken_total > 0) dl_nominal = fmin(dl_nominal, cs->load_step_after_break);
+    if (++good_in_a_row >= 2 && dl < dl_nominal) dl = fmin(2 * dl, dl_nominal);
+    if (dl > dl_nominal) dl = dl_nominal;
+    double sig = ps_post_boundary_stress(&pb->net, s.sys.T, s.sys.q, pb->measure,
+                                        pb->measure_length);
+    double tip = pb->c > 0 ? ps_post_crack_tip(&pb->P, &pb->net, &s.st, pb->c) : 0.0;
+    ps_int ny = ps_solver_count_yielding(&s);
+    int its = (int)(s.newton_iterations - its0);
+    res->increments = step;
+    if (sig > peak) {
+      peak = sig;
+      res->lambda_peak = s.lambda;
+    }
+    ps_log(ctx, 1, "  %4d %9.5f %10.5f %6d %9.2e %8lld %7lld %6.2f\n", step, s.lambda,
+           sig / mat.sigma_y, its, s.last_residual, (long long)ny, (long long)broken_total,
+           tip);
+    if (hist)
+      fprintf(hist, "%d,%.10g,%.10g,%.10g,%d,%.4g,%lld,%lld,%.6g,%.4f\n", step, s.lambda,
+              sig, sig / mat.sigma_y, its, s.last_residual, (long long)ny,
+              (long long)broken_total, tip, ps_wtime() - t0);
+    if (out_dir && cs->vtk_every > 0 && step % cs->vtk_every == 0)
+      PS_CHECK_GOTO(write_state(pb, &s, staging, step, 0, ctx));
+    res->crack_tip = tip;
+    if (settle == PS_DIVERGED) {
+      res->fractured = broken_total > 0;
+      snprintf(res->stop_reason, sizeof res->stop_reason,
+               "re-equilibration after breaking arms did not converge at load factor "
+               "%.5g (unstable fracture)",
+               s.lambda);
+      break;
+    }
+    if (pb->c > 0 && tip >= cs->stop_crack_tip) {
+      res->fractured = 1;
+      snprintf(res->stop_reason, sizeof res->stop_reason,
+               "crack tip passed %.3g c from the centre", cs->stop_crack_tip);
+      break;
+    }
+    if (broken_total > 0 && sig < cs->stop_load_drop * peak) {
+      res->fractured = 1;
+      snprintf(res->stop_reason, sizeof res->stop_reason,
+               "boundary stress fell below %.3g of its peak", cs->stop_load_drop);
+      break;
+    }
+    if (s.lambda >= cs->max_load) {
+      snprintf(res->stop_reason, sizeof res->stop_reason,
+               "path.max_load = %g reached: %s", cs->max_load,
+               broken_total ? "arms broke but the crack did not run" : "no fracture");
+      break;
+    }
+  }
+  res->sigma_peak = peak;
+  res->newton_iterations = s.newton_iterations;
+  res->factorisations = s.ls.stats.n_factor + s.ls_fallback.stats.n_factor;
+  res->arms_broken = broken_total;
+  res->n_fallback = s.n_fallback;
+  res->t_assembly = s.t_assembly;
+  res->t_analyze = s.ls.stats.t_analyze + s.ls_fallback.stats.t_analyze;
+  res->t_factor = s.ls.stats.t_factor + s.ls_fallback.stats.t_factor;
+  res->t_solve = s.ls.stats.t_solve + s.ls_fallback.stats.t_solve;
+  res->wall = ps_wtime() - t0;
+  ps_log(ctx, 1, "# end: %s\n# sigma_failure = %.6g Pa = %.5f sigma_y (peak at load "
+                 "factor %.5g)%s; %lld increments, %lld Newton iterations, %.2f s\n",
+         res->stop_reason, peak, peak / mat.sigma_y, res->lambda_peak,
+         res->fractured ? "" : " [no fracture]", (long long)res->increments,
+         (long long)res->newton_iterations, res->wall);
+  if (out_dir) {
+    PS_CHECK_GOTO(write_state(pb, &s, staging, res->increments, 1, ctx));
+    if (fclose(hist) != 0) {
+      hist = NULL;
+      status = ps_error(ctx, PS_ERR_IO, "%s/history.csv: write failed", staging);
+      goto cleanup;
+    }
+    hist = NULL;
+    ps_outfile o;
+    snprintf(path, sizeof path, "%s/summary.txt", staging);
+    PS_CHECK_GOTO(ps_outfile_open(&o, path, ctx));
+    fprintf(o.f,
+            "case: %s\nparticles: %lld\narms: %lld\nfree_dofs: %lld\ndelta_m: %.10g\n"
+            "sigma_y_Pa: %.10g\nsigma_failure_Pa: %.10g\nsigma_failure_over_sigma_y: "
+            "%.8g\nload_factor_at_peak: %.8g\nfractured: %s\nstop_reason: %s\n"
+            "increments: %lld\nnewton_iterations: %lld\nfactorisations: %lld\n"
+            "umfpack_fallbacks: %lld\nstep_cuts: %lld\narms_broken: %lld\n"
+            "crack_tip_over_c: %.6g\nwall_s: %.3f\nassembly_s: %.3f\nanalyze_s: %.3f\n"
+            "factor_s: %.3f\nsolve_s: %.3f\nnetwork_s: %.3f\npeak_memory_MiB: %.1f\n",
+            cs->name, (long long)pb->P.n, (long long)pb->net.n_arm,
+            (long long)s.sys.n_free, delta, mat.sigma_y, peak, peak / mat.sigma_y,
+            res->lambda_peak, res->fractured ? "yes" : "no", res->stop_reason,
+            (long long)res->increments, (long long)res->newton_iterations,
+            (long long)res->factorisations, (long long)res->n_fallback,
+            (long long)res->step_cuts, (long long)res->arms_broken, res->crack_tip,
+            res->wall, res->t_assembly, res->t_analyze, res->t_factor, res->t_solve,
+            pb->t_network, ps_peak_mib());
+    PS_CHECK_GOTO(ps_outfile_commit(&o, ctx));
+    PS_CHECK_GOTO(ps_dir_commit(staging, out_dir, ctx));
+  }
+cleanup:
+  if (hist) fclose(hist);
+  if (status < 0 && staging[0]) {
+    size_t n = strlen(ctx->msg);
+    snprintf(ctx->msg + n, sizeof ctx->msg - n,
+             "\n(earlier results in %s are untouched; this run's partial output is in "
+             "%s)",
+             out_dir, staging);
+  }
+  if (keep && status >= 0)
+    *keep = s;
+  else
+    ps_solver_free(&s);
+  return status < 0 ? status : PS_OK;
+}
+
+int ps_run(ps_problem *pb, double delta, const char *out_dir,
+           ps_run_result *res, ps_ctx *ctx) {
+  return ps_run_keep(pb, delta, out_dir, res, NULL, ctx);
+}
+
+int ps_griffith(ps_problem *pb, const char *out_dir, double *slope,
+                double *intercept, double *r2, int *n_fractured, ps_ctx *ctx) {
+  const ps_case *cs = &pb->cs;
+  int n = cs->n_sweep, status = PS_OK, nf = 0;
+  double xs[PS_MAX_SWEEP], ys[PS_MAX_SWEEP];
+  ps_run_result res[PS_MAX_SWEEP];
+  char staging[1100], path[1300];
+  *slope = *intercept = *r2 = NAN;
+  *n_fractured = 0;
+  if (!(pb->c > 0))
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "%s: the Griffith sweep needs the elliptic disk (geometry.type "
+                    "disk): delta is swept as a fraction of c",
+                    cs->path);
+  if (n < 1) return ps_error(ctx, PS_ERR_INPUT, "%s: griffith sweep is empty", cs->path);
+  snprintf(staging, sizeof staging, "%s.partial", out_dir);
+  PS_CHECK(ps_rm_rf(staging, ctx));
+  PS_CHECK(ps_mkdir_p(staging, ctx));
+  for (int i = 0; i < n; i++) {
+    double dc = cs->sweep_delta_over_c[i];
+    ps_log(ctx, 1, "## griffith run %d/%d: delta = c/%.6g\n", i + 1, n, 1.0 / dc);
+    snprintf(path, sizeof path, "%s/delta_c%04.0f", staging, 1.0 / dc);
+    PS_CHECK(ps_run(pb, dc * pb->c, path, &res[i], ctx));
+    if (res[i].fractured) {
+      xs[nf] = sqrt(dc);
+      ys[nf] = res[i].sigma_peak / res[i].sigma_y;
+      nf++;
+    }
+  }
+  *n_fractured = nf;
+  double nominal = sqrt(2.0 / (M_PI * pb->mat.yield_strain));
+  if (nf >= 2) PS_CHECK(ps_post_line_fit(xs, ys, nf, slope, intercept, r2, ctx));
+  ps_outfile o;
+  snprintf(path, sizeof path, "%s/griffith.csv", staging);
+  PS_CHECK(ps_outfile_open(&o, path, ctx));
+  fprintf(o.f, "delta_over_c,sqrt_delta_over_c,sigma_failure_over_sigma_y,fractured,"
+               "increments,newton_iterations,arms_broken,wall_s\n");
+  for (int i = 0; i < n; i++) {
+    double dc = cs->sweep_delta_over_c[i];
+    fprintf(o.f, "%.8g,%.8g,%.8g,%s,%lld,%lld,%lld,%.3f\n", dc, sqrt(dc),
+            res[i].sigma_peak / res[i].sigma_y, res[i].fractured ? "yes" : "no",
+            (long long)res[i].increments, (long long)res[i].newton_iterations,
+            (long long)res[i].arms_broken, res[i].wall);
+  }
+  PS_CHECK(ps_outfile_commit(&o, ctx));
+  snprintf(path, sizeof path, "%s/griffith_fit.txt", staging);
+  PS_CHECK(ps_outfile_open(&o, path, ctx));
+  fprintf(o.f,
+          "# least-squares line sigma_failure/sigma_y = intercept + slope "
+          "sqrt(delta/c)\n# over the runs that fractured\nruns: %d\nfractured: %d\n"
+          "slope: %.8g\nintercept: %.8g\nr2: %.8g\nnominal_griffith_slope: %.8g\n"
+          "# nominal slope sqrt(2/(pi eps_y)) of Eq. 106/109; see doc/griffith.md\n",
+          n, nf, *slope, *intercept, *r2, nominal);
+  PS_CHECK(ps_outfile_commit(&o, ctx));
+  snprintf(path, sizeof path, "%s/griffith.gp", staging);
+  PS_CHECK(ps_outfile_open(&o, path, ctx));
+  fprintf(o.f,
+          "# gnuplot script: sigma_failure/sigma_y against sqrt(delta/c)\n"
+          "set terminal pngcairo size 800,600 noenhanced\nset output 'griffith.png'\n"
+          "set datafile separator ','\nset key top left\n"
+          "set xlabel 'sqrt(delta / c)'\nset ylabel 'sigma_failure / sigma_yield'\n"
+          "set title 'Griffith check: %s (slope %.4g, intercept %.3g, R^2 %.4f)'\n"
+          "set xrange [0:*]\nset yrange [0:*]\n"
+          "plot 'griffith.csv' every ::1 using ($4 eq \"yes\" ? $2 : 1/0):3 with points "
+          "pt 7 ps 1.5 title 'fractured', \\\n"
+          "     'griffith.csv' every ::1 using ($4 eq \"no\" ? $2 : 1/0):3 with points "
+          "pt 6 ps 1.5 title 'no fracture (peak load)', \\\n"
+          "     %.10g + %.10g*x title 'least-squares fit' lw 2, \\\n"
+          "     %.10g*x title 'nominal Griffith sqrt(2/(pi eps_y)) x' dt 2\n",
+          cs->name, *slope, *intercept, *r2, isfinite(*intercept) ? *intercept : 0.0,
+          isfinite(*slope) ? *slope : 0.0, nominal);
+  PS_CHECK(ps_outfile_commit(&o, ctx));
+  PS_CHECK(ps_dir_commit(staging, out_dir, ctx));
+  if (PS_GNUPLOT[0]) {
+    char cmd[2600];
+    snprintf(cmd, sizeof cmd, "cd '%s' && '%s' griffith.gp 2>/dev/null", out_dir,
+             PS_GNUPLOT);
+    if (system(cmd) != 0)
+      ps_log(ctx, 1, "# warning: gnuplot failed; the plot script is %s/griffith.gp\n",
+             out_dir);
+  }
+  ps_log(ctx, 1, "## griffith: %d of %d runs fractured; slope %.5g, intercept %.4g, "
+                 "R^2 %.5f (nominal slope %.5g)\n",
+         nf, n, *slope, *intercept, *r2, nominal);
+  return status;
+}

@@ -1,0 +1,134 @@
+/* ps_io.h: input and output. Case files (YAML via libyaml) into a ps_case,
+ * point clouds ("x y [z] volume [block]" per line), and results as CSV and
+ * legacy VTK files that ParaView opens. Every output is written to a
+ * temporary name and renamed when complete (ps_outfile), so a failed run
+ * leaves earlier results intact. */
+#ifndef PS_IO_H
+#define PS_IO_H
+
+#include "../model/ps_model.h"
+
+enum ps_geometry_type { PS_GEOM_DISK = 0, PS_GEOM_BOX = 1, PS_GEOM_CLOUD = 2 };
+enum ps_size_rule { PS_SIZE_EQ115 = 0, PS_SIZE_EQ44 = 1 };
+enum ps_load_type { PS_LOAD_EQ116 = 0, PS_LOAD_BOUNDARY = 1 };
+
+#define PS_MAX_CRACKS 16
+#define PS_MAX_BC 32
+#define PS_MAX_SWEEP 64
+
+/* A particle selection: all bounds that are set must hold (inclusive);
+ * block >= 0 also requires that block id. Bounds unset are +-inf. */
+typedef struct ps_select {
+  double lo[3], hi[3]; /* x_min, y_min, z_min / x_max, y_max, z_max */
+  int block;           /* -1: any */
+} ps_select;
+
+/* One boundary condition entry of `loading.boundary`. */
+typedef struct ps_bc {
+  ps_select sel;
+  int fix[3];          /* 1: this component held at zero */
+  int displace_set[3]; /* 1: this component prescribed */
+  double displace[3];  /* prescribed displacement at load factor 1, m */
+  int measure;         /* 1: reactions of these particles give the
+                          boundary stress (along the displaced component) */
+  int line;            /* line in the case file (messages) */
+} ps_bc;
+
+typedef struct ps_case {
+  char path[1024];     /* the case file as given */
+  char dir[1024];      /* its directory (relative paths resolve here) */
+  char name[128];      /* case name (default: file name without .yaml) */
+
+  /* geometry */
+  int geometry;        /* enum ps_geometry_type */
+  int dim;             /* 2 or 3 (disk: 2) */
+  ps_disk_params disk; /* geometry.type = disk */
+  ps_int counts[3];    /* box: particles per axis */
+  double spacing;      /* box: lattice spacing d, m */
+  char lattice[16];    /* box: "square" | "hex" */
+  double jitter;       /* box: fraction of d */
+  unsigned long seed;  /* box jitter seed */
+  char cloud_file[1024]; /* cloud: path (resolved against dir) */
+  int size_rule;       /* enum ps_size_rule (default eq115) */
+  int size_neighbours; /* n of Eq. 115 (default 5) */
+  int n_cracks;
+  ps_crack cracks[PS_MAX_CRACKS]; /* geometry.cracks; the disk adds its own */
+
+  /* kernel */
+  double alpha;        /* default 5.1 */
+  int kernel_k;        /* default 2 */
+
+  /* material */
+  char model[32];      /* "fibre" */
+  ps_material mat;     /* E, nu, plane, yield_strain, plastic, delta, rho */
+  double delta_over_c; /* disk: delta given as a fraction of c (0: unset) */
+
+  /* loading */
+  int load_type;       /* enum ps_load_type (disk default eq116) */
+  int n_bc;
+  ps_bc bc[PS_MAX_BC];
+  double stress_length;/* boundary: length (2D) or area (3D) dividing the
+                          measured reaction; 0: from the bounding box */
+
+  /* solver */
+  char linear[32];     /* "cholmod" (default) | "umfpack" */
+  double tolerance;    /* relative residual, default 1e-8 */
+  int max_iterations;  /* Newton iterations per solve, default 30 */
+  int line_search;     /* default 1 */
+
+  /* path following */
+  double load_step;    /* load factor increment, default 0.02 */
+  double load_step_after_break; /* after the first break, default 0.005 */
+  double max_load;     /* stop at this load factor, default 5 */
+  int max_increments;  /* default 2000 */
+  double min_step;     /* smallest increment after cuts, default 1e-6 */
+  double stop_crack_tip; /* disk: stop when the tip passes this many c
+                            from the centre, default 9 */
+  double stop_load_drop; /* stop when the boundary stress falls below this
+                            fraction of its peak (after breaking), 0.5 */
+  int max_break_rounds;  /* re-equilibrations per increment, default 500 */
+
+  /* output */
+  char out_dir[1024];  /* default "out/<name>" (relative to the cwd) */
+  int vtk_every;       /* write VTK every n increments (0: last only), 10 */
+  int verbosity;       /* 0 quiet, 1 progress, 2 Newton detail (default 1) */
+
+  /* griffith sweep: delta/c = 1/denominator */
+  int n_sweep;
+  double sweep_delta_over_c[PS_MAX_SWEEP];
+} ps_case;
+
+/* Fill every field with its documented default (disk of Table 1, fibre
+ * model with Table 1's material, delta = c/1000). */
+void ps_case_defaults(ps_case *cs);
+
+/* Read a YAML case file over the defaults. Errors name the file and line:
+ * "case.yaml:14: material.E must be > 0 (got -3e9)". Unknown keys, wrong
+ * types and impossible values are errors. Returns PS_OK, PS_ERR_INPUT,
+ * PS_ERR_IO. */
+int ps_case_load(ps_case *cs, const char *path, ps_ctx *ctx);
+
+/* Read a point cloud: one particle per line, "x y [z] volume [block]" (dim
+ * coordinates, then the volume in m^N, then an optional integer block id);
+ * '#' starts a comment, blank lines are skipped. Errors name file:line.
+ * Returns PS_OK, PS_ERR_INPUT, PS_ERR_IO, PS_ERR_NOMEM. */
+int ps_cloud_read(ps_particles *p, const char *path, int dim, ps_ctx *ctx);
+
+/* A named array for output: n_comp values per point or cell. */
+typedef struct ps_field {
+  const char *name;
+  int n_comp;          /* 1 (scalar) or 3 (vector; 2D data padded with 0) */
+  const double *v;     /* [n * n_comp_in] */
+  int n_comp_in;       /* components stored per entry in v (1, 2 or 3) */
+} ps_field;
+
+/* Legacy ASCII VTK unstructured grid: n_point points x (dim per point,
+ * padded to 3), cells = VERTEX per point when n_line == 0, else the lines
+ * (la[i], lb[i]); point and cell fields. Written atomically. Returns PS_OK
+ * or PS_ERR_IO. */
+int ps_vtk_write(const char *path, int dim, ps_int n_point, const double *x,
+                 ps_int n_line, const ps_int *la, const ps_int *lb,
+                 const ps_field *point_fields, int n_pf,
+                 const ps_field *cell_fields, int n_cf, ps_ctx *ctx);
+
+#endif

@@ -1,0 +1,142 @@
+/* post.c: damage, boundary stress, crack tip, strain fit, RMS error, line
+ * fit. */
+#include "ps_post.h"
+
+#include <gsl/gsl_fit.h>
+#include <gsl/gsl_multifit.h>
+#include <math.h>
+
+void ps_post_damage(const ps_network *net, const ps_arm_state *st,
+                    double *phi) {
+  for (ps_int a = 0; a < net->n_particle; a++) {
+    ps_int intact = 0;
+    for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++)
+      intact += !st->broken[net->fam_arm[k]];
+    phi[a] = net->n_arm0[a] ? 1.0 - (double)intact / (double)net->n_arm0[a] : 0.0;
+  }
+}
+
+double ps_post_reaction_stress(ps_int n_dof, const double *m,
+                               const double *f, double length) {
+  double s = 0;
+  for (ps_int j = 0; j < n_dof; j++) s += m[j] * f[j];
+  return length > 0 ? s / length : 0.0;
+}
+
+static int measured(const double *m, ps_int a, int d) {
+  for (int k = 0; k < d; k++)
+    if (m[a * d + k] != 0.0) return 1;
+  return 0;
+}
+
+double ps_post_boundary_stress(const ps_network *net, const double *T,
+                               const double *q, const double *m,
+                               double length) {
+  int d = net->dim;
+  double s = 0;
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    if (T[i] == 0.0) continue;
+    ps_int a = net->a[i], b = net->b[i];
+    int ma = measured(m, a, d), mb = measured(m, b, d);
+    if (ma == mb) continue;
+    /* zone particle z, interior particle o: the arm pulls o towards z */
+    ps_int z = ma ? a : b;
+    double sgn = ma ? -1.0 : 1.0; /* e_{o->z} = -q if z = a, +q if z = b */
+    double proj = 0;
+    for (int k = 0; k < d; k++) proj += sgn * q[i * d + k] * m[z * d + k];
+    s += T[i] * proj;
+  }
+  return length > 0 ? s / length : 0.0;
+}
+
+double ps_post_crack_tip(const ps_particles *P, const ps_network *net,
+                         const ps_arm_state *st, double c) {
+  double tip = 1.0;
+  int d = P->dim;
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    if (!st->broken[i]) continue;
+    double r2 = 0;
+    for (int k = 0; k < d; k++) {
+      double m = 0.5 * (P->x[net->a[i] * d + k] + P->x[net->b[i] * d + k]);
+      r2 += m * m;
+    }
+    double r = sqrt(r2) / c;
+    if (r > tip) tip = r;
+  }
+  return tip;
+}
+
+int ps_post_fit_strain(const ps_particles *P, const double *u,
+                       const unsigned char *mask, double *eps, ps_ctx *ctx) {
+  int d = P->dim;
+  ps_int m = 0;
+  for (ps_int a = 0; a < P->n; a++) m += mask[a] != 0;
+  if (m < d + 1)
+    return ps_error(ctx, PS_ERR_INPUT, "strain fit needs >= %d particles (got %lld)",
+                    d + 1, (long long)m);
+  gsl_matrix *X = gsl_matrix_alloc((size_t)m, (size_t)d + 1);
+  gsl_vector *y = gsl_vector_alloc((size_t)m), *c = gsl_vector_alloc((size_t)d + 1);
+  gsl_matrix *cov = gsl_matrix_alloc((size_t)d + 1, (size_t)d + 1);
+  gsl_multifit_linear_workspace *w = gsl_multifit_linear_alloc((size_t)m, (size_t)d + 1);
+  if (!X || !y || !c || !cov || !w) {
+    gsl_matrix_free(X);
+    gsl_vector_free(y);
+    gsl_vector_free(c);
+    gsl_matrix_free(cov);
+    if (w) gsl_multifit_linear_free(w);
+    return ps_error(ctx, PS_ERR_NOMEM, "strain fit: out of memory");
+  }
+  double H[9];
+  ps_int r = 0;
+  for (ps_int a = 0; a < P->n; a++) {
+    if (!mask[a]) continue;
+    gsl_matrix_set(X, (size_t)r, 0, 1.0);
+    for (int k = 0; k < d; k++) gsl_matrix_set(X, (size_t)r, (size_t)k + 1, P->x[a * d + k]);
+    r++;
+  }
+  for (int i = 0; i < d; i++) {
+    r = 0;
+    for (ps_int a = 0; a < P->n; a++)
+      if (mask[a]) gsl_vector_set(y, (size_t)r++, u[a * d + i]);
+    double chisq;
+    gsl_multifit_linear(X, y, c, cov, &chisq, w);
+    for (int j = 0; j < d; j++) H[i * d + j] = gsl_vector_get(c, (size_t)j + 1);
+  }
+  for (int i = 0; i < d; i++)
+    for (int j = 0; j < d; j++) eps[i * d + j] = 0.5 * (H[i * d + j] + H[j * d + i]);
+  gsl_matrix_free(X);
+  gsl_vector_free(y);
+  gsl_vector_free(c);
+  gsl_matrix_free(cov);
+  gsl_multifit_linear_free(w);
+  return PS_OK;
+}
+
+double ps_post_rms_error(int dim, ps_int n, const double *u,
+                         const double *u_ref, const unsigned char *mask) {
+  double num = 0, den = 0;
+  for (ps_int a = 0; a < n; a++) {
+    if (mask && !mask[a]) continue;
+    for (int k = 0; k < dim; k++) {
+      double e = u[a * dim + k] - u_ref[a * dim + k];
+      num += e * e;
+      den += u_ref[a * dim + k] * u_ref[a * dim + k];
+    }
+  }
+  return den > 0 ? sqrt(num / den) : sqrt(num);
+}
+
+int ps_post_line_fit(const double *x, const double *y, int n, double *slope,
+                     double *intercept, double *r2, ps_ctx *ctx) {
+  if (n < 2)
+    return ps_error(ctx, PS_ERR_INPUT, "a line fit needs at least 2 points (got %d)", n);
+  double c0, c1, cov00, cov01, cov11, sumsq;
+  gsl_fit_linear(x, 1, y, 1, (size_t)n, &c0, &c1, &cov00, &cov01, &cov11, &sumsq);
+  double mean = 0, tss = 0;
+  for (int i = 0; i < n; i++) mean += y[i] / n;
+  for (int i = 0; i < n; i++) tss += (y[i] - mean) * (y[i] - mean);
+  *slope = c1;
+  *intercept = c0;
+  *r2 = tss > 0 ? 1.0 - sumsq / tss : 1.0;
+  return PS_OK;
+}

@@ -1,0 +1,55 @@
+/* ps_post.h: quantities derived from a solved state: damage (Eq. 119, as
+ * 1 - intact/initial arms), boundary stress from reactions, crack tip,
+ * least-squares strain of a region, RMS error against a reference field,
+ * and the Griffith line fit (GSL). */
+#ifndef PS_POST_H
+#define PS_POST_H
+
+#include "../model/ps_model.h"
+
+/* phi_a = 1 - (intact arms of a) / (arms of a at creation). */
+void ps_post_damage(const ps_network *net, const ps_arm_state *st,
+                    double *phi);
+
+/* Reaction stress: sum_j m_j f_j / length, with the measuring vector m
+ * [n_dof] (unit outward normals of the measured particles, 0 elsewhere)
+ * and f the internal forces (reactions at prescribed dofs). Pa when length
+ * is in m (2D, unit thickness) or m^2 (3D). On a curved or cornered
+ * boundary zone this also counts the zone's own hoop/corner forces (see
+ * doc/model.md), so it over-estimates the stress at the interface. */
+double ps_post_reaction_stress(ps_int n_dof, const double *m,
+                               const double *f, double length);
+
+/* Boundary stress carried across the interface between the measured
+ * particles (m nonzero) and the rest: the sum over arms a (measured) - b
+ * (not) of T_ab (e_ba . m_a), e_ba the current unit vector from b to a,
+ * divided by length. This is the normal force the boundary zone exerts on
+ * the interior over the interface length. T and q as in ps_system (q from
+ * net->a to net->b). */
+double ps_post_boundary_stress(const ps_network *net, const double *T,
+                               const double *q, const double *m,
+                               double length);
+
+/* Crack tip distance from the origin: the largest distance of a broken
+ * arm's midpoint (reference configuration) from (0, 0), in units of c;
+ * 1 when no arm is broken (the initial tips are at +-c). */
+double ps_post_crack_tip(const ps_particles *P, const ps_network *net,
+                         const ps_arm_state *st, double c);
+
+/* Least-squares affine fit u(x) = u0 + H x over the particles with
+ * mask[a] != 0; writes the symmetric strain eps[i*dim + j] = (H_ij + H_ji)/2.
+ * Returns PS_OK, or PS_ERR_INPUT when fewer than dim + 1 particles are
+ * selected. */
+int ps_post_fit_strain(const ps_particles *P, const double *u,
+                       const unsigned char *mask, double *eps, ps_ctx *ctx);
+
+/* sqrt(sum |u - u_ref|^2 / sum |u_ref|^2) over particles with mask[a]. */
+double ps_post_rms_error(int dim, ps_int n, const double *u,
+                         const double *u_ref, const unsigned char *mask);
+
+/* Least-squares line y = intercept + slope x (GSL gsl_fit_linear) and the
+ * coefficient of determination R^2. Returns PS_OK or PS_ERR_INPUT (n < 2). */
+int ps_post_line_fit(const double *x, const double *y, int n, double *slope,
+                     double *intercept, double *r2, ps_ctx *ctx);
+
+#endif

@@ -1,0 +1,299 @@
+/* newton.c: solver state, Newton's method with an energy line search, the
+ * linear predictor of an increment, commit/restore of the plastic state,
+ * and arm breaking with re-equilibration. */
+#include "ps_solver.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void ps_solver_opts_default(ps_solver_opts *o) {
+  o->tolerance = 1e-8;
+  o->max_iterations = 30;
+  o->line_search = 1;
+  o->linear = ps_linsolve_cholmod;
+}
+
+void ps_solver_free(ps_solver *s) {
+  ps_linsolve_destroy(&s->ls);
+  ps_linsolve_destroy(&s->ls_fallback);
+  ps_system_free(&s->sys);
+  ps_arm_state_free(&s->st);
+  ps_arm_state_free(&s->st_saved);
+  ps_model_free(&s->model);
+  free(s->u);
+  free(s->u_saved);
+  free(s->ubar);
+  free(s->f);
+  free(s->rhs);
+  free(s->du);
+  free(s->work);
+  free(s->u_trial);
+  free(s->f_trial);
+  memset(s, 0, sizeof *s);
+}
+
+/* evaluate at u into f/energy (and the tangent) */
+static int eval(ps_solver *s, const double *u, double *f, double *energy,
+                int tangent, ps_ctx *ctx) {
+  double t = ps_wtime();
+  int status = ps_system_eval(&s->sys, &s->model, &s->st, s->P->x, u, f,
+                              energy, tangent, ctx);
+  s->t_assembly += ps_wtime() - t;
+  return status;
+}
+
+/* Factor sys.A with the chosen backend; on a matrix that is not positive
+ * definite fall back to UMFPACK. Returns PS_OK, PS_SINGULAR (message in
+ * ctx names the particle), or fatal. */
+static int factor_tangent(ps_solver *s, ps_ctx *ctx) {
+  ps_int bad = -1;
+  char name[256] = "unknown dof";
+  int status = ps_linsolve_factor(&s->ls, &s->sys.A, &bad, ctx);
+  if (status < 0) return status;
+  if (status == PS_OK) {
+    s->ls_last = &s->ls;
+    s->have_factor = 1;
+    return PS_OK;
+  }
+  if (bad >= 0 && bad < s->sys.n_free)
+    ps_system_dof_name(&s->sys, s->P->x, s->sys.dof_of_free[bad], name, sizeof name);
+  if (s->ls.type != ps_linsolve_umfpack) {
+    ps_log(ctx, 2, "    tangent not positive definite at column %lld (%s): "
+                   "falling back to UMFPACK\n", (long long)bad, name);
+    if (!s->ls_fallback.type)
+      PS_CHECK(ps_linsolve_create(&s->ls_fallback, ps_linsolve_umfpack, ctx));
+    status = ps_linsolve_factor(&s->ls_fallback, &s->sys.A, &bad, ctx);
+    if (status < 0) return status;
+    s->n_fallback++;
+    if (status == PS_OK) {
+      s->ls_last = &s->ls_fallback;
+      s->have_factor = 1;
+      return PS_OK;
+    }
+  }
+  s->have_factor = 0;
+  return ps_error(ctx, PS_SINGULAR, "tangent stiffness is singular (%s)", name);
+}
+
+int ps_solver_create(ps_solver *s, const ps_particles *P,
+                     const ps_network *net, const ps_model_type *type,
+                     const ps_material *mat, const unsigned char *fixed,
+                     const double *ubar, const ps_solver_opts *opts,
+                     ps_ctx *ctx) {
+  int status = PS_OK, d = net->dim;
+  memset(s, 0, sizeof *s);
+  s->P = P;
+  s->net = net;
+  s->opts = *opts;
+  ps_int nd = (ps_int)d * net->n_particle;
+  /* a quick necessary condition: each direction has a prescribed dof */
+  for (int k = 0; k < d; k++) {
+    int any = 0;
+    for (ps_int a = 0; a < net->n_particle && !any; a++) any = fixed[a * d + k];
+    if (!any)
+      return ps_error(ctx, PS_ERR_INPUT,
+                      "the model has no supports in direction %c: no particle has "
+                      "a prescribed %c displacement (see loading.boundary)",
+                      "xyz"[k], "xyz"[k]);
+  }
+  PS_CHECK_GOTO(ps_model_create(&s->model, type, net, mat, ctx));
+  PS_CHECK_GOTO(ps_system_create(&s->sys, net, fixed, ctx));
+  PS_CHECK_GOTO(ps_arm_state_alloc(&s->st, net->n_arm, ctx));
+  PS_CHECK_GOTO(ps_arm_state_alloc(&s->st_saved, net->n_arm, ctx));
+  PS_CHECK_GOTO(ps_linsolve_create(&s->ls, opts->linear, ctx));
+  ps_int nf = s->sys.n_free;
+  s->u = ps_calloc((size_t)nd, sizeof *s->u, ctx);
+  s->u_saved = ps_calloc((size_t)nd, sizeof *s->u, ctx);
+  s->ubar = ps_calloc((size_t)nd, sizeof *s->u, ctx);
+  s->f = ps_calloc((size_t)nd, sizeof *s->u, ctx);
+  s->u_trial = ps_calloc((size_t)nd, sizeof *s->u, ctx);
+  s->f_trial = ps_calloc((size_t)nd, sizeof *s->u, ctx);
+  s->rhs = ps_calloc((size_t)nf, sizeof *s->u, ctx);
+  s->du = ps_calloc((size_t)nf, sizeof *s->u, ctx);
+  s->work = ps_calloc((size_t)nf, sizeof *s->u, ctx);
+  if (!s->u || !s->u_saved || !s->ubar || !s->f || !s->u_trial || !s->f_trial ||
+      !s->rhs || !s->du || !s->work) {
+    status = PS_ERR_NOMEM;
+    goto cleanup;
+  }
+  for (ps_int j = 0; j < nd; j++) s->ubar[j] = fixed[j] ? ubar[j] : 0.0;
+  /* support check: the tangent at rest must be nonsingular */
+  PS_CHECK_GOTO(eval(s, s->u, s->f, &s->energy, 1, ctx));
+  status = factor_tangent(s, ctx);
+  if (status > 0) {
+    char msg[sizeof ctx->msg];
+    snprintf(msg, sizeof msg, "%s", ctx->msg);
+    status = ps_error(ctx, PS_ERR_INPUT,
+                      "the model is not properly supported: %s at rest. A rigid-body "
+                      "motion is free or a particle is held by no arm; check "
+                      "loading.boundary",
+                      msg);
+    goto cleanup;
+  }
+  if (status < 0) goto cleanup;
+  ps_solver_commit(s);
+cleanup:
+  if (status < 0) ps_solver_free(s);
+  return status;
+}
+
+static double norm_free(const ps_system *sys, const double *f) {
+  double s = 0;
+  for (ps_int k = 0; k < sys->n_free; k++) {
+    double v = f[sys->dof_of_free[k]];
+    s += v * v;
+  }
+  return sqrt(s);
+}
+
+static double norm_fixed(const ps_system *sys, const double *f) {
+  double s = 0;
+  for (ps_int j = 0; j < sys->n_dof; j++)
+    if (sys->fixed[j]) s += f[j] * f[j];
+  return sqrt(s);
+}
+
+int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
+  const ps_system *sys = &s->sys;
+  ps_int nf = sys->n_free, nd = sys->n_dof;
+  PS_CHECK(eval(s, s->u, s->f, &s->energy, 0, ctx));
+  for (int it = 0;; it++) {
+    double rn = norm_free(sys, s->f), ref = norm_fixed(sys, s->f);
+    double rel = ref > 0 ? rn / ref : rn;
+    s->last_iterations = it;
+    s->last_residual = rel;
+    ps_log(ctx, 2, "    newton %2d  |r|/|R| = %.3e  energy = %.10g\n", it, rel, s->energy);
+    if (!isfinite(rel) || !isfinite(s->energy)) {
+      s->last_reason = PS_NEWTON_NOT_FINITE;
+      return PS_DIVERGED;
+    }
+    if (rel <= s->opts.tolerance || rn == 0.0) {
+      s->last_reason = PS_NEWTON_CONVERGED;
+      return PS_OK;
+    }
+    if (it >= s->opts.max_iterations) {
+      s->last_reason = PS_NEWTON_MAX_ITER;
+      return PS_DIVERGED;
+    }
+    PS_CHECK(eval(s, s->u, s->f, &s->energy, 1, ctx));
+    int status = factor_tangent(s, ctx);
+    if (status < 0) return status;
+    if (status > 0) {
+      s->last_reason = PS_NEWTON_SINGULAR;
+      return PS_DIVERGED;
+    }
+    for (ps_int k = 0; k < nf; k++) s->rhs[k] = -s->f[sys->dof_of_free[k]];
+    PS_CHECK(ps_linsolve_solve((ps_linsolve *)s->ls_last, s->rhs, s->du, ctx));
+    s->newton_iterations++;
+    /* energy line search: dE/ds at s = 0 is f . du */
+    double g0 = 0, E0 = s->energy, step = 1.0, E1 = E0;
+    for (ps_int k = 0; k < nf; k++) g0 += s->f[sys->dof_of_free[k]] * s->du[k];
+    int accepted = 0;
+    for (int ls = 0; ls < 16; ls++) {
+      memcpy(s->u_trial, s->u, (size_t)nd * sizeof *s->u);
+      for (ps_int k = 0; k < nf; k++) s->u_trial[sys->dof_of_free[k]] += step * s->du[k];
+      status = eval(s, s->u_trial, s->f_trial, &E1, 0, ctx);
+      if (status < 0 && status != PS_ERR_SOLVER) return status;
+      int finite = status == PS_OK && isfinite(E1);
+      if (finite && (!s->opts.line_search || g0 >= 0 ||
+                     E1 <= E0 + 1e-4 * step * g0 + 1e-11 * fabs(E0))) {
+        accepted = 1;
+        break;
+      }
+      /* backtrack: minimiser of the quadratic through E0, g0, E1 */
+      double next = 0.5 * step;
+      if (finite) {
+        double denom = 2.0 * (E1 - E0 - g0 * step);
+        if (denom > 0) next = -g0 * step * step / denom;
+        if (next < 0.1 * step) next = 0.1 * step;
+        if (next > 0.5 * step) next = 0.5 * step;
+      }
+      step = next;
+      s->n_line_search_cuts++;
+    }
+    if (!accepted) {
+      s->last_reason = PS_NEWTON_LINE_SEARCH;
+      ctx->msg[0] = '\0';
+      return PS_DIVERGED;
+    }
+    if (step < 1.0) ps_log(ctx, 2, "    line search step %.3g\n", step);
+    double *t = s->u;
+    s->u = s->u_trial;
+    s->u_trial = t;
+    t = s->f;
+    s->f = s->f_trial;
+    s->f_trial = t;
+    s->energy = E1;
+  }
+}
+
+void ps_solver_commit(ps_solver *s) {
+  ps_int na = s->net->n_arm;
+  memcpy(s->st.eps_p, s->st.eps_p_trial, (size_t)na * sizeof *s->st.eps_p);
+  ps_arm_state_copy(&s->st_saved, &s->st);
+  memcpy(s->u_saved, s->u, (size_t)s->sys.n_dof * sizeof *s->u);
+}
+
+void ps_solver_restore(ps_solver *s) {
+  ps_arm_state_copy(&s->st, &s->st_saved);
+  memcpy(s->u, s->u_saved, (size_t)s->sys.n_dof * sizeof *s->u);
+}
+
+int ps_solver_step(ps_solver *s, double lambda, ps_ctx *ctx) {
+  const ps_system *sys = &s->sys;
+  double lambda0 = s->lambda, dl = lambda - lambda0;
+  ps_int nd = sys->n_dof, nf = sys->n_free;
+  /* predictor: K_ff du_f = -(r_f + K_fp du_p) with the last factor */
+  for (ps_int j = 0; j < nd; j++) s->u_trial[j] = sys->fixed[j] ? dl * s->ubar[j] : 0.0;
+  if (s->have_factor) {
+    ps_system_coupling(sys, s->u_trial, s->work);
+    for (ps_int k = 0; k < nf; k++)
+      s->rhs[k] = -(s->f[sys->dof_of_free[k]] + s->work[k]);
+    PS_CHECK(ps_linsolve_solve((ps_linsolve *)s->ls_last, s->rhs, s->du, ctx));
+    for (ps_int k = 0; k < nf; k++) s->u[sys->dof_of_free[k]] += s->du[k];
+  }
+  for (ps_int j = 0; j < nd; j++)
+    if (sys->fixed[j]) s->u[j] = lambda * s->ubar[j];
+  s->lambda = lambda;
+  int status = ps_newton_solve(s, ctx);
+  if (status == PS_DIVERGED) {
+    ps_solver_restore(s);
+    s->lambda = lambda0;
+    /* fresh tangent and factor at the restored state for the next try */
+    PS_CHECK(eval(s, s->u, s->f, &s->energy, 1, ctx));
+    int st2 = factor_tangent(s, ctx);
+    if (st2 < 0) return st2;
+  }
+  return status;
+}
+
+int ps_solver_break_and_settle(ps_solver *s, int max_rounds,
+                               ps_int *n_broken, ps_ctx *ctx) {
+  *n_broken = 0;
+  for (int round = 0; round < max_rounds; round++) {
+    ps_int nb = s->model.type->break_arms(&s->model, &s->st);
+    if (nb == 0) return PS_OK;
+    *n_broken += nb;
+    ps_log(ctx, 2, "    round %d: %lld arms broke, re-equilibrating\n", round + 1,
+           (long long)nb);
+    int status = ps_newton_solve(s, ctx);
+    if (status != PS_OK) return status;
+    ps_solver_commit(s);
+  }
+  return ps_error(ctx, PS_DIVERGED,
+                  "arms still breaking after %d re-equilibrations at load factor %g",
+                  max_rounds, s->lambda);
+}
+
+ps_int ps_solver_count_broken(const ps_solver *s) {
+  ps_int n = 0;
+  for (ps_int i = 0; i < s->net->n_arm; i++) n += s->st.broken[i];
+  return n;
+}
+
+ps_int ps_solver_count_yielding(const ps_solver *s) {
+  ps_int n = 0;
+  for (ps_int i = 0; i < s->net->n_arm; i++) n += s->st.yielding[i] && !s->st.broken[i];
+  return n;
+}

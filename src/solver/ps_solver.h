@@ -1,0 +1,108 @@
+/* ps_solver.h: Newton's method on the discrete system and displacement-
+ * controlled path following with arm breaking.
+ *
+ * A ps_solver owns the state of a run on one network: displacements u (m),
+ * the per-arm plastic state, the system (residual/tangent) and the linear
+ * solvers. Prescribed dofs follow u_p = lambda * ubar_p (lambda: the load
+ * factor). Each increment: linear predictor with the last factor, Newton
+ * to ||r_free|| <= tol ||reactions|| with an energy line search, commit of
+ * the plastic state (Eq. 111), then arm breaking (Eq. 118) and
+ * re-equilibration at the same load until no further arm breaks. Newton
+ * failure cuts the increment (restoring the last converged state). */
+#ifndef PS_SOLVER_H
+#define PS_SOLVER_H
+
+#include "../assembly/ps_assembly.h"
+#include "../linsolve/ps_linsolve.h"
+
+/* Why a Newton solve ended (as PETSc's SNESConvergedReason). */
+enum ps_newton_reason {
+  PS_NEWTON_CONVERGED = 0,
+  PS_NEWTON_MAX_ITER = 1,      /* not converged within max_iterations */
+  PS_NEWTON_LINE_SEARCH = 2,   /* no acceptable step along the direction */
+  PS_NEWTON_NOT_FINITE = 3,    /* NaN or inf in the residual */
+  PS_NEWTON_SINGULAR = 4       /* tangent singular, also for UMFPACK */
+};
+
+/* Settings of the nonlinear solve and the path. */
+typedef struct ps_solver_opts {
+  double tolerance;       /* relative residual (default 1e-8) */
+  int max_iterations;     /* per Newton solve (default 30) */
+  int line_search;        /* energy backtracking (default 1) */
+  const ps_linsolve_type *linear; /* default CHOLMOD, UMFPACK as fallback */
+} ps_solver_opts;
+
+typedef struct ps_solver {
+  const ps_particles *P;
+  const ps_network *net;
+  ps_model model;
+  ps_system sys;
+  ps_arm_state st, st_saved;
+  ps_linsolve ls;           /* the chosen backend */
+  ps_linsolve ls_fallback;  /* UMFPACK, created on first need */
+  const ps_linsolve *ls_last; /* which one holds the current factor */
+  int have_factor;          /* a factor of a recent tangent is available */
+  ps_solver_opts opts;
+
+  double lambda;            /* current load factor */
+  double *u, *u_saved;      /* [n_dof] displacements, m */
+  double *ubar;             /* [n_dof] prescribed displacement at lambda 1 */
+  double *f;                /* [n_dof] internal forces at u (reactions at
+                               prescribed dofs, residual at free ones) */
+  double energy;            /* stored energy at u, J (per m in 2D) */
+  double *rhs, *du, *work;  /* [n_free] */
+  double *u_trial, *f_trial;/* [n_dof] line-search work */
+
+  /* statistics of the run */
+  ps_int newton_iterations, n_fallback, n_line_search_cuts;
+  double t_assembly;
+  int last_reason;          /* enum ps_newton_reason of the last solve */
+  int last_iterations;      /* iterations of the last solve */
+  double last_residual;     /* relative residual at its end */
+} ps_solver;
+
+/* Create a solver for the network with the prescribed-dof mask `fixed` and
+ * prescribed field ubar (both [n_dof], copied). The model type and material
+ * choose the constitutive law. Checks that the unloaded structure is
+ * supported: the tangent at rest must be positive definite, otherwise
+ * PS_ERR_INPUT names the loose particle and direction. Returns PS_OK,
+ * PS_ERR_INPUT, PS_ERR_NOMEM, PS_ERR_SOLVER. */
+int ps_solver_create(ps_solver *s, const ps_particles *P,
+                     const ps_network *net, const ps_model_type *type,
+                     const ps_material *mat, const unsigned char *fixed,
+                     const double *ubar, const ps_solver_opts *opts,
+                     ps_ctx *ctx);
+void ps_solver_free(ps_solver *s);
+
+/* Default options: tol 1e-8, 30 iterations, line search on, CHOLMOD. */
+void ps_solver_opts_default(ps_solver_opts *o);
+
+/* Newton at the current prescribed values, from the current u. Returns
+ * PS_OK (s->last_reason says converged or why not: a non-converged solve
+ * is PS_DIVERGED, recoverable) or a fatal status. */
+int ps_newton_solve(ps_solver *s, ps_ctx *ctx);
+
+/* Move the load factor to `lambda` with a linear predictor (tangent of the
+ * last factor) and Newton. Returns PS_OK, PS_DIVERGED (state restored to
+ * the last commit), or fatal. Does not commit. */
+int ps_solver_step(ps_solver *s, double lambda, ps_ctx *ctx);
+
+/* Accept the converged state: eps_p <- trial; save it as the restore
+ * point. */
+void ps_solver_commit(ps_solver *s);
+/* Return to the last committed state. */
+void ps_solver_restore(ps_solver *s);
+
+/* Break the arms past the elongation limit (model rule) and re-equilibrate
+ * at the same load until none breaks, at most max_rounds times. *n_broken
+ * gets the number broken now. Returns PS_OK, PS_DIVERGED (the
+ * re-equilibration failed: the state is that of the failed attempt), or
+ * fatal. Commits after each converged round. */
+int ps_solver_break_and_settle(ps_solver *s, int max_rounds,
+                               ps_int *n_broken, ps_ctx *ctx);
+
+/* Counts of the current state. */
+ps_int ps_solver_count_broken(const ps_solver *s);
+ps_int ps_solver_count_yielding(const ps_solver *s);
+
+#endif

@@ -1,0 +1,56 @@
+/* common.c: see common.h. */
+#include "common.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+static void die(const char *what, const ps_ctx *ctx) {
+  fprintf(stderr, "FAIL: %s: %s\n", what, ctx->msg);
+  printf("FAIL: %s\n", what);
+  exit(1);
+}
+
+void tc_network(ps_particles *P, double alpha, const ps_crack *cracks,
+                int n_cracks, ps_network *net) {
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  ps_kernel K;
+  if (ps_geom_sizes_eq115(P, 5, &ctx)) die("sizes", &ctx);
+  if (ps_kernel_init(&K, P->dim, 2, alpha, &ctx)) die("kernel", &ctx);
+  if (ps_network_build(net, P, &K, cracks, n_cracks, &ctx)) die("network", &ctx);
+}
+
+ps_material tc_material(double nu, int plane) {
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  ps_material m = {.E = 210e9, .nu = nu, .plane = plane, .yield_strain = 1.0 / 500,
+                   .plastic = 0, .delta = INFINITY, .rho = 7800};
+  if (ps_material_finish(&m, plane == PS_SOLID_3D ? 3 : 2, &ctx)) die("material", &ctx);
+  return m;
+}
+
+void tc_solve(ps_solver *s, const ps_particles *P, const ps_network *net,
+              const ps_material *mat, const unsigned char *fixed,
+              const double *ubar, double lambda) {
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  ctx.verbosity = 0;
+  ps_solver_opts o;
+  ps_solver_opts_default(&o);
+  o.tolerance = 1e-10;
+  if (ps_solver_create(s, P, net, ps_model_fibre, mat, fixed, ubar, &o, &ctx))
+    die("solver create", &ctx);
+  int st = ps_solver_step(s, lambda, &ctx);
+  if (st != PS_OK) die("solver step", &ctx);
+}
+
+double tc_dist_to_box_face(const double *x, const double *lo, const double *hi,
+                           int dim) {
+  double d = INFINITY;
+  for (int k = 0; k < dim; k++) {
+    d = fmin(d, x[k] - lo[k]);
+    d = fmin(d, hi[k] - x[k]);
+  }
+  return d;
+}

@@ -35,14 +35,17 @@ void tc_solve(ps_solver *s, const ps_particles *P, const ps_network *net,
               const double *ubar, double lambda) {
   ps_ctx ctx;
   ps_ctx_init(&ctx);
-  ctx.verbosity = 0;
+  ctx.verbosity = getenv("PS_TEST_VERBOSE") ? 2 : 0;
   ps_solver_opts o;
   ps_solver_opts_default(&o);
-  o.tolerance = 1e-10;
+  o.tolerance = 1e-9;
   if (ps_solver_create(s, P, net, ps_model_fibre, mat, fixed, ubar, &o, &ctx))
     die("solver create", &ctx);
   int st = ps_solver_step(s, lambda, &ctx);
-  if (st != PS_OK) die("solver step", &ctx);
+  if (st != PS_OK) {
+    fprintf(stderr, "newton reason %d, residual %g\n", s->last_reason, s->last_residual);
+    die("solver step", &ctx);
+  }
 }
 
 double tc_dist_to_box_face(const double *x, const double *lo, const double *hi,

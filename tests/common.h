@@ -3,6 +3,8 @@
 #ifndef PS_TEST_COMMON_H
 #define PS_TEST_COMMON_H
 
+#include <gsl/gsl_math.h>
+
 #include "app/ps_app.h"
 
 /* Sizes by Eq. 115 (n = 5), kernel k = 2 with alpha, network with the

@@ -29,7 +29,7 @@ static int write_state(const ps_problem *pb, const ps_solver *s, const char *dir
   ps_post_damage(net, &s->st, phi);
   double ey = pb->mat.yield_strain, delta = pb->mat.delta;
   for (ps_int i = 0; i < na; i++) {
-    astrain[i] = (s->sys.l[i] - net->r0[i]) / net->r0[i] / ey;
+    astrain[i] = s->sys.dl[i] / net->r0[i] / ey;
     aplast[i] = isfinite(delta) ? s->st.eps_p[i] * net->r0[i] / delta : 0.0;
     abroken[i] = s->st.broken[i];
     if (s->st.broken[i]) continue;

@@ -54,6 +54,7 @@ void ps_system_free(ps_system *s) {
   free(s->A.x);
   free(s->A_src);
   free(s->l);
+  free(s->dl);
   free(s->q);
   free(s->T);
   free(s->g);
@@ -211,6 +212,7 @@ int ps_system_create(ps_system *s, const ps_network *net,
   s->A.n = s->n_free;
 
   ALLOC(s->l, net->n_arm);
+  ALLOC(s->dl, net->n_arm);
   ALLOC(s->q, (ps_int)d * net->n_arm);
   ALLOC(s->T, net->n_arm);
   ALLOC(s->g, (ps_int)d * maxM);
@@ -251,16 +253,20 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
   int d = s->dim;
   for (ps_int i = 0; i < net->n_arm; i++) {
     ps_int a = net->a[i], b = net->b[i];
-    double l2 = 0.0;
+    double l2 = 0.0, dXdu = 0.0, du2 = 0.0;
     double *q = &s->q[i * d];
     for (int k = 0; k < d; k++) {
-      q[k] = (X[b * d + k] + u[b * d + k]) - (X[a * d + k] + u[a * d + k]);
+      double dX = X[b * d + k] - X[a * d + k], du = u[b * d + k] - u[a * d + k];
+      q[k] = dX + du;
       l2 += q[k] * q[k];
+      dXdu += dX * du;
+      du2 += du * du;
     }
     double l = sqrt(l2);
     if (!(l > 0) || !isfinite(l)) {
       if (st->broken[i]) { /* a broken arm's geometry does not matter */
         s->l[i] = net->r0[i];
+        s->dl[i] = 0.0;
         for (int k = 0; k < d; k++) q[k] = k == 0;
         continue;
       }
@@ -270,9 +276,11 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
                       (long long)i, (long long)a, (long long)b, l);
     }
     s->l[i] = l;
+    /* l - r0 = (2 dX.du + du.du)/(l + r0): no cancellation at small strain */
+    s->dl[i] = (2.0 * dXdu + du2) / (l + net->r0[i]);
     for (int k = 0; k < d; k++) q[k] /= l;
   }
-  PS_CHECK(model->type->evaluate(model, s->l, st, s->T, energy,
+  PS_CHECK(model->type->evaluate(model, s->dl, st, s->T, energy,
                                  want_tangent ? &s->tan : NULL, ctx));
   memset(f, 0, (size_t)s->n_dof * sizeof *f);
   for (ps_int i = 0; i < net->n_arm; i++) {

@@ -40,8 +40,9 @@ typedef struct ps_system {
   ps_csc A;                 /* free-free lower triangle (for linsolve) */
   ps_int *A_src;            /* [nnz(A)] position in Kfull */
 
-  /* per-arm work: current length, direction, tension */
-  double *l, *q, *T;
+  /* per-arm work: current length l, elongation dl = l - r0, direction q
+   * (from a to b), tension T */
+  double *l, *dl, *q, *T;
   ps_arm_tangent tan;
   double *g;                /* workspace dim * max |M| */
 } ps_system;

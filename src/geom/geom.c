@@ -92,7 +92,7 @@ void ps_disk_params_default(ps_disk_params *dp) {
   dp->per_zone = 5;
   dp->xi_min = -M_PI;
   dp->xi_max = M_PI;
-  dp->jitter = 0.3;
+  dp->jitter = 0.1;
   dp->seed = 11;
 }
 

@@ -19,7 +19,7 @@ static inline double side_weight(const ps_network *net, ps_int i, ps_int p) {
   return net->a[i] == p ? net->A_ab[i] : net->A_ba[i];
 }
 
-static int fibre_evaluate(const ps_model *m, const double *l, ps_arm_state *st,
+static int fibre_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
                           double *T, double *energy, ps_arm_tangent *tan,
                           ps_ctx *ctx) {
   (void)ctx;
@@ -41,7 +41,7 @@ static int fibre_evaluate(const ps_model *m, const double *l, ps_arm_state *st,
       if (st->broken[i]) continue;
       double Ar = side_weight(net, i, a) * net->r0[i];
       Ra += Ar;
-      num += Ar * (l[i] - net->r0[i]) / net->r0[i];
+      num += Ar * dl[i] / net->r0[i];
     }
     R[a] = Ra;
     eb[a] = Ra > 0 ? num / Ra : 0.0;
@@ -58,7 +58,7 @@ static int fibre_evaluate(const ps_model *m, const double *l, ps_arm_state *st,
       continue;
     }
     double r0 = net->r0[i];
-    double eps = (l[i] - r0) / r0;
+    double eps = dl[i] / r0;
     double e = eps - st->eps_p[i]; /* trial elastic strain */
     double ee = e;                 /* returned elastic strain */
     int yielding = 0;

@@ -5,7 +5,9 @@
  *   dT_i/dl_j = D_i delta_ij + sum_a c_a w_{a,i} w_{a,j},
  * with w_a supported on a's family (the arms incident to a). Assembly owns
  * the geometry (directions q, geometric stiffness, dof map). A new model is
- * one file with one ps_model_type table. */
+ * one file with one ps_model_type table. Models receive the elongations
+ * dl = l - r0 (computed without cancellation, so strains of 1e-9 keep
+ * full precision). */
 #ifndef PS_MODEL_H
 #define PS_MODEL_H
 
@@ -72,9 +74,10 @@ typedef struct ps_model ps_model;
 typedef struct ps_model_type {
   const char *name;
   /* T[i], *energy (J, per unit thickness in 2D) and, when tan != NULL, the
-   * tangent, at arm lengths l; writes st->eps_p_trial and st->yielding.
-   * Broken arms get T = 0 and no stiffness. Returns PS_OK. */
-  int (*evaluate)(const ps_model *m, const double *l, ps_arm_state *st,
+   * tangent, at arm elongations dl[i] = l_i - r0_i (m); writes
+   * st->eps_p_trial and st->yielding. Broken arms get T = 0 and no
+   * stiffness. Returns PS_OK. */
+  int (*evaluate)(const ps_model *m, const double *dl, ps_arm_state *st,
                   double *T, double *energy, ps_arm_tangent *tan, ps_ctx *ctx);
   /* After a converged, committed state: mark the arms that break; returns
    * how many broke now. */

@@ -105,7 +105,7 @@ static void run_case(int dim, int plane, double nu, const char *label) {
       nb++;
       continue;
     }
-    double eps = (F.sys.l[i] - F.net.r0[i]) / F.net.r0[i];
+    double eps = F.sys.dl[i] / F.net.r0[i];
     double e = eps - F.st.eps_p[i];
     ny += F.st.yielding[i];
     nc += F.sys.T[i] < 0;

@@ -47,7 +47,8 @@ typedef struct ps_case {
   double spacing;      /* box: lattice spacing d, m */
   char lattice[16];    /* box: "square" | "hex" */
   double jitter;       /* box: fraction of d */
-  unsigned long seed;  /* box jitter seed */
+  unsigned long seed;  /* jitter seed (box; geometry.seed also sets
+                          disk.seed) */
   char cloud_file[1024]; /* cloud: path (resolved against dir) */
   int size_rule;       /* enum ps_size_rule (default eq115) */
   int size_neighbours; /* n of Eq. 115 (default 5) */
@@ -89,9 +90,10 @@ typedef struct ps_case {
   int max_break_rounds;  /* re-equilibrations per increment, default 500 */
 
   /* output */
-  char out_dir[1024];  /* default "out/<name>" (relative to the cwd) */
+  char out_dir[1024];  /* "" (default): the caller uses out/<name> */
   int vtk_every;       /* write VTK every n increments (0: last only), 10 */
-  int verbosity;       /* 0 quiet, 1 progress, 2 Newton detail (default 1) */
+  int verbosity;       /* 0 quiet, 1 progress, 2 Newton detail, 3 source
+                          locations in errors (default 1) */
 
   /* griffith sweep: delta/c = 1/denominator */
   int n_sweep;
@@ -105,13 +107,14 @@ void ps_case_defaults(ps_case *cs);
 /* Read a YAML case file over the defaults. Errors name the file and line:
  * "case.yaml:14: material.E must be > 0 (got -3e9)". Unknown keys, wrong
  * types and impossible values are errors. Returns PS_OK, PS_ERR_INPUT,
- * PS_ERR_IO. */
+ * PS_ERR_IO; on failure *cs is unchanged. */
 int ps_case_load(ps_case *cs, const char *path, ps_ctx *ctx);
 
 /* Read a point cloud: one particle per line, "x y [z] volume [block]" (dim
  * coordinates, then the volume in m^N, then an optional integer block id);
  * '#' starts a comment, blank lines are skipped. Errors name file:line.
- * Returns PS_OK, PS_ERR_INPUT, PS_ERR_IO, PS_ERR_NOMEM. */
+ * Returns PS_OK, PS_ERR_INPUT, PS_ERR_IO, PS_ERR_NOMEM; on failure *p is
+ * zeroed (safe to ps_particles_free). */
 int ps_cloud_read(ps_particles *p, const char *path, int dim, ps_ctx *ctx);
 
 /* A named array for output: n_comp values per point or cell. */
@@ -124,8 +127,9 @@ typedef struct ps_field {
 
 /* Legacy ASCII VTK unstructured grid: n_point points x (dim per point,
  * padded to 3), cells = VERTEX per point when n_line == 0, else the lines
- * (la[i], lb[i]); point and cell fields. Written atomically. Returns PS_OK
- * or PS_ERR_IO. */
+ * (la[i], lb[i]); point and cell fields (names without whitespace;
+ * non-finite values are written as 0). Written atomically. Returns PS_OK,
+ * PS_ERR_IO, or PS_ERR_INTERNAL for bad arguments. */
 int ps_vtk_write(const char *path, int dim, ps_int n_point, const double *x,
                  ps_int n_line, const ps_int *la, const ps_int *lb,
                  const ps_field *point_fields, int n_pf,

@@ -1,0 +1,912 @@
+/* case.c: case files. ps_case_defaults fills the documented defaults;
+ * ps_case_load reads a YAML file (libyaml document API) over them. Every
+ * error names the file and the line of the offending node, e.g.
+ * "case.yaml:14: material.E must be > 0 (got -3e9)". Checks that involve
+ * several keys (dim against counts, loading type against geometry, ...)
+ * run after the whole file is read, since YAML keys come in any order. */
+#include "ps_io.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <yaml.h>
+
+void ps_case_defaults(ps_case *cs) {
+  memset(cs, 0, sizeof *cs);
+  strcpy(cs->name, "case");
+  cs->geometry = PS_GEOM_DISK;
+  cs->dim = 2;
+  ps_disk_params_default(&cs->disk);
+  cs->counts[0] = 20;
+  cs->counts[1] = 20;
+  cs->counts[2] = 1;
+  cs->spacing = 1e-3;
+  strcpy(cs->lattice, "square");
+  cs->jitter = 0.0;
+  cs->seed = 1;
+  cs->size_rule = PS_SIZE_EQ115;
+  cs->size_neighbours = 5;
+  cs->n_cracks = 0;
+  cs->alpha = 5.1;
+  cs->kernel_k = 2;
+  strcpy(cs->model, "fibre");
+  cs->mat.E = 210e9;
+  cs->mat.nu = 0.3;
+  cs->mat.plane = PS_PLANE_STRAIN;
+  cs->mat.yield_strain = 1.0 / 500.0;
+  cs->mat.plastic = 1;
+  cs->mat.delta = NAN; /* unset: delta_over_c applies */
+  cs->mat.rho = 7800.0;
+  cs->mat.yield_rule = PS_YIELD_TOTAL;
+  cs->delta_over_c = 1e-3;
+  cs->load_type = PS_LOAD_EQ116;
+  cs->n_bc = 0;
+  cs->stress_length = 0.0;
+  strcpy(cs->linear, "cholmod");
+  cs->tolerance = 1e-8;
+  cs->max_iterations = 30;
+  cs->line_search = 1;
+  cs->load_step = 0.02;
+  cs->load_step_after_break = 0.005;
+  cs->max_load = 5.0;
+  cs->max_increments = 2000;
+  cs->min_step = 1e-6;
+  cs->stop_crack_tip = 9.0;
+  cs->stop_load_drop = 0.5;
+  cs->max_break_rounds = 500;
+  cs->out_dir[0] = '\0';
+  cs->vtk_every = 10;
+  cs->verbosity = 1;
+  cs->n_sweep = 12; /* delta/c = 1/500, 1/750, ..., 1/3250 */
+  for (int i = 0; i < cs->n_sweep; i++)
+    cs->sweep_delta_over_c[i] = 1.0 / (500.0 + 250.0 * i);
+}
+
+/* ------------------------------------------------------------------ */
+/* Loader state: the document being walked, the case being filled and the
+ * lines where keys needed by the final cross checks were given (0: not
+ * given). */
+typedef struct loader {
+  const char *file;
+  yaml_document_t *doc;
+  ps_case *cs;
+  ps_ctx *ctx;
+  int line_type, line_dim, line_counts, n_counts, line_lattice, line_cracks;
+  int line_load_type, line_boundary, line_delta, line_delta_over_c;
+  int line_sweep_list, line_sweep_den;
+} loader;
+
+/* Handler for one key of a mapping: key is the bare key, name its dotted
+ * path for messages ("material.E"), v the value node. */
+typedef int (*key_fn)(loader *L, void *arg, const char *key, const char *name,
+                      yaml_node_t *v);
+
+/* Record "FILE:LINE: message" (or "FILE: message" when line is 0) as a
+ * PS_ERR_INPUT error; returns PS_ERR_INPUT. */
+__attribute__((format(printf, 3, 4))) static int fail(const loader *L, int line,
+                                                      const char *fmt, ...) {
+  char msg[1536];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(msg, sizeof msg, fmt, ap);
+  va_end(ap);
+  if (line > 0) return ps_error(L->ctx, PS_ERR_INPUT, "%s:%d: %s", L->file, line, msg);
+  return ps_error(L->ctx, PS_ERR_INPUT, "%s: %s", L->file, msg);
+}
+
+/* 1-based line where a node starts. */
+static int line_of(const yaml_node_t *n) { return (int)n->start_mark.line + 1; }
+
+/* Text of a scalar node. */
+static const char *sval(const yaml_node_t *n) {
+  return (const char *)n->data.scalar.value;
+}
+
+/* A short description of a node for "(got ...)": the scalar text (cut
+ * to 60 characters), "nothing", "a list" or "a mapping". */
+static const char *got(const yaml_node_t *n, char buf[80]) {
+  switch (n->type) {
+  case YAML_SCALAR_NODE:
+    if (n->data.scalar.length == 0) return "nothing";
+    if (n->data.scalar.length > 60)
+      snprintf(buf, 80, "%.57s...", sval(n));
+    else
+      snprintf(buf, 80, "%s", sval(n));
+    return buf;
+  case YAML_SEQUENCE_NODE: return "a list";
+  case YAML_MAPPING_NODE: return "a mapping";
+  default: return "nothing";
+  }
+}
+
+/* "a, b, c" from a NULL-terminated list of names. */
+static void join(char *buf, size_t size, const char *const *names) {
+  size_t len = 0;
+  buf[0] = '\0';
+  for (int i = 0; names[i] && len + 1 < size; i++) {
+    int w = snprintf(buf + len, size - len, "%s%s", i ? ", " : "", names[i]);
+    if (w < 0) break;
+    len += (size_t)w;
+  }
+}
+
+/* Text of a range for messages: "> 0", "in (-1, 0.5)", "in [0, 1)". */
+static void range_text(char *buf, size_t size, double lo, int lo_open, double hi,
+                       int hi_open) {
+  if (isinf(hi))
+    snprintf(buf, size, "%s %g", lo_open ? ">" : ">=", lo);
+  else if (isinf(lo))
+    snprintf(buf, size, "%s %g", hi_open ? "<" : "<=", hi);
+  else
+    snprintf(buf, size, "in %c%g, %g%c", lo_open ? '(' : '[', lo, hi,
+             hi_open ? ')' : ']');
+}
+
+/* A number: the scalar must parse completely with strtod and be finite,
+ * then lie in the range (infinite bounds are not checked). */
+static int get_real(loader *L, yaml_node_t *n, const char *name, double lo,
+                    int lo_open, double hi, int hi_open, double *out) {
+  char b[80], rng[64];
+  double v = 0.0;
+  int ok = n->type == YAML_SCALAR_NODE && n->data.scalar.length > 0;
+  if (ok) {
+    char *end;
+    v = strtod(sval(n), &end);
+    ok = end != sval(n) && *end == '\0' && isfinite(v);
+  }
+  if (!ok) return fail(L, line_of(n), "%s must be a number (got %s)", name, got(n, b));
+  if (!((isinf(lo) || (lo_open ? v > lo : v >= lo)) &&
+        (isinf(hi) || (hi_open ? v < hi : v <= hi)))) {
+    range_text(rng, sizeof rng, lo, lo_open, hi, hi_open);
+    return fail(L, line_of(n), "%s must be %s (got %s)", name, rng, got(n, b));
+  }
+  *out = v;
+  return PS_OK;
+}
+
+/* A number > 0. */
+static int get_pos(loader *L, yaml_node_t *n, const char *name, double *out) {
+  return get_real(L, n, name, 0.0, 1, INFINITY, 0, out);
+}
+
+/* A decimal integer in [lo, hi] (hi == LONG_MAX: no upper bound). */
+static int get_long(loader *L, yaml_node_t *n, const char *name, long lo, long hi,
+                    long *out) {
+  char b[80];
+  long v = 0;
+  int ok = n->type == YAML_SCALAR_NODE && n->data.scalar.length > 0;
+  if (ok) {
+    char *end;
+    errno = 0;
+    v = strtol(sval(n), &end, 10);
+    ok = end != sval(n) && *end == '\0' && errno == 0;
+  }
+  if (!ok)
+    return fail(L, line_of(n), "%s must be an integer (got %s)", name, got(n, b));
+  if (v < lo || v > hi) {
+    if (hi == LONG_MAX)
+      return fail(L, line_of(n), "%s must be an integer >= %ld (got %s)", name, lo,
+                  got(n, b));
+    return fail(L, line_of(n), "%s must be an integer in %ld..%ld (got %s)", name, lo,
+                hi, got(n, b));
+  }
+  *out = v;
+  return PS_OK;
+}
+
+/* get_long into an int, hi capped at INT_MAX. */
+static int get_int(loader *L, yaml_node_t *n, const char *name, long lo, long hi,
+                   int *out) {
+  long v;
+  int s = get_long(L, n, name, lo, hi < INT_MAX ? hi : INT_MAX, &v);
+  if (s == PS_OK) *out = (int)v;
+  return s;
+}
+
+/* A boolean: true/false/yes/no (any case). */
+static int get_bool(loader *L, yaml_node_t *n, const char *name, int *out) {
+  char b[80];
+  if (n->type == YAML_SCALAR_NODE) {
+    const char *s = sval(n);
+    if (!strcasecmp(s, "true") || !strcasecmp(s, "yes")) {
+      *out = 1;
+      return PS_OK;
+    }
+    if (!strcasecmp(s, "false") || !strcasecmp(s, "no")) {
+      *out = 0;
+      return PS_OK;
+    }
+  }
+  return fail(L, line_of(n), "%s must be true or false (got %s)", name, got(n, b));
+}
+
+/* One of a NULL-terminated list of words; *out = its index. */
+static int get_choice(loader *L, yaml_node_t *n, const char *name,
+                      const char *const *choices, int *out) {
+  char b[80], list[256];
+  if (n->type == YAML_SCALAR_NODE)
+    for (int i = 0; choices[i]; i++)
+      if (!strcmp(sval(n), choices[i])) {
+        *out = i;
+        return PS_OK;
+      }
+  join(list, sizeof list, choices);
+  return fail(L, line_of(n), "%s must be one of: %s (got %s)", name, list, got(n, b));
+}
+
+/* A non-empty string that fits in dst[size]. */
+static int get_string(loader *L, yaml_node_t *n, const char *name, char *dst,
+                      size_t size) {
+  char b[80];
+  if (n->type != YAML_SCALAR_NODE || n->data.scalar.length == 0)
+    return fail(L, line_of(n), "%s must be a non-empty string (got %s)", name, got(n, b));
+  if (n->data.scalar.length >= size)
+    return fail(L, line_of(n), "%s is too long (at most %zu characters)", name, size - 1);
+  memcpy(dst, sval(n), n->data.scalar.length + 1);
+  return PS_OK;
+}
+
+/* Walk a mapping: every key must be a scalar in `allowed` (NULL-terminated)
+ * and appear once; each (key, value) goes to fn. section is the dotted
+ * path of the mapping ("" at the top). */
+static int walk_map(loader *L, yaml_node_t *map, const char *section,
+                    const char *const *allowed, key_fn fn, void *arg) {
+  char b[80], list[512], name[160];
+  if (map->type != YAML_MAPPING_NODE) {
+    if (!section[0])
+      return fail(L, line_of(map), "the case file must be a mapping of sections (got %s)",
+                  got(map, b));
+    return fail(L, line_of(map), "%s must be a mapping of keys (got %s)", section,
+                got(map, b));
+  }
+  for (yaml_node_pair_t *p = map->data.mapping.pairs.start;
+       p < map->data.mapping.pairs.top; p++) {
+    yaml_node_t *k = yaml_document_get_node(L->doc, p->key);
+    yaml_node_t *v = yaml_document_get_node(L->doc, p->value);
+    if (k->type != YAML_SCALAR_NODE)
+      return fail(L, line_of(k), "keys in %s must be plain names (got %s)",
+                  section[0] ? section : "the case file", got(k, b));
+    const char *key = sval(k);
+    snprintf(name, sizeof name, "%s%s%s", section, section[0] ? "." : "", key);
+    int known = 0;
+    for (int i = 0; allowed[i] && !known; i++) known = !strcmp(key, allowed[i]);
+    if (!known) {
+      join(list, sizeof list, allowed);
+      if (!section[0])
+        return fail(L, line_of(k), "unknown key '%s' (allowed: %s)", name, list);
+      return fail(L, line_of(k), "unknown key '%s' (allowed in %s: %s)", name, section,
+                  list);
+    }
+    for (yaml_node_pair_t *q = map->data.mapping.pairs.start; q < p; q++) {
+      yaml_node_t *kq = yaml_document_get_node(L->doc, q->key);
+      if (kq->type == YAML_SCALAR_NODE && !strcmp(sval(kq), key))
+        return fail(L, line_of(k), "%s is given twice (first at line %d)", name,
+                    line_of(kq));
+    }
+    int s = fn(L, arg, key, name, v);
+    if (s != PS_OK) return s;
+  }
+  return PS_OK;
+}
+
+/* Number of items of a sequence node. */
+static int seq_len(const yaml_node_t *n) {
+  return (int)(n->data.sequence.items.top - n->data.sequence.items.start);
+}
+
+/* Item i of a sequence node. */
+static yaml_node_t *seq_item(loader *L, const yaml_node_t *n, int i) {
+  return yaml_document_get_node(L->doc, n->data.sequence.items.start[i]);
+}
+
+#define IS(k) (!strcmp(key, (k)))
+
+/* ---- geometry ---- */
+
+/* A 2D point [x, y] of a crack segment. */
+static int get_point2(loader *L, yaml_node_t *n, const char *name, double *x) {
+  char b[80];
+  if (n->type != YAML_SEQUENCE_NODE || seq_len(n) != 2)
+    return fail(L, line_of(n), "%s: each end must be [x, y] (got %s)", name, got(n, b));
+  for (int k = 0; k < 2; k++)
+    if (get_real(L, seq_item(L, n, k), name, -INFINITY, 0, INFINITY, 0, &x[k]))
+      return PS_ERR_INPUT;
+  return PS_OK;
+}
+
+/* geometry.cracks: a list of segments [[x0, y0], [x1, y1]]. */
+static int get_cracks(loader *L, yaml_node_t *v, const char *name) {
+  char b[80];
+  ps_case *cs = L->cs;
+  if (v->type != YAML_SEQUENCE_NODE)
+    return fail(L, line_of(v), "%s must be a list of segments [[x0, y0], [x1, y1]] (got %s)",
+                name, got(v, b));
+  int n = seq_len(v);
+  if (n > PS_MAX_CRACKS)
+    return fail(L, line_of(v), "%s has %d segments, at most %d are allowed", name, n,
+                PS_MAX_CRACKS);
+  cs->n_cracks = 0;
+  for (int i = 0; i < n; i++) {
+    yaml_node_t *seg = seq_item(L, v, i);
+    if (seg->type != YAML_SEQUENCE_NODE || seq_len(seg) != 2)
+      return fail(L, line_of(seg), "%s: a segment must be [[x0, y0], [x1, y1]] (got %s)",
+                  name, got(seg, b));
+    ps_crack *cr = &cs->cracks[i];
+    memset(cr, 0, sizeof *cr);
+    if (get_point2(L, seq_item(L, seg, 0), name, cr->p0) ||
+        get_point2(L, seq_item(L, seg, 1), name, cr->p1))
+      return PS_ERR_INPUT;
+    if (cr->p0[0] == cr->p1[0] && cr->p0[1] == cr->p1[1])
+      return fail(L, line_of(seg), "%s: segment %d has zero length", name, i + 1);
+    cs->n_cracks++;
+  }
+  L->line_cracks = line_of(v);
+  return PS_OK;
+}
+
+static const char *const geometry_keys[] = {
+    "type", "dim", "c", "n_eta", "n_xi", "per_zone", "xi_min", "xi_max",
+    "jitter", "seed", "counts", "spacing", "lattice", "file", "sizes",
+    "size_neighbours", "cracks", NULL};
+
+static int on_geometry(loader *L, void *arg, const char *key, const char *name,
+                       yaml_node_t *v) {
+  static const char *const types[] = {"disk", "box", "cloud", NULL};
+  static const char *const lattices[] = {"square", "hex", NULL};
+  static const char *const sizes[] = {"eq115", "eq44", NULL};
+  ps_case *cs = L->cs;
+  char b[80];
+  (void)arg;
+  if (IS("type")) {
+    L->line_type = line_of(v);
+    return get_choice(L, v, name, types, &cs->geometry);
+  }
+  if (IS("dim")) {
+    L->line_dim = line_of(v);
+    return get_int(L, v, name, 2, 3, &cs->dim);
+  }
+  if (IS("c")) return get_pos(L, v, name, &cs->disk.c);
+  if (IS("n_eta")) return get_int(L, v, name, 1, INT_MAX, &cs->disk.n_eta);
+  if (IS("n_xi")) return get_int(L, v, name, 3, INT_MAX, &cs->disk.n_xi);
+  if (IS("per_zone")) return get_int(L, v, name, 1, INT_MAX, &cs->disk.per_zone);
+  if (IS("xi_min")) return get_real(L, v, name, -INFINITY, 0, 0.0, 1, &cs->disk.xi_min);
+  if (IS("xi_max")) return get_real(L, v, name, 0.0, 1, INFINITY, 0, &cs->disk.xi_max);
+  if (IS("jitter")) {
+    /* one key for both generators: only the chosen geometry reads it */
+    int s = get_real(L, v, name, 0.0, 0, 0.5, 1, &cs->jitter);
+    cs->disk.jitter = cs->jitter;
+    return s;
+  }
+  if (IS("seed")) {
+    long seed;
+    int s = get_long(L, v, name, 0, LONG_MAX, &seed);
+    if (s == PS_OK) cs->seed = cs->disk.seed = (unsigned long)seed;
+    return s;
+  }
+  if (IS("counts")) {
+    if (v->type != YAML_SEQUENCE_NODE || seq_len(v) < 2 || seq_len(v) > 3)
+      return fail(L, line_of(v), "%s must be [nx, ny] or [nx, ny, nz] (got %s)", name,
+                  got(v, b));
+    L->n_counts = seq_len(v);
+    L->line_counts = line_of(v);
+    cs->counts[2] = 1;
+    for (int k = 0; k < L->n_counts; k++) {
+      long c;
+      if (get_long(L, seq_item(L, v, k), name, 1, LONG_MAX, &c)) return PS_ERR_INPUT;
+      cs->counts[k] = (ps_int)c;
+    }
+    return PS_OK;
+  }
+  if (IS("spacing")) return get_pos(L, v, name, &cs->spacing);
+  if (IS("lattice")) {
+    int i;
+    L->line_lattice = line_of(v);
+    if (get_choice(L, v, name, lattices, &i)) return PS_ERR_INPUT;
+    strcpy(cs->lattice, lattices[i]);
+    return PS_OK;
+  }
+  if (IS("file")) {
+    char f[1024];
+    if (get_string(L, v, name, f, sizeof f)) return PS_ERR_INPUT;
+    int w = f[0] == '/' ? snprintf(cs->cloud_file, sizeof cs->cloud_file, "%s", f)
+                        : snprintf(cs->cloud_file, sizeof cs->cloud_file, "%s/%s",
+                                   cs->dir, f);
+    if (w < 0 || (size_t)w >= sizeof cs->cloud_file)
+      return fail(L, line_of(v), "%s: path too long", name);
+    return PS_OK;
+  }
+  if (IS("sizes")) return get_choice(L, v, name, sizes, &cs->size_rule);
+  if (IS("size_neighbours")) return get_int(L, v, name, 1, INT_MAX, &cs->size_neighbours);
+  return get_cracks(L, v, name); /* "cracks", the last allowed key */
+}
+
+/* ---- kernel ---- */
+
+static const char *const kernel_keys[] = {"alpha", "k", NULL};
+
+static int on_kernel(loader *L, void *arg, const char *key, const char *name,
+                     yaml_node_t *v) {
+  (void)arg;
+  if (IS("alpha")) return get_pos(L, v, name, &L->cs->alpha);
+  return get_int(L, v, name, 1, INT_MAX, &L->cs->kernel_k);
+}
+
+/* ---- material ---- */
+
+/* The material models a case can name (ps_model_type_find knows them). */
+static const char *const known_models[] = {"fibre", NULL};
+
+static const char *const material_keys[] = {
+    "model", "E", "nu", "plane", "yield_strain", "plastic", "delta",
+    "delta_over_c", "rho", "yield_rule", NULL};
+
+static int on_material(loader *L, void *arg, const char *key, const char *name,
+                       yaml_node_t *v) {
+  static const char *const planes[] = {"strain", "stress", NULL};
+  static const char *const rules[] = {"total", "deviatoric", NULL};
+  ps_case *cs = L->cs;
+  ps_material *m = &cs->mat;
+  int i;
+  (void)arg;
+  if (IS("model")) {
+    if (get_choice(L, v, name, known_models, &i)) return PS_ERR_INPUT;
+    strcpy(cs->model, known_models[i]);
+    return PS_OK;
+  }
+  if (IS("E")) return get_pos(L, v, name, &m->E);
+  if (IS("nu")) return get_real(L, v, name, -1.0, 1, 0.5, 1, &m->nu);
+  if (IS("plane")) {
+    if (get_choice(L, v, name, planes, &i)) return PS_ERR_INPUT;
+    m->plane = i == 0 ? PS_PLANE_STRAIN : PS_PLANE_STRESS;
+    return PS_OK;
+  }
+  if (IS("yield_strain")) return get_pos(L, v, name, &m->yield_strain);
+  if (IS("plastic")) return get_bool(L, v, name, &m->plastic);
+  if (IS("delta")) {
+    L->line_delta = line_of(v);
+    cs->delta_over_c = 0.0;
+    return get_pos(L, v, name, &m->delta);
+  }
+  if (IS("delta_over_c")) {
+    L->line_delta_over_c = line_of(v);
+    m->delta = NAN;
+    return get_pos(L, v, name, &cs->delta_over_c);
+  }
+  if (IS("rho")) return get_pos(L, v, name, &m->rho);
+  if (get_choice(L, v, name, rules, &i)) return PS_ERR_INPUT; /* yield_rule */
+  m->yield_rule = i == 0 ? PS_YIELD_TOTAL : PS_YIELD_DEVIATORIC;
+  return PS_OK;
+}
+
+/* ---- loading ---- */
+
+static const char *const select_keys[] = {"x_min", "x_max", "y_min", "y_max",
+                                          "z_min", "z_max", "block", NULL};
+
+static int on_select(loader *L, void *arg, const char *key, const char *name,
+                     yaml_node_t *v) {
+  ps_select *s = arg;
+  if (IS("block")) return get_int(L, v, name, 0, INT_MAX, &s->block);
+  int k = key[0] - 'x'; /* x, y, z -> 0, 1, 2 */
+  double *dst = !strcmp(key + 1, "_min") ? &s->lo[k] : &s->hi[k];
+  return get_real(L, v, name, -INFINITY, 0, INFINITY, 0, dst);
+}
+
+static const char *const component_keys[] = {"x", "y", "z", NULL};
+
+static int on_displace(loader *L, void *arg, const char *key, const char *name,
+                       yaml_node_t *v) {
+  ps_bc *bc = arg;
+  int k = key[0] - 'x';
+  bc->displace_set[k] = 1;
+  return get_real(L, v, name, -INFINITY, 0, INFINITY, 0, &bc->displace[k]);
+}
+
+static const char *const bc_keys[] = {"select", "fix", "displace", "measure", NULL};
+
+static int on_bc(loader *L, void *arg, const char *key, const char *name,
+                 yaml_node_t *v) {
+  ps_bc *bc = arg;
+  char b[80];
+  if (IS("select")) {
+    if (v->type == YAML_MAPPING_NODE &&
+        v->data.mapping.pairs.top == v->data.mapping.pairs.start)
+      return fail(L, line_of(v), "%s is empty: select matches everything", name);
+    if (walk_map(L, v, name, select_keys, on_select, &bc->sel)) return PS_ERR_INPUT;
+    for (int k = 0; k < 3; k++)
+      if (bc->sel.lo[k] > bc->sel.hi[k])
+        return fail(L, line_of(v), "%s: %c_min > %c_max selects nothing", name, 'x' + k,
+                    'x' + k);
+    return PS_OK;
+  }
+  if (IS("fix")) {
+    if (v->type != YAML_SEQUENCE_NODE)
+      return fail(L, line_of(v), "%s must be a list of components, e.g. [x, y] (got %s)",
+                  name, got(v, b));
+    for (int i = 0; i < seq_len(v); i++) {
+      int k;
+      if (get_choice(L, seq_item(L, v, i), name, component_keys, &k)) return PS_ERR_INPUT;
+      bc->fix[k] = 1;
+    }
+    return PS_OK;
+  }
+  if (IS("displace")) return walk_map(L, v, name, component_keys, on_displace, bc);
+  return get_bool(L, v, name, &bc->measure);
+}
+
+/* loading.boundary: a list of entries, each checked on its own here (the
+ * checks that need dim run at the end). */
+static int get_boundary(loader *L, yaml_node_t *v, const char *name) {
+  char b[80];
+  ps_case *cs = L->cs;
+  L->line_boundary = line_of(v);
+  if (v->type != YAML_SEQUENCE_NODE)
+    return fail(L, line_of(v), "%s must be a list of entries (got %s)", name, got(v, b));
+  int n = seq_len(v);
+  if (n > PS_MAX_BC)
+    return fail(L, line_of(v), "%s has %d entries, at most %d are allowed", name, n,
+                PS_MAX_BC);
+  cs->n_bc = 0;
+  for (int i = 0; i < n; i++) {
+    yaml_node_t *e = seq_item(L, v, i);
+    ps_bc *bc = &cs->bc[i];
+    memset(bc, 0, sizeof *bc);
+    for (int k = 0; k < 3; k++) {
+      bc->sel.lo[k] = -INFINITY;
+      bc->sel.hi[k] = INFINITY;
+    }
+    bc->sel.block = -1;
+    bc->line = line_of(e);
+    if (walk_map(L, e, name, bc_keys, on_bc, bc)) return PS_ERR_INPUT;
+    int has_select = 0, fixes = 0, displaces = 0;
+    for (yaml_node_pair_t *p = e->data.mapping.pairs.start; p < e->data.mapping.pairs.top;
+         p++)
+      has_select |= !strcmp(sval(yaml_document_get_node(L->doc, p->key)), "select");
+    if (!has_select)
+      return fail(L, bc->line,
+                  "%s entry %d has no select: it would apply to every particle", name,
+                  i + 1);
+    for (int k = 0; k < 3; k++) {
+      fixes += bc->fix[k];
+      displaces += bc->displace_set[k];
+      if (bc->fix[k] && bc->displace_set[k])
+        return fail(L, bc->line, "%s entry %d: component %c is both fixed and displaced",
+                    name, i + 1, 'x' + k);
+    }
+    if (!fixes && !displaces)
+      return fail(L, bc->line,
+                  "%s entry %d has neither fix nor displace: it constrains nothing", name,
+                  i + 1);
+    if (bc->measure && !displaces)
+      return fail(L, bc->line, "%s entry %d: measure: true needs a displaced component",
+                  name, i + 1);
+    cs->n_bc++;
+  }
+  return PS_OK;
+}
+
+static const char *const loading_keys[] = {"type", "stress_length", "boundary", NULL};
+
+static int on_loading(loader *L, void *arg, const char *key, const char *name,
+                      yaml_node_t *v) {
+  static const char *const types[] = {"eq116", "boundary", NULL};
+  (void)arg;
+  if (IS("type")) {
+    L->line_load_type = line_of(v);
+    return get_choice(L, v, name, types, &L->cs->load_type);
+  }
+  if (IS("stress_length")) return get_pos(L, v, name, &L->cs->stress_length);
+  return get_boundary(L, v, name);
+}
+
+/* ---- solver, path, output ---- */
+
+static const char *const solver_keys[] = {"linear", "tolerance", "max_iterations",
+                                          "line_search", NULL};
+
+static int on_solver(loader *L, void *arg, const char *key, const char *name,
+                     yaml_node_t *v) {
+  static const char *const linear[] = {"cholmod", "umfpack", NULL};
+  ps_case *cs = L->cs;
+  (void)arg;
+  if (IS("linear")) {
+    int i;
+    if (get_choice(L, v, name, linear, &i)) return PS_ERR_INPUT;
+    strcpy(cs->linear, linear[i]);
+    return PS_OK;
+  }
+  if (IS("tolerance")) return get_real(L, v, name, 0.0, 1, 1.0, 1, &cs->tolerance);
+  if (IS("max_iterations")) return get_int(L, v, name, 1, INT_MAX, &cs->max_iterations);
+  return get_bool(L, v, name, &cs->line_search);
+}
+
+static const char *const path_keys[] = {
+    "load_step", "load_step_after_break", "max_load", "max_increments", "min_step",
+    "stop_crack_tip", "stop_load_drop", "max_break_rounds", NULL};
+
+static int on_path(loader *L, void *arg, const char *key, const char *name,
+                   yaml_node_t *v) {
+  ps_case *cs = L->cs;
+  (void)arg;
+  if (IS("load_step")) return get_pos(L, v, name, &cs->load_step);
+  if (IS("load_step_after_break")) return get_pos(L, v, name, &cs->load_step_after_break);
+  if (IS("max_load")) return get_pos(L, v, name, &cs->max_load);
+  if (IS("max_increments")) return get_int(L, v, name, 1, INT_MAX, &cs->max_increments);
+  if (IS("min_step")) return get_pos(L, v, name, &cs->min_step);
+  if (IS("stop_crack_tip")) return get_pos(L, v, name, &cs->stop_crack_tip);
+  if (IS("stop_load_drop"))
+    return get_real(L, v, name, 0.0, 0, 1.0, 1, &cs->stop_load_drop);
+  return get_int(L, v, name, 1, INT_MAX, &cs->max_break_rounds);
+}
+
+static const char *const output_keys[] = {"dir", "vtk_every", "verbosity", NULL};
+
+static int on_output(loader *L, void *arg, const char *key, const char *name,
+                     yaml_node_t *v) {
+  ps_case *cs = L->cs;
+  (void)arg;
+  if (IS("dir")) return get_string(L, v, name, cs->out_dir, sizeof cs->out_dir);
+  if (IS("vtk_every")) return get_int(L, v, name, 0, INT_MAX, &cs->vtk_every);
+  return get_int(L, v, name, 0, 3, &cs->verbosity);
+}
+
+/* ---- griffith ---- */
+
+/* griffith.denominators: {first, last, step}, all three required. */
+typedef struct sweep_range {
+  long first, last, step;
+  int line_first, line_last, line_step;
+} sweep_range;
+
+static const char *const den_keys[] = {"first", "last", "step", NULL};
+
+static int on_den(loader *L, void *arg, const char *key, const char *name,
+                  yaml_node_t *v) {
+  sweep_range *r = arg;
+  if (IS("first")) {
+    r->line_first = line_of(v);
+    return get_long(L, v, name, 1, LONG_MAX, &r->first);
+  }
+  if (IS("last")) {
+    r->line_last = line_of(v);
+    return get_long(L, v, name, 1, LONG_MAX, &r->last);
+  }
+  r->line_step = line_of(v);
+  return get_long(L, v, name, 1, LONG_MAX, &r->step);
+}
+
+static const char *const griffith_keys[] = {"delta_over_c", "denominators", NULL};
+
+static int on_griffith(loader *L, void *arg, const char *key, const char *name,
+                       yaml_node_t *v) {
+  ps_case *cs = L->cs;
+  char b[80];
+  (void)arg;
+  if (IS("delta_over_c")) {
+    L->line_sweep_list = line_of(v);
+    if (v->type != YAML_SEQUENCE_NODE || seq_len(v) == 0)
+      return fail(L, line_of(v), "%s must be a non-empty list of numbers (got %s)", name,
+                  got(v, b));
+    int n = seq_len(v);
+    if (n > PS_MAX_SWEEP)
+      return fail(L, line_of(v), "%s has %d values, at most %d are allowed", name, n,
+                  PS_MAX_SWEEP);
+    for (int i = 0; i < n; i++)
+      if (get_pos(L, seq_item(L, v, i), name, &cs->sweep_delta_over_c[i]))
+        return PS_ERR_INPUT;
+    cs->n_sweep = n;
+    return PS_OK;
+  }
+  /* denominators */
+  sweep_range r = {0};
+  L->line_sweep_den = line_of(v);
+  if (walk_map(L, v, name, den_keys, on_den, &r)) return PS_ERR_INPUT;
+  if (!r.line_first || !r.line_last || !r.line_step)
+    return fail(L, line_of(v), "%s needs first, last and step", name);
+  if (r.last < r.first)
+    return fail(L, r.line_last, "%s.last must be >= first (got %ld < %ld)", name, r.last,
+                r.first);
+  long n = (r.last - r.first) / r.step + 1;
+  if (n > PS_MAX_SWEEP)
+    return fail(L, line_of(v), "%s gives %ld values, at most %d are allowed", name, n,
+                PS_MAX_SWEEP);
+  for (long i = 0; i < n; i++)
+    cs->sweep_delta_over_c[i] = 1.0 / (double)(r.first + i * r.step);
+  cs->n_sweep = (int)n;
+  return PS_OK;
+}
+
+/* ---- top level ---- */
+
+static const char *const top_keys[] = {"name",   "geometry", "kernel",
+                                       "material", "loading", "solver",
+                                       "path",   "output",   "griffith", NULL};
+
+static int on_top(loader *L, void *arg, const char *key, const char *name,
+                  yaml_node_t *v) {
+  (void)arg;
+  if (IS("name")) {
+    if (get_string(L, v, name, L->cs->name, sizeof L->cs->name)) return PS_ERR_INPUT;
+    if (strchr(L->cs->name, '/'))
+      return fail(L, line_of(v), "name must not contain '/' (got %s)", L->cs->name);
+    return PS_OK;
+  }
+  if (IS("geometry")) return walk_map(L, v, name, geometry_keys, on_geometry, NULL);
+  if (IS("kernel")) return walk_map(L, v, name, kernel_keys, on_kernel, NULL);
+  if (IS("material")) return walk_map(L, v, name, material_keys, on_material, NULL);
+  if (IS("loading")) return walk_map(L, v, name, loading_keys, on_loading, NULL);
+  if (IS("solver")) return walk_map(L, v, name, solver_keys, on_solver, NULL);
+  if (IS("path")) return walk_map(L, v, name, path_keys, on_path, NULL);
+  if (IS("output")) return walk_map(L, v, name, output_keys, on_output, NULL);
+  return walk_map(L, v, name, griffith_keys, on_griffith, NULL);
+}
+
+/* Checks across sections, after the whole file is read. */
+static int cross_checks(loader *L) {
+  static const char *const gname[] = {"disk", "box", "cloud"};
+  ps_case *cs = L->cs;
+  if (cs->geometry == PS_GEOM_DISK) {
+    if (L->line_dim && cs->dim != 2)
+      return fail(L, L->line_dim, "geometry.dim must be 2 for geometry.type disk (got %d)",
+                  cs->dim);
+    cs->dim = 2;
+  }
+  if (cs->geometry == PS_GEOM_BOX) {
+    if (L->line_counts && L->n_counts != cs->dim)
+      return fail(L, L->line_counts,
+                  "geometry.counts has %d values but geometry.dim is %d", L->n_counts,
+                  cs->dim);
+    if (!L->line_counts && cs->dim == 3)
+      return fail(L, L->line_dim, "a 3D box needs geometry.counts: [nx, ny, nz]");
+    if (cs->dim == 3 && !strcmp(cs->lattice, "hex"))
+      return fail(L, L->line_lattice, "geometry.lattice hex is 2D only (geometry.dim is 3)");
+  }
+  if (cs->dim == 2) cs->counts[2] = 1;
+  if (cs->geometry == PS_GEOM_CLOUD && !cs->cloud_file[0])
+    return fail(L, L->line_type, "geometry.type cloud needs geometry.file");
+  if (cs->n_cracks > 0 && cs->dim == 3)
+    return fail(L, L->line_cracks, "geometry.cracks are 2D only (geometry.dim is 3)");
+  if (L->line_delta && L->line_delta_over_c)
+    return fail(L, L->line_delta,
+                "material.delta and material.delta_over_c (line %d) are both given: "
+                "give one",
+                L->line_delta_over_c);
+  if (L->line_sweep_list && L->line_sweep_den)
+    return fail(L, L->line_sweep_den,
+                "griffith.denominators and griffith.delta_over_c (line %d) are both "
+                "given: give one",
+                L->line_sweep_list);
+  if (cs->load_type == PS_LOAD_EQ116) {
+    if (cs->geometry != PS_GEOM_DISK)
+      return fail(L, L->line_load_type ? L->line_load_type : L->line_type,
+                  "loading.type eq116%s needs geometry.type disk (got %s): set "
+                  "loading.type: boundary",
+                  L->line_load_type ? "" : " (the default)", gname[cs->geometry]);
+    if (cs->n_bc > 0 || L->line_boundary)
+      return fail(L, L->line_boundary,
+                  "loading.boundary is given but loading.type is eq116: set "
+                  "loading.type: boundary");
+  } else if (cs->n_bc == 0) {
+    return fail(L, L->line_boundary ? L->line_boundary : L->line_load_type,
+                "loading.boundary is empty: the model has no supports");
+  }
+  for (int i = 0; i < cs->n_bc && cs->dim == 2; i++) {
+    const ps_bc *bc = &cs->bc[i];
+    if (bc->fix[2] || bc->displace_set[2] || isfinite(bc->sel.lo[2]) ||
+        isfinite(bc->sel.hi[2]))
+      return fail(L, bc->line,
+                  "loading.boundary entry %d uses the z component but geometry.dim is 2",
+                  i + 1);
+  }
+  return PS_OK;
+}
+
+/* "FILE:LINE: YAML syntax error: problem (context at line N)". */
+static int syntax_error(const char *file, const yaml_parser_t *pa, ps_ctx *ctx) {
+  const char *problem = pa->problem ? pa->problem : "cannot parse";
+  if (pa->error == YAML_MEMORY_ERROR)
+    return ps_error(ctx, PS_ERR_NOMEM, "%s: out of memory while parsing YAML", file);
+  if (pa->error == YAML_READER_ERROR && pa->problem && !strcmp(pa->problem, "input error"))
+    return ps_error(ctx, PS_ERR_IO, "%s: read error", file);
+  if (pa->error == YAML_READER_ERROR)
+    return ps_error(ctx, PS_ERR_INPUT, "%s: YAML read error: %s (at byte %zu)", file,
+                    problem, pa->problem_offset);
+  if (pa->context)
+    return ps_error(ctx, PS_ERR_INPUT, "%s:%d: YAML syntax error: %s (%s at line %d)",
+                    file, (int)pa->problem_mark.line + 1, problem, pa->context,
+                    (int)pa->context_mark.line + 1);
+  return ps_error(ctx, PS_ERR_INPUT, "%s:%d: YAML syntax error: %s", file,
+                  (int)pa->problem_mark.line + 1, problem);
+}
+
+/* Set path, dir (the directory part, "." when none) and the default name
+ * (the file name without .yaml / .yml) of cs from path. */
+static void set_names(ps_case *cs, const char *path) {
+  snprintf(cs->path, sizeof cs->path, "%s", path);
+  const char *slash = strrchr(path, '/');
+  if (!slash)
+    strcpy(cs->dir, ".");
+  else if (slash == path)
+    strcpy(cs->dir, "/");
+  else
+    snprintf(cs->dir, sizeof cs->dir, "%.*s", (int)(slash - path), path);
+  const char *base = slash ? slash + 1 : path;
+  size_t n = strlen(base);
+  if (n > 5 && !strcmp(base + n - 5, ".yaml"))
+    n -= 5;
+  else if (n > 4 && !strcmp(base + n - 4, ".yml"))
+    n -= 4;
+  if (n == 0) return; /* keep the default name */
+  if (n >= sizeof cs->name) n = sizeof cs->name - 1;
+  memcpy(cs->name, base, n);
+  cs->name[n] = '\0';
+}
+
+int ps_case_load(ps_case *cs, const char *path, ps_ctx *ctx) {
+  if (strlen(path) >= sizeof cs->path)
+    return ps_error(ctx, PS_ERR_IO, "%s: path too long", path);
+  FILE *f = fopen(path, "rb");
+  if (!f) return ps_error(ctx, PS_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  struct stat st;
+  if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+    fclose(f);
+    return ps_error(ctx, PS_ERR_IO, "%s: cannot open: %s", path, strerror(EISDIR));
+  }
+  /* fill a copy so that a failed load leaves *cs as it was */
+  ps_case *work = ps_calloc(1, sizeof *work, ctx);
+  if (!work) {
+    fclose(f);
+    return PS_ERR_NOMEM;
+  }
+  *work = *cs;
+  set_names(work, path);
+
+  int status = PS_OK, have_doc = 0;
+  yaml_parser_t parser;
+  yaml_document_t doc;
+  if (!yaml_parser_initialize(&parser)) {
+    free(work);
+    fclose(f);
+    return ps_error(ctx, PS_ERR_NOMEM, "%s: cannot initialise the YAML parser", path);
+  }
+  yaml_parser_set_input_file(&parser, f);
+  if (!yaml_parser_load(&parser, &doc)) {
+    status = syntax_error(path, &parser, ctx);
+    goto cleanup;
+  }
+  have_doc = 1;
+  loader L = {.file = path, .doc = &doc, .cs = work, .ctx = ctx};
+  yaml_node_t *root = yaml_document_get_root_node(&doc);
+  if (root) { /* an empty file keeps every default */
+    status = walk_map(&L, root, "", top_keys, on_top, NULL);
+    if (status != PS_OK) goto cleanup;
+  }
+  /* a second document would be silently ignored: refuse it */
+  yaml_document_t extra;
+  if (!yaml_parser_load(&parser, &extra)) {
+    status = syntax_error(path, &parser, ctx);
+    goto cleanup;
+  }
+  yaml_node_t *extra_root = yaml_document_get_root_node(&extra);
+  int extra_line = extra_root ? line_of(extra_root) : 0;
+  yaml_document_delete(&extra);
+  if (extra_line) {
+    status = fail(&L, extra_line, "a case file holds one YAML document (a second starts here)");
+    goto cleanup;
+  }
+  status = cross_checks(&L);
+  if (status == PS_OK) *cs = *work;
+
+cleanup:
+  if (have_doc) yaml_document_delete(&doc);
+  yaml_parser_delete(&parser);
+  fclose(f);
+  free(work);
+  return status;
+}

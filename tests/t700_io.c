@@ -1,0 +1,327 @@
+/* t700_io.c: case files, point clouds and VTK output. Valid inputs under
+ * tests/data/io load with the right values; each bad input fails with
+ * PS_ERR_INPUT (PS_ERR_IO for a missing file) and a message naming the
+ * file, the line and the parameter; a VTK file is written atomically. */
+#include "check.h"
+#include "io/ps_io.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+#ifndef PS_TEST_DATA
+#error "PS_TEST_DATA must name the tests/data directory"
+#endif
+
+#define DATA(f) PS_TEST_DATA "/io/" f
+
+/* Does the message contain every one of the (NULL-terminated) parts? */
+static int has_all(const char *msg, const char *const *parts) {
+  for (int i = 0; parts[i]; i++)
+    if (!strstr(msg, parts[i])) return 0;
+  return 1;
+}
+
+/* Load a case that must fail with `want`; the message must contain
+ * "file:line:" (line > 0) and every one of the parts. */
+static void bad_case(const char *file, int want, int line, const char *const *parts) {
+  ps_ctx ctx;
+  ps_case cs;
+  char path[1024], at[256];
+  ps_ctx_init(&ctx);
+  ps_case_defaults(&cs);
+  snprintf(path, sizeof path, "%s/io/%s", PS_TEST_DATA, file);
+  int s = ps_case_load(&cs, path, &ctx);
+  if (line > 0)
+    snprintf(at, sizeof at, "%s:%d: ", file, line);
+  else
+    snprintf(at, sizeof at, "%s: ", file);
+  ps_check(s == want, "%s: status %d (want %d)", file, s, want);
+  ps_check(strstr(ctx.msg, at) && has_all(ctx.msg, parts), "%s: message \"%s\" has \"%s\"",
+           file, ctx.msg, at);
+  ps_check(cs.alpha == 5.1 && !strcmp(cs.name, "case"),
+           "%s: a failed load leaves the case unchanged", file);
+}
+
+/* Read a cloud that must fail with PS_ERR_INPUT at `line`. */
+static void bad_cloud(const char *file, int dim, int line, const char *const *parts) {
+  ps_ctx ctx;
+  ps_particles p;
+  char path[1024], at[256];
+  ps_ctx_init(&ctx);
+  snprintf(path, sizeof path, "%s/io/%s", PS_TEST_DATA, file);
+  int s = ps_cloud_read(&p, path, dim, &ctx);
+  if (line > 0)
+    snprintf(at, sizeof at, "%s:%d: ", file, line);
+  else
+    snprintf(at, sizeof at, "%s: ", file);
+  ps_check(s == PS_ERR_INPUT, "%s: status %d (want PS_ERR_INPUT)", file, s);
+  ps_check(strstr(ctx.msg, at) && has_all(ctx.msg, parts), "%s: message \"%s\" has \"%s\"",
+           file, ctx.msg, at);
+  ps_check(p.x == NULL && p.n == 0, "%s: nothing allocated on failure", file);
+  ps_particles_free(&p);
+}
+
+static void test_defaults(void) {
+  ps_case cs;
+  ps_case_defaults(&cs);
+  ps_check(cs.geometry == PS_GEOM_DISK && cs.dim == 2 && cs.load_type == PS_LOAD_EQ116,
+           "defaults: disk, 2D, eq116");
+  ps_check(isnan(cs.mat.delta) && cs.delta_over_c == 1e-3, "defaults: delta unset, c/1000");
+  ps_check(cs.n_sweep == 12, "defaults: 12 sweep values");
+  ps_check_rel(cs.sweep_delta_over_c[11], 1.0 / 3250, 1e-15, "defaults: last sweep 1/3250");
+  ps_check(!strcmp(cs.linear, "cholmod") && cs.out_dir[0] == '\0' && cs.vtk_every == 10,
+           "defaults: cholmod, out_dir empty, vtk_every 10");
+}
+
+static void test_full(void) {
+  ps_ctx ctx;
+  ps_case cs;
+  ps_ctx_init(&ctx);
+  ps_case_defaults(&cs);
+  int s = ps_case_load(&cs, DATA("full.yaml"), &ctx);
+  ps_check(s == PS_OK, "full.yaml loads (status %d: %s)", s, ctx.msg);
+  if (s != PS_OK) return;
+  ps_check(!strcmp(cs.name, "plate_test"), "full: name (%s)", cs.name);
+  ps_check(!strcmp(cs.path, DATA("full.yaml")) && !strcmp(cs.dir, PS_TEST_DATA "/io"),
+           "full: path and dir (%s)", cs.dir);
+  ps_check(cs.geometry == PS_GEOM_BOX && cs.dim == 2, "full: box, 2D");
+  ps_check(cs.counts[0] == 30 && cs.counts[1] == 10 && cs.counts[2] == 1,
+           "full: counts 30 x 10 (x 1)");
+  ps_check_rel(cs.spacing, 2e-3, 0, "full: spacing");
+  ps_check(!strcmp(cs.lattice, "hex"), "full: lattice hex");
+  ps_check_rel(cs.jitter, 0.1, 0, "full: jitter");
+  ps_check(cs.seed == 42 && cs.disk.seed == 42, "full: seed 42");
+  ps_check(cs.size_rule == PS_SIZE_EQ44 && cs.size_neighbours == 6, "full: sizes");
+  ps_check(cs.n_cracks == 2, "full: 2 cracks (got %d)", cs.n_cracks);
+  ps_check(cs.cracks[0].p0[0] == 0.01 && cs.cracks[0].p1[1] == 0.005 &&
+               cs.cracks[1].p0[1] == 0.01 && cs.cracks[1].p1[0] == 0.03,
+           "full: crack end points");
+  ps_check_rel(cs.alpha, 4.0, 0, "full: kernel.alpha");
+  ps_check(cs.kernel_k == 3, "full: kernel.k");
+  ps_check_rel(cs.mat.E, 70e9, 0, "full: material.E");
+  ps_check_rel(cs.mat.nu, 0.25, 0, "full: material.nu");
+  ps_check(cs.mat.plane == PS_PLANE_STRESS && cs.mat.plastic == 0 &&
+               cs.mat.yield_rule == PS_YIELD_DEVIATORIC,
+           "full: plane stress, elastic, deviatoric");
+  ps_check_rel(cs.mat.yield_strain, 0.003, 0, "full: yield_strain");
+  ps_check_rel(cs.mat.delta, 2.5e-6, 0, "full: material.delta");
+  ps_check(cs.delta_over_c == 0, "full: delta given -> delta_over_c = 0");
+  ps_check_rel(cs.mat.rho, 2700, 0, "full: rho");
+  ps_check(cs.load_type == PS_LOAD_BOUNDARY && cs.n_bc == 3, "full: 3 boundary entries");
+  ps_check_rel(cs.stress_length, 0.02, 0, "full: stress_length");
+  const ps_bc *b = cs.bc;
+  ps_check(b[0].line == 33 && b[1].line == 35 && b[2].line == 38,
+           "full: entry lines 33, 35, 38 (got %d, %d, %d)", b[0].line, b[1].line, b[2].line);
+  ps_check(b[0].sel.hi[0] == 0.001 && isinf(b[0].sel.lo[0]) && b[0].sel.lo[0] < 0 &&
+               isinf(b[0].sel.hi[1]) && b[0].sel.block == -1,
+           "full: entry 1 select x_max only");
+  ps_check(b[0].fix[0] == 1 && b[0].fix[1] == 0 && !b[0].displace_set[0] && !b[0].measure,
+           "full: entry 1 fixes x");
+  ps_check(b[1].sel.lo[0] == 0.059 && b[1].sel.lo[1] == -1 && b[1].sel.hi[1] == 1,
+           "full: entry 2 select");
+  ps_check(b[1].displace_set[0] && b[1].displace[0] == 1e-5 && !b[1].displace_set[1] &&
+               b[1].measure,
+           "full: entry 2 displaces x by 1e-5 and measures");
+  ps_check(b[2].sel.block == 2 && b[2].fix[1] && !b[2].fix[0], "full: entry 3 block 2");
+  ps_check(!strcmp(cs.linear, "umfpack") && cs.max_iterations == 50 && !cs.line_search,
+           "full: solver");
+  ps_check_rel(cs.tolerance, 1e-10, 0, "full: tolerance");
+  ps_check(cs.load_step == 0.01 && cs.load_step_after_break == 0.001 && cs.max_load == 2 &&
+               cs.max_increments == 100 && cs.min_step == 1e-7 &&
+               cs.stop_crack_tip == 5 && cs.stop_load_drop == 0 &&
+               cs.max_break_rounds == 20,
+           "full: path");
+  ps_check(!strcmp(cs.out_dir, "out/test_plate") && cs.vtk_every == 0 &&
+               cs.verbosity == 2,
+           "full: output");
+  ps_check(cs.n_sweep == 12, "full: 12 griffith values (got %d)", cs.n_sweep);
+  int ok = cs.n_sweep == 12;
+  for (int i = 0; ok && i < 12; i++)
+    ok = fabs(cs.sweep_delta_over_c[i] - 1.0 / (500 + 250 * i)) <= 1e-15 / (500 + 250 * i);
+  ps_check(ok, "full: griffith delta/c = 1/500, 1/750, ..., 1/3250");
+}
+
+static void test_cloud_case(void) {
+  ps_ctx ctx;
+  ps_case cs;
+  ps_ctx_init(&ctx);
+  ps_case_defaults(&cs);
+  int s = ps_case_load(&cs, DATA("cloud3d.yml"), &ctx);
+  ps_check(s == PS_OK, "cloud3d.yml loads (status %d: %s)", s, ctx.msg);
+  if (s != PS_OK) return;
+  ps_check(!strcmp(cs.name, "cloud3d"), "cloud3d: name from the file (%s)", cs.name);
+  ps_check(cs.geometry == PS_GEOM_CLOUD && cs.dim == 3, "cloud3d: cloud, 3D");
+  ps_check(!strcmp(cs.cloud_file, DATA("cloud3d.txt")), "cloud3d: file resolved (%s)",
+           cs.cloud_file);
+  ps_check(cs.n_bc == 2 && cs.bc[0].displace_set[2] && cs.bc[0].displace[2] == -1e-6 &&
+               cs.bc[0].displace_set[0] && cs.bc[0].displace[0] == 0 &&
+               cs.bc[0].sel.lo[2] == 0.5 && cs.bc[1].fix[2],
+           "cloud3d: z components accepted (dim given later)");
+  ps_check(cs.delta_over_c == 2e-3 && isnan(cs.mat.delta), "cloud3d: delta_over_c");
+  ps_check(cs.n_sweep == 3 && cs.sweep_delta_over_c[2] == 4e-3, "cloud3d: sweep list");
+
+  ps_particles p;
+  s = ps_cloud_read(&p, cs.cloud_file, 3, &ctx);
+  ps_check(s == PS_OK && p.n == 3 && p.dim == 3, "cloud3d.txt: 3 particles (%s)", ctx.msg);
+  if (s == PS_OK)
+    ps_check(p.x[5] == 1e-3 && p.volume[2] == 2e-9 && p.block[1] == 3 && p.block[2] == 0,
+             "cloud3d.txt: coordinates, volume, block");
+  ps_particles_free(&p);
+}
+
+static void test_cloud2d(void) {
+  ps_ctx ctx;
+  ps_particles p;
+  ps_ctx_init(&ctx);
+  int s = ps_cloud_read(&p, DATA("cloud2d.txt"), 2, &ctx);
+  ps_check(s == PS_OK && p.n == 4 && p.dim == 2, "cloud2d.txt: 4 particles (%s)", ctx.msg);
+  if (s == PS_OK) {
+    ps_check(p.x[2] == 0.001 && p.x[3] == 0.0 && p.x[5] == 0.001 && p.x[6] == 0.001,
+             "cloud2d.txt: coordinates");
+    ps_check(p.volume[3] == 1.5e-6 && p.h[0] == 0, "cloud2d.txt: volumes, h unset");
+    ps_check(p.block[0] == 0 && p.block[1] == 1 && p.block[2] == 2 && p.block[3] == 0,
+             "cloud2d.txt: blocks 0 1 2 0");
+  }
+  ps_particles_free(&p);
+}
+
+static void test_bad_cases(void) {
+  ps_ctx ctx;
+  ps_case cs;
+  ps_ctx_init(&ctx);
+  ps_case_defaults(&cs);
+  int s = ps_case_load(&cs, DATA("no_such_case.yaml"), &ctx);
+  ps_check(s == PS_ERR_IO && strstr(ctx.msg, "no_such_case.yaml: cannot open"),
+           "missing file: PS_ERR_IO (%s)", ctx.msg);
+
+  bad_case("bad_syntax.yaml", PS_ERR_INPUT, 4,
+           (const char *const[]){"YAML syntax error", "line 3", NULL});
+  bad_case("bad_unknown_top.yaml", PS_ERR_INPUT, 3,
+           (const char *const[]){"unknown key 'materail'", "material", NULL});
+  bad_case("bad_unknown_nested.yaml", PS_ERR_INPUT, 2,
+           (const char *const[]){"unknown key 'material.Young'", "E", NULL});
+  bad_case("bad_E.yaml", PS_ERR_INPUT, 4,
+           (const char *const[]){"material.E must be > 0 (got -3e9)", NULL});
+  bad_case("bad_alpha0.yaml", PS_ERR_INPUT, 2,
+           (const char *const[]){"kernel.alpha must be > 0", "(got 0)", NULL});
+  bad_case("bad_alpha_neg.yaml", PS_ERR_INPUT, 4,
+           (const char *const[]){"kernel.alpha must be > 0", "(got -1)", NULL});
+  bad_case("bad_nu.yaml", PS_ERR_INPUT, 2,
+           (const char *const[]){"material.nu", "(-1, 0.5)", "0.5", NULL});
+  bad_case("bad_number.yaml", PS_ERR_INPUT, 2,
+           (const char *const[]){"material.E must be a number", "2e11x", NULL});
+  bad_case("bad_dup.yaml", PS_ERR_INPUT, 4,
+           (const char *const[]){"kernel.alpha", "twice", "line 2", NULL});
+  bad_case("bad_bc_nofix.yaml", PS_ERR_INPUT, 7,
+           (const char *const[]){"loading.boundary", "neither fix nor displace", NULL});
+  bad_case("bad_bc_both.yaml", PS_ERR_INPUT, 5,
+           (const char *const[]){"loading.boundary", "both fixed and displaced", NULL});
+  bad_case("bad_bc_empty_select.yaml", PS_ERR_INPUT, 5,
+           (const char *const[]){"select", "matches everything", NULL});
+  bad_case("bad_no_supports.yaml", PS_ERR_INPUT, 4,
+           (const char *const[]){"loading.boundary is empty", "no supports", NULL});
+  bad_case("bad_z_2d.yaml", PS_ERR_INPUT, 4,
+           (const char *const[]){"loading.boundary entry 1", "z", "dim is 2", NULL});
+  bad_case("bad_eq116_box.yaml", PS_ERR_INPUT, 2,
+           (const char *const[]){"eq116", "geometry.type disk", NULL});
+  bad_case("bad_dim_disk.yaml", PS_ERR_INPUT, 3,
+           (const char *const[]){"geometry.dim must be 2", "disk", NULL});
+  bad_case("bad_counts.yaml", PS_ERR_INPUT, 4,
+           (const char *const[]){"geometry.counts", "geometry.dim is 3", NULL});
+  bad_case("bad_griffith.yaml", PS_ERR_INPUT, 2,
+           (const char *const[]){"griffith.denominators", "step", NULL});
+}
+
+static void test_bad_clouds(void) {
+  bad_cloud("bad_cloud_nan.txt", 2, 3,
+            (const char *const[]){"x y volume [block]", "field 2 (y)", "'abc'", NULL});
+  bad_cloud("bad_cloud_fields.txt", 2, 2,
+            (const char *const[]){"x y volume [block]", "5 fields", "0 1e-3 1e-6 1 7", NULL});
+  bad_cloud("bad_cloud_volume.txt", 2, 4,
+            (const char *const[]){"volume must be > 0", "(got 0)", NULL});
+  bad_cloud("bad_cloud_volume_neg.txt", 2, 2,
+            (const char *const[]){"volume must be > 0", "(got -1e-6)", NULL});
+  bad_cloud("bad_cloud_block.txt", 2, 1, (const char *const[]){"block", "'1.5'", NULL});
+  bad_cloud("bad_cloud_empty.txt", 2, 0, (const char *const[]){"no particles", NULL});
+  /* a 2D cloud read as 3D: "0 0 1e-6" has too few fields */
+  bad_cloud("cloud2d.txt", 3, 2, (const char *const[]){"x y z volume [block]", NULL});
+
+  ps_ctx ctx;
+  ps_particles p;
+  ps_ctx_init(&ctx);
+  int s = ps_cloud_read(&p, DATA("no_such_cloud.txt"), 2, &ctx);
+  ps_check(s == PS_ERR_IO && strstr(ctx.msg, "no_such_cloud.txt: cannot open"),
+           "missing cloud: PS_ERR_IO (%s)", ctx.msg);
+}
+
+static void test_vtk(void) {
+  const char *path = "t700_tmp.vtk";
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  double x[8] = {0, 0, 1, 0, 0, 1, 1, 1};
+  double u[8] = {0.1, 0.2, NAN, 0, 0, 0, 1, 1};
+  double s[4] = {1, 2, INFINITY, 4};
+  ps_int la[3] = {0, 1, 2}, lb[3] = {1, 3, 3};
+  double cs[3] = {5, 6, 7};
+  ps_field pf[2] = {{"displacement", 3, u, 2}, {"damage", 1, s, 1}};
+  ps_field cf[1] = {{"broken", 1, cs, 1}};
+  remove(path);
+  int st = ps_vtk_write(path, 2, 4, x, 3, la, lb, pf, 2, cf, 1, &ctx);
+  ps_check(st == PS_OK, "vtk: lines written (%s)", ctx.msg);
+  FILE *f = fopen(path, "r");
+  ps_check(f != NULL, "vtk: %s exists", path);
+  if (f) {
+    char line[256], all[4096] = "";
+    size_t len = 0;
+    while (fgets(line, sizeof line, f) && len + strlen(line) < sizeof all) {
+      strcat(all, line);
+      len += strlen(line);
+    }
+    fclose(f);
+    ps_check(!strncmp(all, "# vtk DataFile Version", 22), "vtk: header");
+    ps_check(strstr(all, "\nPOINTS 4 double\n0 0 0\n1 0 0\n") != NULL, "vtk: POINTS 4");
+    ps_check(strstr(all, "CELLS 3 9\n2 0 1\n") && strstr(all, "CELL_TYPES 3\n3\n3\n3\n"),
+             "vtk: 3 LINE cells");
+    ps_check(strstr(all, "VECTORS displacement double\n0.1 0.2 0\n0 0 0\n") != NULL,
+             "vtk: vectors padded, nan written as 0");
+    ps_check(strstr(all, "LOOKUP_TABLE default\n1\n2\n0\n4\n") != NULL,
+             "vtk: scalars, inf written as 0");
+    ps_check(strstr(all, "CELL_DATA 3\nSCALARS broken double 1\n") != NULL,
+             "vtk: cell data");
+  }
+  ps_check(access("t700_tmp.vtk.tmp", F_OK) != 0, "vtk: no .tmp left");
+
+  /* vertex cells, 3D */
+  double x3[6] = {0, 0, 0, 1, 2, 3};
+  st = ps_vtk_write(path, 3, 2, x3, 0, NULL, NULL, NULL, 0, NULL, 0, &ctx);
+  ps_check(st == PS_OK, "vtk: vertices written");
+  f = fopen(path, "r");
+  if (f) {
+    char all[1024];
+    size_t n = fread(all, 1, sizeof all - 1, f);
+    all[n] = '\0';
+    fclose(f);
+    ps_check(strstr(all, "POINTS 2 double\n0 0 0\n1 2 3\nCELLS 2 4\n1 0\n1 1\n"
+                         "CELL_TYPES 2\n1\n1\n") != NULL,
+             "vtk: 2 VERTEX cells");
+  }
+  remove(path);
+
+  /* an unwritable path: PS_ERR_IO, nothing left behind */
+  st = ps_vtk_write("no_such_dir_t700/x.vtk", 2, 4, x, 0, NULL, NULL, NULL, 0, NULL, 0,
+                    &ctx);
+  ps_check(st == PS_ERR_IO, "vtk: unwritable path gives PS_ERR_IO (%s)", ctx.msg);
+}
+
+int main(void) {
+  test_defaults();
+  test_full();
+  test_cloud_case();
+  test_cloud2d();
+  test_bad_cases();
+  test_bad_clouds();
+  test_vtk();
+  return ps_check_summary();
+}

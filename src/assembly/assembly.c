@@ -184,7 +184,7 @@ int ps_system_create(ps_system *s, const ps_network *net,
     }
   }
 
-  /* free-free lower triangle and its gather map */
+  /* free-free upper triangle and its gather map */
   ALLOC(s->A.p, s->n_free + 1);
   for (int pass = 0; pass < 2; pass++) {
     ps_int nnz = 0;
@@ -194,7 +194,7 @@ int ps_system_create(ps_system *s, const ps_network *net,
       for (ps_int blk = s->bptr[Q]; blk < s->bptr[Q + 1]; blk++)
         for (int al = 0; al < d; al++) {
           ps_int r = s->bidx[blk] * d + al, rf = s->free_of_dof[r];
-          if (rf < jf) continue; /* prescribed (-1) or upper triangle */
+          if (rf < 0 || rf > jf) continue; /* prescribed, or lower triangle */
           if (pass == 1) {
             s->A.i[nnz] = rf;
             s->A_src[nnz] = kpos(s, Q, blk, al, be);

@@ -37,7 +37,7 @@ typedef struct ps_system {
   ps_int *fam_members;      /* sorted members of each M_a */
   ps_int *fam_member_arm;   /* arm joining a to that member (-1 for a) */
 
-  ps_csc A;                 /* free-free lower triangle (for linsolve) */
+  ps_csc A;                 /* free-free upper triangle (for linsolve) */
   ps_int *A_src;            /* [nnz(A)] position in Kfull */
 
   /* per-arm work: current length l, elongation dl = l - r0, direction q

@@ -39,7 +39,8 @@ static void set_header(chol_state *s, const ps_csc *A) {
   h->nz = NULL;
   h->x = A->x;
   h->z = NULL;
-  h->stype = -1; /* lower triangle stored */
+  h->stype = 1; /* upper triangle stored: CHOLMOD factors it without a
+                   transposed copy */
   h->itype = CHOLMOD_LONG;
   h->xtype = CHOLMOD_REAL;
   h->dtype = CHOLMOD_DOUBLE;

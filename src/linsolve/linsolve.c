@@ -1,6 +1,7 @@
 /* linsolve.c: the generic solver object over a backend table. */
 #include "ps_linsolve.h"
 
+#include <math.h>
 #include <string.h>
 
 const ps_linsolve_type *ps_linsolve_type_find(const char *name) {
@@ -34,4 +35,56 @@ int ps_linsolve_factor(ps_linsolve *ls, const ps_csc *A, ps_int *bad_col,
 int ps_linsolve_solve(ps_linsolve *ls, const double *b, double *x,
                       ps_ctx *ctx) {
   return ls->type->solve(ls->state, b, x, &ls->stats, ctx);
+}
+
+void ps_csc_symv(const ps_csc *A, const double *x, double *y) {
+  memset(y, 0, (size_t)A->n * sizeof *y);
+  for (ps_int j = 0; j < A->n; j++) {
+    double xj = x[j], acc = 0.0;
+    for (ps_int k = A->p[j]; k < A->p[j + 1]; k++) {
+      ps_int i = A->i[k];
+      double a = A->x[k];
+      y[i] += a * xj;
+      if (i != j) acc += a * x[i];
+    }
+    y[j] += acc;
+  }
+}
+
+static double dot(ps_int n, const double *a, const double *b) {
+  double s = 0.0;
+  for (ps_int k = 0; k < n; k++) s += a[k] * b[k];
+  return s;
+}
+
+int ps_linsolve_pcg(ps_linsolve *M, const ps_csc *A, const double *b,
+                    double *x, double rtol, int maxit, double *work, int *its,
+                    ps_ctx *ctx) {
+  ps_int n = A->n;
+  double *r = work, *z = work + n, *p = work + 2 * n, *Ap = work + 3 * n;
+  double bnorm = sqrt(dot(n, b, b));
+  *its = 0;
+  memset(x, 0, (size_t)n * sizeof *x);
+  if (bnorm == 0.0) return PS_OK;
+  memcpy(r, b, (size_t)n * sizeof *r);
+  PS_CHECK(ps_linsolve_solve(M, r, z, ctx)); /* z = M^-1 r */
+  memcpy(p, z, (size_t)n * sizeof *p);
+  double rz = dot(n, r, z);
+  for (int it = 1; it <= maxit; it++) {
+    ps_csc_symv(A, p, Ap);
+    double pAp = dot(n, p, Ap);
+    if (!(pAp > 0) || !(rz > 0)) return PS_DIVERGED; /* not SPD */
+    double alpha = rz / pAp;
+    for (ps_int k = 0; k < n; k++) {
+      x[k] += alpha * p[k];
+      r[k] -= alpha * Ap[k];
+    }
+    *its = it;
+    if (sqrt(dot(n, r, r)) <= rtol * bnorm) return PS_OK;
+    PS_CHECK(ps_linsolve_solve(M, r, z, ctx));
+    double rz1 = dot(n, r, z), beta = rz1 / rz;
+    rz = rz1;
+    for (ps_int k = 0; k < n; k++) p[k] = z[k] + beta * p[k];
+  }
+  return PS_DIVERGED;
 }

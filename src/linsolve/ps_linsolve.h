@@ -19,7 +19,7 @@ typedef struct ps_linsolve_stats {
 typedef struct ps_linsolve_type {
   const char *name;
   int (*create)(void **state, ps_ctx *ctx);
-  /* symbolic analysis of A's pattern (lower triangle CSC). PS_OK or fatal */
+  /* symbolic analysis of A's pattern (upper triangle CSC). PS_OK or fatal */
   int (*analyze)(void *state, const ps_csc *A, ps_linsolve_stats *st,
                  ps_ctx *ctx);
   /* numeric factorisation with the analysed pattern. Returns PS_OK,
@@ -57,5 +57,19 @@ int ps_linsolve_factor(ps_linsolve *ls, const ps_csc *A, ps_int *bad_col,
 /* x = A \ b with the last factor. */
 int ps_linsolve_solve(ps_linsolve *ls, const double *b, double *x,
                       ps_ctx *ctx);
+
+/* y = A x for a symmetric A stored as one triangle (upper or lower). */
+void ps_csc_symv(const ps_csc *A, const double *x, double *y);
+
+/* Conjugate gradients on A x = b (A symmetric, upper triangle), started
+ * from x = 0 and preconditioned by the last factor held by M (a factor of
+ * a nearby matrix: an earlier tangent). Stops when ||b - A x|| <= rtol
+ * ||b||. work: 4 n doubles. *its gets the iterations. Returns PS_OK,
+ * PS_DIVERGED (not converged within maxit, or a direction of non-positive
+ * curvature: A or the preconditioner is not positive definite; x is then
+ * garbage), or a fatal status from the solve. */
+int ps_linsolve_pcg(ps_linsolve *M, const ps_csc *A, const double *b,
+                    double *x, double rtol, int maxit, double *work, int *its,
+                    ps_ctx *ctx);
 
 #endif

@@ -1,6 +1,6 @@
 /* umfpack.c: UMFPACK backend (LU with partial pivoting, 64-bit indices) for
- * tangents that are indefinite. The symmetric lower-triangle input is
- * expanded once to a full pattern with a map back to the lower entries, so
+ * tangents that are indefinite. The symmetric upper-triangle input is
+ * expanded once to a full pattern with a map back to the upper entries, so
  * each factorisation is a gather plus umfpack_dl_numeric; the symbolic
  * analysis runs once per pattern. */
 #include "ps_linsolve.h"
@@ -10,7 +10,7 @@
 
 typedef struct {
   ps_int n;
-  ps_int *Ap, *Ai, *map; /* full pattern; map: full entry -> lower entry */
+  ps_int *Ap, *Ai, *map; /* full pattern; map: full entry -> upper entry */
   double *Ax;
   void *symbolic, *numeric;
   double control[UMFPACK_CONTROL], info[UMFPACK_INFO];
@@ -46,7 +46,7 @@ static int umf_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st,
   s->Ap = ps_calloc((size_t)n + 1, sizeof *s->Ap, ctx);
   cnt = ps_calloc((size_t)n + 1, sizeof *cnt, ctx);
   if (!s->Ap || !cnt) goto nomem;
-  /* column counts of the full matrix: lower entries + their transposes */
+  /* column counts of the full matrix: upper entries + their transposes */
   for (ps_int j = 0; j < n; j++)
     for (ps_int k = A->p[j]; k < A->p[j + 1]; k++) {
       s->Ap[j + 1]++;
@@ -59,20 +59,21 @@ static int umf_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st,
   s->Ax = ps_calloc((size_t)nf, sizeof *s->Ax, ctx);
   if (!s->Ai || !s->map || !s->Ax) goto nomem;
   for (ps_int j = 0; j < n; j++) cnt[j] = s->Ap[j];
-  /* upper part of column j first (rows < j, from lower column r entry j),
-   * then the lower part: rows stay sorted */
-  for (ps_int r = 0; r < n; r++)
-    for (ps_int k = A->p[r]; k < A->p[r + 1]; k++) {
-      ps_int i = A->i[k];
-      if (i == r) continue;
-      /* entry (i, r), i > r; its transpose (r, i) goes into column i */
-      s->Ai[cnt[i]] = r;
-      s->map[cnt[i]++] = k;
-    }
+  /* column j: its own upper entries (rows <= j, sorted) first, then the
+   * transposes of row j's entries in later columns r > j (rows r, in
+   * increasing order): rows stay sorted */
   for (ps_int j = 0; j < n; j++)
     for (ps_int k = A->p[j]; k < A->p[j + 1]; k++) {
       s->Ai[cnt[j]] = A->i[k];
       s->map[cnt[j]++] = k;
+    }
+  for (ps_int r = 0; r < n; r++)
+    for (ps_int k = A->p[r]; k < A->p[r + 1]; k++) {
+      ps_int i = A->i[k];
+      if (i == r) continue;
+      /* entry (i, r), i < r; its transpose (r, i) goes into column i */
+      s->Ai[cnt[i]] = r;
+      s->map[cnt[i]++] = k;
     }
   free(cnt);
   (void)nz;

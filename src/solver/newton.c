@@ -12,6 +12,9 @@ void ps_solver_opts_default(ps_solver_opts *o) {
   o->max_iterations = 30;
   o->line_search = 1;
   o->linear = ps_linsolve_cholmod;
+  o->reuse_factor = 1;
+  o->pcg_rtol = 1e-6;
+  o->pcg_max_iterations = 25;
 }
 
 void ps_solver_free(ps_solver *s) {
@@ -28,6 +31,7 @@ void ps_solver_free(ps_solver *s) {
   free(s->rhs);
   free(s->du);
   free(s->work);
+  free(s->pcg_work);
   free(s->u_trial);
   free(s->f_trial);
   memset(s, 0, sizeof *s);
@@ -112,7 +116,8 @@ int ps_solver_create(ps_solver *s, const ps_particles *P,
   s->rhs = ps_calloc((size_t)nf, sizeof *s->u, ctx);
   s->du = ps_calloc((size_t)nf, sizeof *s->u, ctx);
   s->work = ps_calloc((size_t)nf, sizeof *s->u, ctx);
-  if (!s->u || !s->u_saved || !s->ubar || !s->f || !s->u_trial || !s->f_trial ||
+  s->pcg_work = ps_calloc((size_t)(4 * nf), sizeof *s->u, ctx);
+  if (!s->pcg_work || !s->u || !s->u_saved || !s->ubar || !s->f || !s->u_trial || !s->f_trial ||
       !s->rhs || !s->du || !s->work) {
     status = PS_ERR_NOMEM;
     goto cleanup;
@@ -136,6 +141,39 @@ int ps_solver_create(ps_solver *s, const ps_particles *P,
 cleanup:
   if (status < 0) ps_solver_free(s);
   return status;
+}
+
+/* du = K_ff^-1 rhs for the tangent just assembled: CG preconditioned by
+ * the last factor when allowed, else (or when CG fails) a fresh factor.
+ * Returns PS_OK, PS_SINGULAR, or fatal. */
+static int solve_tangent(ps_solver *s, ps_ctx *ctx) {
+  if (s->opts.reuse_factor && s->have_factor) {
+    /* CG pays while its iterations cost less than a factorisation: cap
+     * them at (mean factorisation time) / (mean CG iteration time) */
+    int maxit = s->opts.pcg_max_iterations;
+    const ps_linsolve_stats *ls = &s->ls_last->stats;
+    if (s->pcg_iterations > 0 && ls->n_factor > 0) {
+      double t_it = s->t_pcg / (double)s->pcg_iterations;
+      double t_fac = ls->t_factor / (double)ls->n_factor;
+      double cap = t_fac / t_it;
+      if (cap < maxit) maxit = cap < 2 ? 2 : (int)cap;
+    }
+    int its = 0;
+    double t0 = ps_wtime();
+    int status = ps_linsolve_pcg((ps_linsolve *)s->ls_last, &s->sys.A, s->rhs, s->du,
+                                 s->opts.pcg_rtol, maxit, s->pcg_work, &its, ctx);
+    s->t_pcg += ps_wtime() - t0;
+    if (status < 0) return status;
+    s->pcg_iterations += its;
+    s->pcg_solves++;
+    if (status == PS_OK) return PS_OK;
+    s->pcg_failures++;
+    ps_log(ctx, 2, "    CG with the old factor did not converge in %d iterations: "
+                   "refactoring\n", its);
+  }
+  int status = factor_tangent(s, ctx);
+  if (status != PS_OK) return status;
+  return ps_linsolve_solve((ps_linsolve *)s->ls_last, s->rhs, s->du, ctx);
 }
 
 static double norm_free(const ps_system *sys, const double *f) {
@@ -177,14 +215,13 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
       return PS_DIVERGED;
     }
     PS_CHECK(eval(s, s->u, s->f, &s->energy, 1, ctx));
-    int status = factor_tangent(s, ctx);
+    for (ps_int k = 0; k < nf; k++) s->rhs[k] = -s->f[sys->dof_of_free[k]];
+    int status = solve_tangent(s, ctx);
     if (status < 0) return status;
     if (status > 0) {
       s->last_reason = PS_NEWTON_SINGULAR;
       return PS_DIVERGED;
     }
-    for (ps_int k = 0; k < nf; k++) s->rhs[k] = -s->f[sys->dof_of_free[k]];
-    PS_CHECK(ps_linsolve_solve((ps_linsolve *)s->ls_last, s->rhs, s->du, ctx));
     s->newton_iterations++;
     /* energy line search: dE/ds at s = 0 is f . du */
     double g0 = 0, E0 = s->energy, step = 1.0, E1 = E0;

@@ -30,6 +30,12 @@ typedef struct ps_solver_opts {
   int max_iterations;     /* per Newton solve (default 30) */
   int line_search;        /* energy backtracking (default 1) */
   const ps_linsolve_type *linear; /* default CHOLMOD, UMFPACK as fallback */
+  int reuse_factor;       /* 1 (default): solve each Newton system by CG
+                             preconditioned with the last factor, and
+                             refactor only when CG does not converge within
+                             pcg_max_iterations (see doc/performance.md) */
+  double pcg_rtol;        /* relative tolerance of that CG (default 1e-6) */
+  int pcg_max_iterations; /* default 25 */
 } ps_solver_opts;
 
 typedef struct ps_solver {
@@ -51,10 +57,13 @@ typedef struct ps_solver {
                                prescribed dofs, residual at free ones) */
   double energy;            /* stored energy at u, J (per m in 2D) */
   double *rhs, *du, *work;  /* [n_free] */
+  double *pcg_work;         /* [4 n_free] */
   double *u_trial, *f_trial;/* [n_dof] line-search work */
 
   /* statistics of the run */
   ps_int newton_iterations, n_fallback, n_line_search_cuts;
+  ps_int pcg_iterations, pcg_solves, pcg_failures;
+  double t_pcg;             /* wall seconds spent in CG */
   double t_assembly;
   int last_reason;          /* enum ps_newton_reason of the last solve */
   int last_iterations;      /* iterations of the last solve */
@@ -74,7 +83,8 @@ int ps_solver_create(ps_solver *s, const ps_particles *P,
                      ps_ctx *ctx);
 void ps_solver_free(ps_solver *s);
 
-/* Default options: tol 1e-8, 30 iterations, line search on, CHOLMOD. */
+/* Default options: tol 1e-8, 30 iterations, line search on, CHOLMOD,
+ * factor reuse on (CG tolerance 1e-6, 25 iterations). */
 void ps_solver_opts_default(ps_solver_opts *o);
 
 /* Newton at the current prescribed values, from the current u. Returns

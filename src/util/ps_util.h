@@ -97,7 +97,7 @@ int ps_rm_rf(const char *path, ps_ctx *ctx);
  * only after the new one is in place). PS_OK or PS_ERR_IO. */
 int ps_dir_commit(const char *staging, const char *final, ps_ctx *ctx);
 
-/* A sparse symmetric matrix: the lower triangle (diagonal included) in
+/* A sparse symmetric matrix: the upper triangle (diagonal included) in
  * compressed sparse columns, row indices sorted within each column. */
 typedef struct ps_csc {
   ps_int n;    /* order */

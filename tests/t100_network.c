@@ -193,7 +193,6 @@ static void test_kdtree(ps_ctx *ctx) {
     /* knn, k = 5: same index sets and the same distances (exact: same
      * arithmetic; random points have no ties) */
     ps_int bad = 0;
-    double worst_d = 0.0;
     for (ps_int i = 0; i < n; i++) {
       ps_int idx[5], ref[5];
       double dist[5], rd[5];
@@ -221,7 +220,6 @@ static void test_kdtree(ps_ctx *ctx) {
       qsort(ref, 5, sizeof *ref, cmp_int);
       if (ok && memcmp(idx, ref, sizeof idx) != 0) ok = 0;
       if (!ok) bad++;
-      (void)worst_d;
     }
     ps_check(bad == 0,
              "kdtree %dD knn k=5: %lld of %lld points differ from brute force "
@@ -673,31 +671,36 @@ static void test_disk_network(ps_ctx *ctx) {
     printf("(small mode: the paper-size disk checks are skipped)\n");
     return;
   }
-  /* (b) the paper's disk: 20 x 40 zones of 5x5, xi in (-pi, pi), jitter
-   * 0.3, seed 11, n = 5 in Eq. 115, alpha 5.1, k 2 */
+  /* (b) the paper's disk: 20 x 40 zones of 5x5, xi in (-pi, pi), seed 11,
+   * n = 5 in Eq. 115, alpha 5.1, k 2. Asserted on the regular (unjittered)
+   * disk, which is deterministic: MODEL-NOTES' prototype gives 229.7k arms
+   * (+1.5% on Table 1's 226,256) and a size ratio of 377. The tolerance of
+   * 3% covers what the paper leaves unsaid (its noise algorithm): about
+   * 25,000 arms lie within 1% of the cut-off alpha max(h), so the jittered
+   * count swings with the noise amplitude (seed 11: -3.4% at jitter 0.1,
+   * +0.04% at 0.2, +3.0% at 0.3); those are printed for information. */
   ps_disk_params dp;
   ps_disk_params_default(&dp);
-  dp.jitter = 0.3;
   dp.seed = 11;
+  dp.jitter = 0.0;
   ps_int na, np;
   double ratio, t;
   disk_network(&dp, &na, &ratio, &t, &np, 0, ctx);
-  printf("disk %dx%d zones of %dx%d, jitter %.1f: %lld particles, %lld arms, "
+  printf("disk %dx%d zones of %dx%d, no jitter: %lld particles, %lld arms, "
          "max h/min h = %.1f, network build %.3f s (information only)\n",
-         dp.n_eta, dp.n_xi, dp.per_zone, dp.per_zone, dp.jitter, (long long)np,
-         (long long)na, ratio, t);
+         dp.n_eta, dp.n_xi, dp.per_zone, dp.per_zone, (long long)np, (long long)na, ratio,
+         t);
   ps_check(np == 20000, "paper disk: 20000 particles (got %lld)", (long long)np);
-  /* 3%: the paper's rule details (xi range, jitter) are not all given;
-   * MODEL-NOTES' prototype gives 229.7-230.2k, +1.5% */
   ps_check_rel((double)na, 226256.0, 0.03, "paper disk: arm count vs Table 1 nA = 226256");
-  /* the paper: "more than 400 times"; 300 leaves room for jitter and seed */
+  /* the paper: "more than 400 times" (jittered); the regular disk: 377 */
   ps_check(ratio > 300, "paper disk: max h / min h = %.1f > 300", ratio);
-  /* information: the regular (unjittered) disk */
-  dp.jitter = 0.0;
-  disk_network(&dp, &na, &ratio, &t, &np, 0, ctx);
-  printf("disk %dx%d zones of %dx%d, no jitter: %lld arms, max h/min h = %.1f, "
-         "build %.3f s (information only)\n",
-         dp.n_eta, dp.n_xi, dp.per_zone, dp.per_zone, (long long)na, ratio, t);
+  for (int j = 1; j <= 3; j++) {
+    dp.jitter = 0.1 * j;
+    disk_network(&dp, &na, &ratio, &t, &np, 0, ctx);
+    printf("disk jitter %.1f (information): %lld arms (%+.2f%% on Table 1), max h/min h = "
+           "%.1f, build %.3f s\n",
+           dp.jitter, (long long)na, 100.0 * (na - 226256.0) / 226256.0, ratio, t);
+  }
 }
 
 /* Westergaard's solution for the Griffith crack (-c, c) under equibiaxial
@@ -768,7 +771,8 @@ static void test_eq116(void) {
   ps_check_le(wsym, 1e-14, "Eq. 116: u(x,-y) = u(x,y), v(x,-y) = -v(x,y) (10 points)");
   ps_check_le(wwest, 1e-10, "Eq. 116 = Westergaard solution at 10 generic points (rel)");
 
-  /* elliptic coordinates round trip */
+  /* elliptic coordinates: principal branch (xi >= 0, |eta| <= pi) and
+   * round trip through Eq. 114; tol 1e-13: round-off of cacosh, cosh */
   {
     double worst_rt = 0.0;
     for (size_t i = 0; i < sizeof pts / sizeof *pts; i++) {
@@ -776,8 +780,8 @@ static void test_eq116(void) {
       ps_geom_elliptic_coords(x, y, c, &xi, &eta);
       double xr = c * cosh(xi) * cos(eta), yr = c * sinh(xi) * sin(eta);
       double e = hypot(xr - x, yr - y) / hypot(x, y);
-      if (!(e <= worst_rt) || xi < 0 || fabs(eta) > M_PI) worst_rt = INFINITY;
-      else worst_rt = fmax(worst_rt, e);
+      if (xi < 0 || fabs(eta) > M_PI || !(e <= 1.0)) e = INFINITY; /* NaN-safe */
+      worst_rt = fmax(worst_rt, e);
     }
     ps_check_le(worst_rt, 1e-13, "elliptic coords: principal branch, round trip (rel)");
   }

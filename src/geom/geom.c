@@ -63,7 +63,10 @@ int ps_geom_box(ps_particles *p, int dim, const ps_int counts[3], double d,
   }
   PS_CHECK(ps_particles_alloc(p, dim, n, ctx));
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
-  if (!rng) return ps_error(ctx, PS_ERR_NOMEM, "cannot allocate RNG");
+  if (!rng) {
+    ps_particles_free(p);
+    return ps_error(ctx, PS_ERR_NOMEM, "cannot allocate RNG");
+  }
   gsl_rng_set(rng, seed);
   double dy = hex ? d * sqrt(3.0) / 2.0 : d;
   double vol = hex ? d * dy : pow(d, dim);
@@ -123,7 +126,10 @@ int ps_geom_disk(ps_particles *p, const ps_disk_params *dp, ps_ctx *ctx) {
     return PS_ERR_NOMEM;
   }
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
-  if (!rng) return ps_error(ctx, PS_ERR_NOMEM, "cannot allocate RNG");
+  if (!rng) {
+    ps_particles_free(p);
+    return ps_error(ctx, PS_ERR_NOMEM, "cannot allocate RNG");
+  }
   gsl_rng_set(rng, dp->seed);
   double dxi = (dp->xi_max - dp->xi_min) / (dp->n_xi * m);
   double deta = M_PI / (dp->n_eta * m);
@@ -181,8 +187,8 @@ double ps_geom_ellipse_perimeter(double c, double xi) {
 }
 
 int ps_geom_sizes_eq115(ps_particles *p, int n_nearest, ps_ctx *ctx) {
-  if (n_nearest < 1)
-    return ps_error(ctx, PS_ERR_INPUT, "size_neighbours must be >= 1 (got %d)",
+  if (n_nearest < 1 || n_nearest > 64)
+    return ps_error(ctx, PS_ERR_INPUT, "size_neighbours must be in 1..64 (got %d)",
                     n_nearest);
   if (p->n < n_nearest + 1)
     return ps_error(ctx, PS_ERR_INPUT,
@@ -192,7 +198,7 @@ int ps_geom_sizes_eq115(ps_particles *p, int n_nearest, ps_ctx *ctx) {
   PS_CHECK(ps_kdtree_build(&t, p->x, p->n, p->dim, ctx));
   ps_int idx[64];
   double dist[64];
-  int k = n_nearest > 64 ? 64 : n_nearest;
+  int k = n_nearest;
   int status = PS_OK;
   for (ps_int a = 0; a < p->n; a++) {
     int f = ps_kdtree_knn(t, a, k, idx, dist);

@@ -127,7 +127,8 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
   snprintf(res->stop_reason, sizeof res->stop_reason, "max_increments reached (%d)",
            cs->max_increments);
   for (int step = 1; step <= cs->max_increments; step++) {
-    double target = fmin(s.lambda + dl, cs->max_load);
+    double target = s.lambda + dl;
+    if (target > cs->max_load - 1e-9 * dl) target = cs->max_load; /* no sliver */
     ps_int its0 = s.newton_iterations;
     status = ps_solver_step(&s, target, ctx);
     if (status < 0) goto cleanup;
@@ -200,7 +201,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
                "boundary stress fell below %.3g of its peak", cs->stop_load_drop);
       break;
     }
-    if (s.lambda >= cs->max_load) {
+    if (s.lambda >= cs->max_load) { /* exact: target snaps to max_load */
       snprintf(res->stop_reason, sizeof res->stop_reason,
                "path.max_load = %g reached: %s", cs->max_load,
                broken_total ? "arms broke but the crack did not run" : "no fracture");

@@ -91,6 +91,13 @@ static int setup_boundary(ps_problem *pb, ps_ctx *ctx) {
                         bc->line);
     }
   }
+  int loaded = 0;
+  for (ps_int j = 0; j < (ps_int)d * P->n; j++) loaded |= pb->ubar[j] != 0.0;
+  if (!loaded)
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "%s: nothing loads the model: no loading.boundary entry displaces "
+                    "a particle (displace: {x: ...})",
+                    cs->path);
   if (cs->stress_length > 0) {
     pb->measure_length = cs->stress_length;
   } else if (measure_dir >= 0) {

@@ -346,6 +346,28 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
       }
     }
   }
+  /* a particle whose arms have all broken is a free body: hold it with a
+   * spring as stiff as the stiffest dof (it carries no force, so it stays
+   * where it is) to keep the tangent nonsingular */
+  double kmax = 0.0;
+  for (ps_int a = 0; a < net->n_particle; a++) {
+    ps_int len = s->bptr[a + 1] - s->bptr[a];
+    for (int k = 0; k < d; k++) {
+      double v = s->Kfull[(ps_int)d * d * s->bptr[a] + (ps_int)k * d * len +
+                          (s->slot_diag[a] - s->bptr[a]) * d + k];
+      if (v > kmax) kmax = v;
+    }
+  }
+  for (ps_int a = 0; a < net->n_particle; a++) {
+    ps_int intact = 0;
+    for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1] && !intact; k++)
+      intact = !st->broken[net->fam_arm[k]];
+    if (intact) continue;
+    ps_int len = s->bptr[a + 1] - s->bptr[a];
+    for (int k = 0; k < d; k++)
+      s->Kfull[(ps_int)d * d * s->bptr[a] + (ps_int)k * d * len +
+               (s->slot_diag[a] - s->bptr[a]) * d + k] += kmax;
+  }
   for (ps_int k = 0; k < s->A.p[s->n_free]; k++) s->A.x[k] = s->Kfull[s->A_src[k]];
   return PS_OK;
 }

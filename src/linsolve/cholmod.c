@@ -7,6 +7,7 @@
 #include "ps_linsolve.h"
 
 #include <cholmod.h>
+#include <math.h>
 #include <stdlib.h>
 
 typedef struct {
@@ -82,6 +83,29 @@ static int chol_factor(void *state, const ps_csc *A, ps_int *bad_col,
   if (!ok || s->c.status < CHOLMOD_OK)
     return ps_error(ctx, PS_ERR_SOLVER, "CHOLMOD factorisation failed (status %d)",
                     s->c.status);
+  /* CHOLMOD flags only pivots <= 0; a mechanism usually leaves a tiny
+   * positive one. Singular when min L_jj^2 / max L_jj^2 < 1e-13. */
+  double dmin = INFINITY, dmax = 0.0;
+  ps_int jmin = -1;
+  const ps_int *super = s->L->super, *pi = s->L->pi, *px = s->L->px;
+  const double *Lx = s->L->x;
+  for (size_t sn = 0; s->L->is_super && sn < s->L->nsuper; sn++) {
+    ps_int k1 = super[sn], k2 = super[sn + 1], nr = pi[sn + 1] - pi[sn];
+    for (ps_int j = k1; j < k2; j++) {
+      double d = Lx[px[sn] + (j - k1) * nr + (j - k1)];
+      d *= d;
+      if (d < dmin) {
+        dmin = d;
+        jmin = j;
+      }
+      if (d > dmax) dmax = d;
+    }
+  }
+  if (jmin >= 0 && dmin < 1e-13 * dmax) {
+    const ps_int *perm = s->L->Perm;
+    *bad_col = perm ? perm[jmin] : jmin;
+    return PS_SINGULAR;
+  }
   return PS_OK;
 }
 

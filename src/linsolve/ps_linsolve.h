@@ -24,7 +24,9 @@ typedef struct ps_linsolve_type {
                  ps_ctx *ctx);
   /* numeric factorisation with the analysed pattern. Returns PS_OK,
    * PS_NOT_POSDEF or PS_SINGULAR (recoverable; *bad_col = the failing
-   * column, or -1 if unknown), or a fatal status. */
+   * column, or -1 if unknown), or a fatal status. CHOLMOD calls a factor
+   * singular when min L_jj^2 < 1e-13 max L_jj^2 (bad_col: the smallest
+   * pivot's column), UMFPACK when its rcond estimate is below 1e-15. */
   int (*factor)(void *state, const ps_csc *A, ps_int *bad_col,
                 ps_linsolve_stats *st, ps_ctx *ctx);
   /* x = A \ b with the last factor (x and b may not alias). */

@@ -38,6 +38,9 @@ typedef struct ps_run_result {
   char stop_reason[160];
   ps_int increments, newton_iterations, factorisations, arms_broken;
   ps_int n_fallback, step_cuts;
+  ps_int pcg_iterations, pcg_failures, solves;
+  double nnz_tangent;       /* nonzeros of the free tangent (upper) */
+  double nnz_factor, flops_factor; /* of the last factorisation */
   double crack_tip;         /* in units of c (disk) */
   double wall, t_assembly, t_analyze, t_factor, t_solve;
 } ps_run_result;

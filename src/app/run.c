@@ -151,12 +151,37 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
       continue;
     }
     ps_solver_commit(&s);
+    /* fracture rounds at this load until no arm breaks; stop early once
+     * the load has dropped past path.stop_load_drop of its peak or the tip
+     * has passed path.stop_crack_tip: the crack has run */
     ps_int nb = 0;
-    int settle = ps_solver_break_and_settle(&s, cs->max_break_rounds, &nb, ctx);
-    if (settle < 0) {
-      status = settle;
-      goto cleanup;
+    int settle = PS_OK, rounds = 0, ran = 0;
+    for (;;) {
+      ps_int nr;
+      settle = ps_solver_break_round(&s, &nr, ctx);
+      if (settle < 0) {
+        status = settle;
+        goto cleanup;
+      }
+      nb += nr;
+      if (settle != PS_OK || nr == 0) break;
+      double sr = ps_post_boundary_stress(&pb->net, s.sys.T, s.sys.q, pb->measure,
+                                          pb->measure_length);
+      double tr = pb->c > 0 ? ps_post_crack_tip(&pb->P, &pb->net, &s.st, pb->c) : 0.0;
+      if (sr < cs->stop_load_drop * fmax(peak, sr) ||
+          (pb->c > 0 && tr >= cs->stop_crack_tip)) {
+        ran = 1;
+        break;
+      }
+      if (++rounds >= cs->max_break_rounds) {
+        status = ps_error(ctx, PS_ERR_SOLVER,
+                          "%s: arms still breaking after %d re-equilibrations at load "
+                          "factor %.6g (path.max_break_rounds)",
+                          cs->path, rounds, s.lambda);
+        goto cleanup;
+      }
     }
+    (void)ran;
     broken_total += nb;
     if (broken_total > 0) dl_nominal = fmin(dl_nominal, cs->load_step_after_break);
     if (++good_in_a_row >= 2 && dl < dl_nominal) dl = fmin(2 * dl, dl_nominal);
@@ -213,6 +238,12 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
   res->factorisations = s.ls.stats.n_factor + s.ls_fallback.stats.n_factor;
   res->arms_broken = broken_total;
   res->n_fallback = s.n_fallback;
+  res->pcg_iterations = s.pcg_iterations;
+  res->pcg_failures = s.pcg_failures;
+  res->solves = s.ls.stats.n_solve + s.ls_fallback.stats.n_solve;
+  res->nnz_tangent = (double)s.sys.A.p[s.sys.n_free];
+  res->nnz_factor = s.ls.stats.nnz_factor;
+  res->flops_factor = s.ls.stats.flops_factor;
   res->t_assembly = s.t_assembly;
   res->t_analyze = s.ls.stats.t_analyze + s.ls_fallback.stats.t_analyze;
   res->t_factor = s.ls.stats.t_factor + s.ls_fallback.stats.t_factor;
@@ -241,7 +272,9 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
             "increments: %lld\nnewton_iterations: %lld\nfactorisations: %lld\n"
             "umfpack_fallbacks: %lld\nstep_cuts: %lld\narms_broken: %lld\n"
             "crack_tip_over_c: %.6g\nwall_s: %.3f\nassembly_s: %.3f\nanalyze_s: %.3f\n"
-            "factor_s: %.3f\nsolve_s: %.3f\nnetwork_s: %.3f\npeak_memory_MiB: %.1f\n",
+            "factor_s: %.3f\nsolve_s: %.3f\nnetwork_s: %.3f\npeak_memory_MiB: %.1f\n"
+            "cg_iterations: %lld\ncg_failures: %lld\nsolves: %lld\nnnz_tangent_upper: %.0f\n"
+            "nnz_factor: %.0f\nflops_factor: %.4g\n",
             cs->name, (long long)pb->P.n, (long long)pb->net.n_arm,
             (long long)s.sys.n_free, delta, mat.sigma_y, peak, peak / mat.sigma_y,
             res->lambda_peak, res->fractured ? "yes" : "no", res->stop_reason,
@@ -249,7 +282,9 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
             (long long)res->factorisations, (long long)res->n_fallback,
             (long long)res->step_cuts, (long long)res->arms_broken, res->crack_tip,
             res->wall, res->t_assembly, res->t_analyze, res->t_factor, res->t_solve,
-            pb->t_network, ps_peak_mib());
+            pb->t_network, ps_peak_mib(), (long long)res->pcg_iterations,
+            (long long)res->pcg_failures, (long long)res->solves, res->nnz_tangent,
+            res->nnz_factor, res->flops_factor);
     PS_CHECK_GOTO(ps_outfile_commit(&o, ctx));
     PS_CHECK_GOTO(ps_dir_commit(staging, out_dir, ctx));
   }

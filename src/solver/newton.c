@@ -26,6 +26,7 @@ void ps_solver_free(ps_solver *s) {
   ps_model_free(&s->model);
   free(s->u);
   free(s->u_saved);
+  free(s->u_prev);
   free(s->ubar);
   free(s->f);
   free(s->rhs);
@@ -33,6 +34,7 @@ void ps_solver_free(ps_solver *s) {
   free(s->work);
   free(s->pcg_work);
   free(s->u_trial);
+  free(s->work_dof);
   free(s->f_trial);
   memset(s, 0, sizeof *s);
 }
@@ -109,6 +111,8 @@ int ps_solver_create(ps_solver *s, const ps_particles *P,
   ps_int nf = s->sys.n_free;
   s->u = ps_calloc((size_t)nd, sizeof *s->u, ctx);
   s->u_saved = ps_calloc((size_t)nd, sizeof *s->u, ctx);
+  s->u_prev = ps_calloc((size_t)nd, sizeof *s->u, ctx);
+  s->work_dof = ps_calloc((size_t)nd, sizeof *s->u, ctx);
   s->ubar = ps_calloc((size_t)nd, sizeof *s->u, ctx);
   s->f = ps_calloc((size_t)nd, sizeof *s->u, ctx);
   s->u_trial = ps_calloc((size_t)nd, sizeof *s->u, ctx);
@@ -117,7 +121,7 @@ int ps_solver_create(ps_solver *s, const ps_particles *P,
   s->du = ps_calloc((size_t)nf, sizeof *s->u, ctx);
   s->work = ps_calloc((size_t)nf, sizeof *s->u, ctx);
   s->pcg_work = ps_calloc((size_t)(4 * nf), sizeof *s->u, ctx);
-  if (!s->pcg_work || !s->u || !s->u_saved || !s->ubar || !s->f || !s->u_trial || !s->f_trial ||
+  if (!s->pcg_work || !s->u_prev || !s->work_dof || !s->u || !s->u_saved || !s->ubar || !s->f || !s->u_trial || !s->f_trial ||
       !s->rhs || !s->du || !s->work) {
     status = PS_ERR_NOMEM;
     goto cleanup;
@@ -281,10 +285,20 @@ int ps_solver_step(ps_solver *s, double lambda, ps_ctx *ctx) {
   const ps_system *sys = &s->sys;
   double lambda0 = s->lambda, dl = lambda - lambda0;
   ps_int nd = sys->n_dof, nf = sys->n_free;
-  /* predictor: K_ff du_f = -(r_f + K_fp du_p) with the last factor */
-  for (ps_int j = 0; j < nd; j++) s->u_trial[j] = sys->fixed[j] ? dl * s->ubar[j] : 0.0;
-  if (s->have_factor) {
-    ps_system_coupling(sys, s->u_trial, s->work);
+  int secant = s->have_prev && lambda0 > s->lambda_prev;
+  double *u_start = s->u_trial; /* keep the start for the secant history */
+  memcpy(u_start, s->u, (size_t)nd * sizeof *s->u);
+  if (secant) {
+    /* u += dl/(lambda0 - lambda_prev) (u - u_prev) */
+    double r = dl / (lambda0 - s->lambda_prev);
+    for (ps_int k = 0; k < nf; k++) {
+      ps_int j = sys->dof_of_free[k];
+      s->u[j] += r * (s->u[j] - s->u_prev[j]);
+    }
+  } else if (s->have_factor) {
+    /* predictor: K_ff du_f = -(r_f + K_fp du_p) with the last factor */
+    for (ps_int j = 0; j < nd; j++) s->work_dof[j] = sys->fixed[j] ? dl * s->ubar[j] : 0.0;
+    ps_system_coupling(sys, s->work_dof, s->work);
     for (ps_int k = 0; k < nf; k++)
       s->rhs[k] = -(s->f[sys->dof_of_free[k]] + s->work[k]);
     PS_CHECK(ps_linsolve_solve((ps_linsolve *)s->ls_last, s->rhs, s->du, ctx));
@@ -293,7 +307,15 @@ int ps_solver_step(ps_solver *s, double lambda, ps_ctx *ctx) {
   for (ps_int j = 0; j < nd; j++)
     if (sys->fixed[j]) s->u[j] = lambda * s->ubar[j];
   s->lambda = lambda;
+  memcpy(s->u_prev, u_start, (size_t)nd * sizeof *s->u); /* u_trial is reused */
+  double lambda_start = lambda0;
   int status = ps_newton_solve(s, ctx);
+  if (status == PS_OK) {
+    s->lambda_prev = lambda_start;
+    s->have_prev = 1;
+  } else {
+    s->have_prev = 0;
+  }
   if (status == PS_DIVERGED) {
     ps_solver_restore(s);
     s->lambda = lambda0;
@@ -305,22 +327,15 @@ int ps_solver_step(ps_solver *s, double lambda, ps_ctx *ctx) {
   return status;
 }
 
-int ps_solver_break_and_settle(ps_solver *s, int max_rounds,
-                               ps_int *n_broken, ps_ctx *ctx) {
-  *n_broken = 0;
-  for (int round = 0; round < max_rounds; round++) {
-    ps_int nb = s->model.type->break_arms(&s->model, &s->st);
-    if (nb == 0) return PS_OK;
-    *n_broken += nb;
-    ps_log(ctx, 2, "    round %d: %lld arms broke, re-equilibrating\n", round + 1,
-           (long long)nb);
-    int status = ps_newton_solve(s, ctx);
-    if (status != PS_OK) return status;
-    ps_solver_commit(s);
-  }
-  return ps_error(ctx, PS_DIVERGED,
-                  "arms still breaking after %d re-equilibrations at load factor %g",
-                  max_rounds, s->lambda);
+int ps_solver_break_round(ps_solver *s, ps_int *n_broken, ps_ctx *ctx) {
+  *n_broken = s->model.type->break_arms(&s->model, &s->st);
+  if (*n_broken == 0) return PS_OK;
+  s->have_prev = 0; /* do not extrapolate across a break */
+  ps_log(ctx, 2, "    %lld arms broke, re-equilibrating\n", (long long)*n_broken);
+  int status = ps_newton_solve(s, ctx);
+  if (status != PS_OK) return status;
+  ps_solver_commit(s);
+  return PS_OK;
 }
 
 ps_int ps_solver_count_broken(const ps_solver *s) {

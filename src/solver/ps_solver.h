@@ -52,6 +52,10 @@ typedef struct ps_solver {
 
   double lambda;            /* current load factor */
   double *u, *u_saved;      /* [n_dof] displacements, m */
+  double *u_prev;           /* [n_dof] converged u of the previous load
+                               factor lambda_prev (secant predictor) */
+  double lambda_prev;
+  int have_prev;            /* u_prev valid: no arm broke since */
   double *ubar;             /* [n_dof] prescribed displacement at lambda 1 */
   double *f;                /* [n_dof] internal forces at u (reactions at
                                prescribed dofs, residual at free ones) */
@@ -59,6 +63,7 @@ typedef struct ps_solver {
   double *rhs, *du, *work;  /* [n_free] */
   double *pcg_work;         /* [4 n_free] */
   double *u_trial, *f_trial;/* [n_dof] line-search work */
+  double *work_dof;         /* [n_dof] */
 
   /* statistics of the run */
   ps_int newton_iterations, n_fallback, n_line_search_cuts;
@@ -92,8 +97,10 @@ void ps_solver_opts_default(ps_solver_opts *o);
  * is PS_DIVERGED, recoverable) or a fatal status. */
 int ps_newton_solve(ps_solver *s, ps_ctx *ctx);
 
-/* Move the load factor to `lambda` with a linear predictor (tangent of the
- * last factor) and Newton. Returns PS_OK, PS_DIVERGED (state restored to
+/* Move the load factor to `lambda` with a predictor and Newton. The
+ * predictor extrapolates the last two converged load factors (secant)
+ * when no arm broke in between, else it solves with the last factor
+ * (tangent predictor). Returns PS_OK, PS_DIVERGED (state restored to
  * the last commit), or fatal. Does not commit. */
 int ps_solver_step(ps_solver *s, double lambda, ps_ctx *ctx);
 
@@ -103,13 +110,12 @@ void ps_solver_commit(ps_solver *s);
 /* Return to the last committed state. */
 void ps_solver_restore(ps_solver *s);
 
-/* Break the arms past the elongation limit (model rule) and re-equilibrate
- * at the same load until none breaks, at most max_rounds times. *n_broken
- * gets the number broken now. Returns PS_OK, PS_DIVERGED (the
- * re-equilibration failed: the state is that of the failed attempt), or
- * fatal. Commits after each converged round. */
-int ps_solver_break_and_settle(ps_solver *s, int max_rounds,
-                               ps_int *n_broken, ps_ctx *ctx);
+/* One round of fracture: break the arms past the elongation limit (model
+ * rule) and re-equilibrate at the same load; commits when converged.
+ * *n_broken gets the number broken (0: the state is settled, nothing
+ * done). Returns PS_OK, PS_DIVERGED (the re-equilibration failed: the
+ * state is that of the failed attempt), or fatal. */
+int ps_solver_break_round(ps_solver *s, ps_int *n_broken, ps_ctx *ctx);
 
 /* Counts of the current state. */
 ps_int ps_solver_count_broken(const ps_solver *s);

@@ -15,6 +15,10 @@ int ps_material_finish(ps_material *m, int dim, ps_ctx *ctx) {
   if (m->plastic && !(m->yield_strain > 0))
     return ps_error(ctx, PS_ERR_INPUT,
                     "material.yield_strain must be > 0 (got %g)", m->yield_strain);
+  if (m->yield_rule == PS_YIELD_DEVIATORIC)
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "material.yield_rule: deviatoric is not implemented yet (only "
+                    "total, Eq. 111 as printed)");
   if (!(m->rho > 0))
     return ps_error(ctx, PS_ERR_INPUT, "material.rho must be > 0 (got %g)", m->rho);
   if (dim == 3 && m->plane != PS_SOLID_3D) m->plane = PS_SOLID_3D;

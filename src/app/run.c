@@ -81,6 +81,9 @@ static void solver_opts_from_case(const ps_case *cs, ps_solver_opts *o) {
   o->tolerance = cs->tolerance;
   o->max_iterations = cs->max_iterations;
   o->line_search = cs->line_search;
+  o->reuse_factor = cs->reuse_factor;
+  o->pcg_rtol = cs->cg_tolerance;
+  o->pcg_max_iterations = cs->cg_max_iterations;
   const ps_linsolve_type *t = ps_linsolve_type_find(cs->linear);
   if (t) o->linear = t;
 }

@@ -52,6 +52,9 @@ void ps_case_defaults(ps_case *cs) {
   cs->tolerance = 1e-8;
   cs->max_iterations = 30;
   cs->line_search = 1;
+  cs->reuse_factor = 1;
+  cs->cg_tolerance = 1e-6;
+  cs->cg_max_iterations = 25;
   cs->load_step = 0.02;
   cs->load_step_after_break = 0.005;
   cs->max_load = 5.0;
@@ -608,11 +611,13 @@ static int on_loading(loader *L, void *arg, const char *key, const char *name,
 /* ---- solver, path, output ---- */
 
 static const char *const solver_keys[] = {"linear", "tolerance", "max_iterations",
-                                          "line_search", NULL};
+                                          "line_search", "reuse_factor",
+                                          "cg_tolerance", "cg_max_iterations", NULL};
 
 static int on_solver(loader *L, void *arg, const char *key, const char *name,
                      yaml_node_t *v) {
-  static const char *const linear[] = {"cholmod", "umfpack", NULL};
+  static const char *const linear[] = {"cholmod", "cholmod-simplicial", "umfpack",
+                                       NULL};
   ps_case *cs = L->cs;
   (void)arg;
   if (IS("linear")) {
@@ -623,6 +628,10 @@ static int on_solver(loader *L, void *arg, const char *key, const char *name,
   }
   if (IS("tolerance")) return get_real(L, v, name, 0.0, 1, 1.0, 1, &cs->tolerance);
   if (IS("max_iterations")) return get_int(L, v, name, 1, INT_MAX, &cs->max_iterations);
+  if (IS("reuse_factor")) return get_bool(L, v, name, &cs->reuse_factor);
+  if (IS("cg_tolerance")) return get_real(L, v, name, 0.0, 1, 1.0, 1, &cs->cg_tolerance);
+  if (IS("cg_max_iterations"))
+    return get_int(L, v, name, 1, INT_MAX, &cs->cg_max_iterations);
   return get_bool(L, v, name, &cs->line_search);
 }
 

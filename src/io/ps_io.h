@@ -72,10 +72,14 @@ typedef struct ps_case {
                           measured reaction; 0: from the bounding box */
 
   /* solver */
-  char linear[32];     /* "cholmod" (default) | "umfpack" */
+  char linear[32];     /* "cholmod" (default, supernodal) |
+                          "cholmod-simplicial" | "umfpack" */
   double tolerance;    /* relative residual, default 1e-8 */
   int max_iterations;  /* Newton iterations per solve, default 30 */
   int line_search;     /* default 1 */
+  int reuse_factor;    /* CG preconditioned by the last factor, default 1 */
+  double cg_tolerance; /* its relative tolerance, default 1e-6 */
+  int cg_max_iterations; /* default 25 */
 
   /* path following */
   double load_step;    /* load factor increment, default 0.02 */

@@ -18,17 +18,22 @@ typedef struct {
   ps_int n;
 } chol_state;
 
-static int chol_create(void **state, ps_ctx *ctx) {
+static int create(void **state, int supernodal, ps_ctx *ctx) {
   chol_state *s = ps_calloc(1, sizeof *s, ctx);
   if (!s) return PS_ERR_NOMEM;
   cholmod_l_start(&s->c);
   s->c.print = 0;
   s->c.error_handler = NULL;
-  s->c.supernodal = CHOLMOD_SUPERNODAL;
+  s->c.supernodal = supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
   s->c.final_ll = 1;
   s->c.quick_return_if_not_posdef = 1;
   *state = s;
   return PS_OK;
+}
+
+static int chol_create(void **state, ps_ctx *ctx) { return create(state, 1, ctx); }
+static int chol_create_simplicial(void **state, ps_ctx *ctx) {
+  return create(state, 0, ctx);
 }
 
 static void set_header(chol_state *s, const ps_csc *A) {
@@ -101,6 +106,18 @@ static int chol_factor(void *state, const ps_csc *A, ps_int *bad_col,
       if (d > dmax) dmax = d;
     }
   }
+  if (!s->L->is_super) { /* simplicial: the diagonal leads each column */
+    const ps_int *Lp = s->L->p;
+    for (ps_int j = 0; j < (ps_int)s->L->n; j++) {
+      double d = Lx[Lp[j]];
+      d *= d;
+      if (d < dmin) {
+        dmin = d;
+        jmin = j;
+      }
+      if (d > dmax) dmax = d;
+    }
+  }
   if (jmin >= 0 && dmin < 1e-13 * dmax) {
     const ps_int *perm = s->L->Perm;
     *bad_col = perm ? perm[jmin] : jmin;
@@ -146,3 +163,8 @@ static void chol_destroy(void **state) {
 static const ps_linsolve_type chol_type = {"cholmod", chol_create, chol_analyze,
                                            chol_factor, chol_solve, chol_destroy};
 const ps_linsolve_type *const ps_linsolve_cholmod = &chol_type;
+/* simplicial LL^T (for comparison: much slower on the two-horizon tangent) */
+static const ps_linsolve_type chol_simp_type = {
+    "cholmod-simplicial", chol_create_simplicial, chol_analyze, chol_factor, chol_solve,
+    chol_destroy};
+const ps_linsolve_type *const ps_linsolve_cholmod_simplicial = &chol_simp_type;

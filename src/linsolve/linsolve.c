@@ -5,7 +5,8 @@
 #include <string.h>
 
 const ps_linsolve_type *ps_linsolve_type_find(const char *name) {
-  const ps_linsolve_type *const all[] = {ps_linsolve_cholmod, ps_linsolve_umfpack};
+  const ps_linsolve_type *const all[] = {ps_linsolve_cholmod, ps_linsolve_umfpack,
+                                         ps_linsolve_cholmod_simplicial};
   for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
     if (strcmp(all[i]->name, name) == 0) return all[i];
   return NULL;

@@ -37,6 +37,7 @@ typedef struct ps_linsolve_type {
 
 extern const ps_linsolve_type *const ps_linsolve_cholmod;
 extern const ps_linsolve_type *const ps_linsolve_umfpack;
+extern const ps_linsolve_type *const ps_linsolve_cholmod_simplicial;
 
 /* Look a backend up by name; NULL if unknown. */
 const ps_linsolve_type *ps_linsolve_type_find(const char *name);

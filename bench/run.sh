@@ -1,0 +1,126 @@
+#!/bin/sh
+# bench/run.sh: fixed, seeded benchmark cases of peristatic. Writes every
+# run to bench/results.csv and medians plus the growth exponent of the
+# solve time with size to bench/summary.txt. Not part of `make check`.
+#   BENCH_REPEATS  repeats per case (default 3; medians are reported)
+#   BENCH_LARGE=1  also 40k and 80k particles (elastic) and a full run to
+#                  fracture at the paper's 20k (several minutes each)
+# Run it on a quiet machine: it measures wall time.
+set -eu
+top=$(cd "$(dirname "$0")/.." && pwd)
+bin="$top/peristatic"
+out="$top/bench"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+reps=${BENCH_REPEATS:-3}
+export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
+[ -x "$bin" ] || { echo "bench: build peristatic first (make)" >&2; exit 1; }
+
+csv="$out/results.csv.tmp"
+echo "case,kind,particles,arms,free_dofs,linear,reuse_factor,repeat,network_s,assembly_s,analyze_s,factor_s,solve_s,increments,newton_iterations,factorisations,cg_iterations,nnz_tangent_upper,nnz_factor,flops_factor,sigma_failure_over_sigma_y,wall_s,peak_memory_MiB" > "$csv"
+
+# disk CASE-FILE: n_eta n_xi kind(elastic|fracture) linear reuse
+make_case() {
+  f="$work/$1.yaml"
+  if [ "$4" = elastic ]; then
+    plastic=false; maxload=0.05; step=0.05
+  else
+    plastic=true; maxload=3.0; step=0.05
+  fi
+  cat > "$f" <<EOC
+name: $1
+geometry: {type: disk, n_eta: $2, n_xi: $3, per_zone: 5, jitter: 0.1, seed: 11}
+material: {E: 210.0e9, nu: 0.3, plane: strain, yield_strain: 0.002, plastic: $plastic, delta_over_c: 0.001}
+loading: {type: eq116}
+solver: {linear: $5, reuse_factor: $6}
+path: {load_step: $step, load_step_after_break: 0.01, max_load: $maxload}
+output: {vtk_every: 0}
+EOC
+  echo "$f"
+}
+
+val() { awk -F': ' -v k="$2" '$1 == k {print $2}' "$1"; }
+
+run_case() { # name n_eta n_xi kind linear reuse repeats
+  f=$(make_case "$1" "$2" "$3" "$4" "$5" "$6")
+  r=1
+  while [ "$r" -le "$7" ]; do
+    "$bin" run -q -o "$work/out" "$f" >/dev/null
+    s="$work/out/summary.txt"
+    printf '%s,%s,%s,%s,%s,%s,%s,%s' "$1" "$4" "$(val "$s" particles)" "$(val "$s" arms)" \
+      "$(val "$s" free_dofs)" "$5" "$6" "$r" >> "$csv"
+    for k in network_s assembly_s analyze_s factor_s solve_s increments newton_iterations \
+             factorisations cg_iterations nnz_tangent_upper nnz_factor flops_factor \
+             sigma_failure_over_sigma_y wall_s peak_memory_MiB; do
+      printf ',%s' "$(val "$s" $k)" >> "$csv"
+    done
+    printf '\n' >> "$csv"
+    echo "bench: $1 ($4, $5, reuse $6) repeat $r: $(val "$s" wall_s) s" >&2
+    r=$((r + 1))
+  done
+}
+
+# elastic solves (one increment) at growing size: network, assembly,
+# analysis, factorisation, solve
+for sz in "10 20 5k" "14 28 10k" "20 40 20k"; do
+  set -- $sz
+  run_case "disk-$3-elastic" "$1" "$2" elastic cholmod true "$reps"
+done
+if [ "${BENCH_LARGE:-0}" = 1 ]; then
+  run_case disk-40k-elastic 28 56 elastic cholmod true "$reps"
+  run_case disk-80k-elastic 40 80 elastic cholmod true 1
+fi
+# linear solvers compared on the same elastic solve (10k particles),
+# fresh factorisation each Newton iteration (reuse off)
+for lin in cholmod cholmod-simplicial umfpack; do
+  run_case disk-10k-elastic-$lin 14 28 elastic "$lin" false 1
+done
+# full runs to fracture (delta = c/1000): factor reuse on and off
+run_case disk-1.8k-fracture 6 12 fracture cholmod true "$reps"
+run_case disk-1.8k-fracture 6 12 fracture cholmod false 1
+run_case disk-5k-fracture 10 20 fracture cholmod true 1
+if [ "${BENCH_LARGE:-0}" = 1 ]; then
+  run_case disk-20k-fracture 20 40 fracture cholmod true 1
+fi
+mv "$csv" "$out/results.csv"
+
+# medians per (case, linear, reuse) and the growth exponent of the elastic
+# solve (wall and factorisation time against free dofs)
+awk -F, 'NR > 1 {
+    key = $1 "," $6 "," $7; n[key]++; w[key, n[key]] = $22; fa[key, n[key]] = $12
+    size[key] = $5; its[key] = $15; fac[key] = $16; cg[key] = $17; nnz[key] = $18
+    nl[key] = $19; fl[key] = $20; mem[key] = $23; sf[key] = $21; kind[key] = $2
+    order[key] = (key in order) ? order[key] : NR
+  }
+  function median(a, key, m,   i, j, t, v) {
+    for (i = 1; i <= m; i++) v[i] = a[key, i]
+    for (i = 1; i <= m; i++) for (j = i + 1; j <= m; j++) if (v[j] < v[i]) { t = v[i]; v[i] = v[j]; v[j] = t }
+    return (m % 2) ? v[(m + 1) / 2] : (v[m / 2] + v[m / 2 + 1]) / 2
+  }
+  END {
+    printf "%-32s %-18s %5s %7s %9s %9s %10s %9s %9s %6s %6s %6s %8s %9s\n", "case", "linear", "reuse",
+      "runs", "free_dofs", "nnz(A)", "nnz(L)", "flops", "wall_s", "newton", "factor", "cg", "factor_s", "peak_MiB"
+    for (k in n) {
+      split(k, p, ",")
+      mw = median(w, k, n[k]); mf = median(fa, k, n[k])
+      printf "%-32s %-18s %5s %7d %9d %9.3g %10.3g %9.3g %9.3f %6d %6d %6d %8.3f %9.1f\n", p[1], p[2], p[3],
+        n[k], size[k], nnz[k], nl[k], fl[k], mw, its[k], fac[k], cg[k], mf, mem[k]
+      if (kind[k] == "elastic" && p[2] == "cholmod" && p[3] == "true") {
+        m++; lx[m] = log(size[k]); ly[m] = log(mw); lf[m] = log(mf / (fac[k] > 0 ? fac[k] : 1))
+      }
+    }
+    if (m >= 2) {
+      sx = sy = sxx = sxy = sf2 = sxf = 0
+      for (i = 1; i <= m; i++) { sx += lx[i]; sy += ly[i]; sxx += lx[i]^2; sxy += lx[i] * ly[i]; sxf += lx[i] * lf[i]; sf2 += lf[i] }
+      b = (m * sxy - sx * sy) / (m * sxx - sx^2)
+      bf = (m * sxf - sx * sf2) / (m * sxx - sx^2)
+      printf "\ngrowth with size (elastic solves, %d sizes): wall time ~ dofs^%.2f, one factorisation ~ dofs^%.2f\n", m, b, bf
+    }
+  }' "$out/results.csv" > "$out/summary.txt.tmp"
+{
+  echo "# peristatic benchmark, $(date -u +%Y-%m-%dT%H:%MZ), $(nproc) cores, OPENBLAS_NUM_THREADS=$OPENBLAS_NUM_THREADS"
+  echo "# medians over repeats; all runs in bench/results.csv"
+  cat "$out/summary.txt.tmp"
+} > "$out/summary.txt"
+rm -f "$out/summary.txt.tmp"
+cat "$out/summary.txt"

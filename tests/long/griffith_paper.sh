@@ -1,0 +1,41 @@
+#!/bin/sh
+# griffith_paper.sh (make check-long): the Griffith sweep at the paper's
+# size (20,000 particles, Table 1, delta = c/500 .. c/3250 in steps of 250
+# in the denominator) on one particle cloud. Results go to
+# doc/results/griffith-paper/ (griffith.csv, griffith_fit.txt,
+# griffith.png, one folder per run). Passes when the runs that fracture
+# give R^2 >= 0.95 and sigma_failure rising with sqrt(delta/c).
+# Hours on a 2-core machine (see doc/griffith.md for the measured times).
+top=$(cd "$(dirname "$0")/../.." && pwd)
+out=${GRIFFITH_OUT:-$top/doc/results/griffith-paper}
+export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
+pass=0
+fail=0
+if "$top/peristatic" griffith -o "$out" "$top/data/cases/paper-table1.yaml"; then
+  echo "PASS: paper-size Griffith sweep ran"
+  pass=$((pass + 1))
+else
+  echo "FAIL: paper-size Griffith sweep did not complete"
+  echo "$pass passed, $((fail + 1)) failed"
+  exit 1
+fi
+r2=$(awk -F': ' '$1 == "r2" {print $2}' "$out/griffith_fit.txt")
+nf=$(awk -F': ' '$1 == "fractured" {print $2}' "$out/griffith_fit.txt")
+if awk -v r="$r2" 'BEGIN {exit !(r + 0 >= 0.95)}'; then
+  echo "PASS: R^2 = $r2 >= 0.95 over $nf fractured runs"
+  pass=$((pass + 1))
+else
+  echo "FAIL: R^2 = $r2 < 0.95 over $nf fractured runs"
+  fail=$((fail + 1))
+fi
+# rows run from the largest delta to the smallest: sigma must fall row by row
+if awk -F, 'NR > 1 && $4 == "yes" { if (seen && $3 >= last) bad = 1; last = $3; seen = 1 }
+            END { exit bad }' "$out/griffith.csv"; then
+  echo "PASS: sigma_failure falls as delta falls (rises with sqrt(delta/c))"
+  pass=$((pass + 1))
+else
+  echo "FAIL: sigma_failure does not fall with delta in every fractured run"
+  fail=$((fail + 1))
+fi
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]

@@ -170,10 +170,13 @@ int main(int argc, char **argv) {
     return exit_code(status);
   }
   if (!strcmp(cmd, "info")) {
+    ps_int nfree = 0, nd = (ps_int)pb.P.dim * pb.P.n;
+    for (ps_int j = 0; j < nd; j++) nfree += !pb.fixed[j];
     printf("case: %s\nparticles: %lld\narms: %lld\narms_per_particle: %.2f\n"
-           "size_ratio_max_over_min: %.1f\nsetup_s: %.3f\n",
+           "size_ratio_max_over_min: %.1f\nfree_dofs: %lld\nsetup_s: %.3f\n",
            cs.name, (long long)pb.P.n, (long long)pb.net.n_arm,
-           2.0 * pb.net.n_arm / pb.P.n, pb.net.max_h_ratio, ps_wtime() - t0);
+           2.0 * pb.net.n_arm / pb.P.n, pb.net.max_h_ratio, (long long)nfree,
+           ps_wtime() - t0);
   } else if (!strcmp(cmd, "run")) {
     ps_run_result res;
     status = ps_run(&pb, pb.mat.delta, outdir, &res, &ctx);

@@ -56,13 +56,14 @@ static int write_state(const ps_problem *pb, const ps_solver *s, const char *dir
     ps_outfile o;
     snprintf(path, sizeof path, "%s/particles.csv", dir);
     PS_CHECK_GOTO(ps_outfile_open(&o, path, ctx));
-    fprintf(o.f, d == 2 ? "id,x,y,ux,uy,damage,volume,h,block\n"
-                        : "id,x,y,z,ux,uy,uz,damage,volume,h,block\n");
+    fprintf(o.f, d == 2 ? "id,x,y,ux,uy,damage,volume,mass,h,block\n"
+                        : "id,x,y,z,ux,uy,uz,damage,volume,mass,h,block\n");
     for (ps_int a = 0; a < n; a++) {
       fprintf(o.f, "%lld", (long long)a);
       for (int k = 0; k < d; k++) fprintf(o.f, ",%.10g", P->x[a * d + k]);
       for (int k = 0; k < d; k++) fprintf(o.f, ",%.10g", s->u[a * d + k]);
-      fprintf(o.f, ",%.6g,%.6g,%.6g,%d\n", phi[a], P->volume[a], P->h[a], P->block[a]);
+      fprintf(o.f, ",%.6g,%.6g,%.6g,%.6g,%d\n", phi[a], P->volume[a],
+              pb->mat.rho * P->volume[a], P->h[a], P->block[a]);
     }
     PS_CHECK_GOTO(ps_outfile_commit(&o, ctx));
   }
@@ -213,7 +214,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
       res->fractured = broken_total > 0;
       snprintf(res->stop_reason, sizeof res->stop_reason,
                "re-equilibration after breaking arms did not converge at load factor "
-               "%.5g (unstable fracture)",
+               "%.5g: the crack ran unstably (outputs show the last attempt)",
                s.lambda);
       break;
     }

@@ -425,7 +425,7 @@ static int on_geometry(loader *L, void *arg, const char *key, const char *name,
     return PS_OK;
   }
   if (IS("sizes")) return get_choice(L, v, name, sizes, &cs->size_rule);
-  if (IS("size_neighbours")) return get_int(L, v, name, 1, INT_MAX, &cs->size_neighbours);
+  if (IS("size_neighbours")) return get_int(L, v, name, 1, 64, &cs->size_neighbours);
   return get_cracks(L, v, name); /* "cracks", the last allowed key */
 }
 

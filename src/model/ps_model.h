@@ -28,7 +28,8 @@ typedef struct ps_material {
   int plastic;         /* 0: elastic arms, 1: return mapping Eq. 111 */
   double delta;        /* plastic elongation limit, m (Eq. 118); <= 0 or
                           inf: arms never break */
-  double rho;          /* density, kg/m^3 (masses for output only) */
+  double rho;          /* density, kg/m^3; uniform, so it drops out of the
+                          forces; gives the masses in particles.csv */
   int yield_rule;      /* enum ps_yield_rule */
   /* derived by ps_material_finish: */
   double G;            /* shear modulus, Eq. 78 */

@@ -4,11 +4,13 @@
  * A ps_solver owns the state of a run on one network: displacements u (m),
  * the per-arm plastic state, the system (residual/tangent) and the linear
  * solvers. Prescribed dofs follow u_p = lambda * ubar_p (lambda: the load
- * factor). Each increment: linear predictor with the last factor, Newton
- * to ||r_free|| <= tol ||reactions|| with an energy line search, commit of
- * the plastic state (Eq. 111), then arm breaking (Eq. 118) and
- * re-equilibration at the same load until no further arm breaks. Newton
- * failure cuts the increment (restoring the last converged state). */
+ * factor). Each increment: a predictor (secant extrapolation of the last
+ * two converged states when no arm broke between them, else a solve with
+ * the last factor), Newton to ||r_free|| <= tol ||reactions|| with an
+ * energy line search, commit of the plastic state (Eq. 111), then rounds
+ * of arm breaking (Eq. 118) and re-equilibration at the same load, driven
+ * by the caller. Newton failure cuts the increment (restoring the last
+ * converged state). */
 #ifndef PS_SOLVER_H
 #define PS_SOLVER_H
 

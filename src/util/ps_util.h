@@ -40,7 +40,7 @@ void ps_ctx_init(ps_ctx *ctx);
 int ps_error(ps_ctx *ctx, int status, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
-/* Append "(at file:line)" to ctx->msg when ctx->verbosity >= 2; returns
+/* Append "(at file:line)" to ctx->msg when ctx->verbosity >= 3; returns
  * status unchanged. Used by the PS_CHECK macros. */
 int ps_trace(ps_ctx *ctx, int status, const char *file, int line);
 

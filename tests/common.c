@@ -48,6 +48,36 @@ void tc_solve(ps_solver *s, const ps_particles *P, const ps_network *net,
   }
 }
 
+void tc_evaluator_create(tc_evaluator *ev, const ps_network *net,
+                         const ps_material *mat) {
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  ps_int nd = (ps_int)net->dim * net->n_particle;
+  unsigned char *fixed = calloc((size_t)nd, 1);
+  fixed[0] = 1; /* the system needs a free dof; nothing is solved here */
+  if (ps_model_create(&ev->model, ps_model_fibre, net, mat, &ctx) ||
+      ps_arm_state_alloc(&ev->st, net->n_arm, &ctx) ||
+      ps_system_create(&ev->sys, net, fixed, &ctx))
+    die("evaluator", &ctx);
+  free(fixed);
+  ev->f = calloc((size_t)nd, sizeof *ev->f);
+}
+
+void tc_eval(tc_evaluator *ev, const ps_particles *P, const double *u) {
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  double energy;
+  if (ps_system_eval(&ev->sys, &ev->model, &ev->st, P->x, u, ev->f, &energy, 0, &ctx))
+    die("evaluate", &ctx);
+}
+
+void tc_evaluator_free(tc_evaluator *ev) {
+  ps_system_free(&ev->sys);
+  ps_arm_state_free(&ev->st);
+  ps_model_free(&ev->model);
+  free(ev->f);
+}
+
 double tc_dist_to_box_face(const double *x, const double *lo, const double *hi,
                            int dim) {
   double d = INFINITY;

@@ -21,6 +21,20 @@ void tc_solve(ps_solver *s, const ps_particles *P, const ps_network *net,
               const ps_material *mat, const unsigned char *fixed,
               const double *ubar, double lambda);
 
+/* A model, arm state and system on a network with nothing prescribed:
+ * enough to evaluate forces of a given displacement field. */
+typedef struct tc_evaluator {
+  ps_model model;
+  ps_arm_state st;
+  ps_system sys;
+  double *f; /* [n_dof] internal forces of the last tc_eval */
+} tc_evaluator;
+void tc_evaluator_create(tc_evaluator *ev, const ps_network *net,
+                         const ps_material *mat);
+/* Internal forces (ev->f), tensions and directions (ev->sys) at u. */
+void tc_eval(tc_evaluator *ev, const ps_particles *P, const double *u);
+void tc_evaluator_free(tc_evaluator *ev);
+
 /* Distance from x to the nearest face of the box [lo, hi] (dim axes). */
 double tc_dist_to_box_face(const double *x, const double *lo, const double *hi,
                            int dim);

@@ -37,15 +37,9 @@ static void regular(const char *lattice) {
   if (ps_geom_box(&P, 2, counts, d, lattice, 0.0, 1, &ctx)) abort();
   tc_network(&P, 5.1, NULL, 0, &net);
   ps_material mat = tc_material(0.3, PS_PLANE_STRAIN);
-  ps_model model;
-  ps_model_create(&model, ps_model_fibre, &net, &mat, &ctx);
-  ps_arm_state st;
-  ps_arm_state_alloc(&st, net.n_arm, &ctx);
-  unsigned char *fixed = calloc((size_t)(2 * P.n), 1);
-  fixed[0] = fixed[1] = 1;
-  ps_system sys;
-  ps_system_create(&sys, &net, fixed, &ctx);
-  double *u = calloc((size_t)(2 * P.n), sizeof *u), *f = calloc((size_t)(2 * P.n), sizeof *f);
+  tc_evaluator ev;
+  tc_evaluator_create(&ev, &net, &mat);
+  double *u = calloc((size_t)(2 * P.n), sizeof *u), *f = NULL;
   /* y = R (I + E) x: strain plus a rotation of 0.2 rad */
   double E[4] = {1.3e-3, 0.4e-3, 0.4e-3, -0.7e-3}, c = cos(0.2), s = sin(0.2);
   for (ps_int a = 0; a < P.n; a++) {
@@ -54,8 +48,8 @@ static void regular(const char *lattice) {
     u[2 * a] = c * y0 - s * y1 - x[0];
     u[2 * a + 1] = s * y0 + c * y1 - x[1];
   }
-  double energy;
-  ps_system_eval(&sys, &model, &st, P.x, u, f, &energy, 0, &ctx);
+  tc_eval(&ev, &P, u);
+  f = ev.f;
   double lo[2] = {1e30, 1e30}, hi[2] = {-1e30, -1e30}, hmax = 0;
   for (ps_int a = 0; a < P.n; a++) {
     for (int k = 0; k < 2; k++) {
@@ -65,7 +59,7 @@ static void regular(const char *lattice) {
     hmax = fmax(hmax, P.h[a]);
   }
   double *T = malloc((size_t)net.n_arm * sizeof *T);
-  for (ps_int i = 0; i < net.n_arm; i++) T[i] = fabs(sys.T[i]);
+  for (ps_int i = 0; i < net.n_arm; i++) T[i] = fabs(ev.sys.T[i]);
   qsort(T, (size_t)net.n_arm, sizeof *T, cmp_d);
   double Tmed = T[net.n_arm / 2], fmaxi = 0;
   ps_int n_int = 0;
@@ -82,11 +76,7 @@ static void regular(const char *lattice) {
   ps_check_le(fmaxi / Tmed, 1e-8, what);
   free(T);
   free(u);
-  free(f);
-  free(fixed);
-  ps_system_free(&sys);
-  ps_arm_state_free(&st);
-  ps_model_free(&model);
+  tc_evaluator_free(&ev);
   ps_network_free(&net);
   ps_particles_free(&P);
 }

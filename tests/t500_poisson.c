@@ -42,6 +42,7 @@ static double measure_nu(int dim, double nu, double alpha, const char *lattice) 
   }
   double hor = alpha * hmax, w = 2 * hor, U = 1e-4 * (hi[0] - lo[0]);
   ps_int n = P.n, pin = -1, pin2 = -1;
+  if (n <= 0 || n > (ps_int)1e8) abort();
   unsigned char *fixed = calloc((size_t)dim * (size_t)P.n, 1), *mask = calloc((size_t)P.n, 1);
   double *ubar = calloc((size_t)dim * (size_t)P.n, sizeof *ubar);
   double ymid = 0.5 * (lo[1] + hi[1]), zmid = dim == 3 ? 0.5 * (lo[2] + hi[2]) : 0;
@@ -97,26 +98,22 @@ static double virial_nu_3d(double nu, double alpha) {
   if (ps_geom_box(&P, 3, counts, 1e-3, "square", 0.0, 1, &ctx)) abort();
   tc_network(&P, alpha, NULL, 0, &net);
   ps_material mat = tc_material(nu, PS_SOLID_3D);
-  ps_model model;
-  ps_model_create(&model, ps_model_fibre, &net, &mat, &ctx);
-  ps_arm_state st;
-  ps_arm_state_alloc(&st, net.n_arm, &ctx);
-  unsigned char *fixed = calloc((size_t)(3 * P.n), 1);
-  ps_system sys;
-  ps_system_create(&sys, &net, fixed, &ctx);
-  double *u = calloc((size_t)(3 * P.n), sizeof *u), *f = calloc((size_t)(3 * P.n), sizeof *f);
-  double e = 1e-6, energy, C11 = 0, C12 = 0, C44 = 0;
+  tc_evaluator ev;
+  tc_evaluator_create(&ev, &net, &mat);
+  double *u = calloc((size_t)(3 * P.n), sizeof *u);
+  double e = 1e-6, C11 = 0, C12 = 0, C44 = 0;
   ps_int c = (8 * 16 + 8) * 16 + 8; /* the centre particle */
   for (int load = 0; load < 2; load++) {
     for (ps_int a = 0; a < P.n; a++) /* e x x, then shear e (x y + y x) */
       u[3 * a] = load == 0 ? e * P.x[3 * a] : e * P.x[3 * a + 1];
     for (ps_int a = 0; a < P.n; a++) u[3 * a + 1] = load == 0 ? 0 : e * P.x[3 * a];
-    ps_system_eval(&sys, &model, &st, P.x, u, f, &energy, 0, &ctx);
+    tc_eval(&ev, &P, u);
+    const ps_system *sys = &ev.sys;
     double sig[3] = {0, 0, 0}; /* xx, yy, xy */
     for (ps_int k = net.fam_ptr[c]; k < net.fam_ptr[c + 1]; k++) {
       ps_int i = net.fam_arm[k];
-      const double *q = &sys.q[3 * i];
-      double w = 0.5 * sys.T[i] * sys.l[i] / P.volume[c];
+      const double *q = &sys->q[3 * i];
+      double w = 0.5 * sys->T[i] * sys->l[i] / P.volume[c];
       sig[0] += w * q[0] * q[0];
       sig[1] += w * q[1] * q[1];
       sig[2] += w * q[0] * q[1];
@@ -134,11 +131,7 @@ static double virial_nu_3d(double nu, double alpha) {
   printf("# 3D lattice alpha %.1f, nu = %.2f: C11 %.4g C12 %.4g C44 %.4g (input G %.4g K %.4g) -> K %.4g G %.4g, [100] nu %.4f, isotropic nu %.4f\n",
          alpha, nu, C11, C12, C44, mat.G, mat.K, K, G, C12 / (C11 + C12), got);
   free(u);
-  free(f);
-  free(fixed);
-  ps_system_free(&sys);
-  ps_arm_state_free(&st);
-  ps_model_free(&model);
+  tc_evaluator_free(&ev);
   ps_network_free(&net);
   ps_particles_free(&P);
   return got;

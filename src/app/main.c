@@ -77,6 +77,14 @@ static const char *HELP_INFO =
     "Reads the case, builds the particle cloud and the arm network and prints\n"
     "particles, arms, arms per particle, size ratio, free dofs and the time.\n";
 
+/* the help text of a command (the general one when NULL or unknown) */
+static const char *help_for(const char *cmd) {
+  if (cmd && !strcmp(cmd, "run")) return HELP_RUN;
+  if (cmd && !strcmp(cmd, "griffith")) return HELP_GRIFFITH;
+  if (cmd && !strcmp(cmd, "info")) return HELP_INFO;
+  return HELP_MAIN;
+}
+
 static int exit_code(int status) {
   switch (status) {
   case PS_ERR_INPUT: return 1;
@@ -94,11 +102,7 @@ int main(int argc, char **argv) {
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
     if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-      const char *h = HELP_MAIN;
-      if (cmd && !strcmp(cmd, "run")) h = HELP_RUN;
-      if (cmd && !strcmp(cmd, "griffith")) h = HELP_GRIFFITH;
-      if (cmd && !strcmp(cmd, "info")) h = HELP_INFO;
-      fputs(h, stdout);
+      fputs(help_for(cmd), stdout);
       return 0;
     } else if (!strcmp(a, "-o") || !strcmp(a, "--out")) {
       if (++i >= argc) {
@@ -130,11 +134,7 @@ int main(int argc, char **argv) {
     return 1;
   }
   if (!strcmp(cmd, "help")) {
-    const char *h = HELP_MAIN;
-    if (file && !strcmp(file, "run")) h = HELP_RUN;
-    if (file && !strcmp(file, "griffith")) h = HELP_GRIFFITH;
-    if (file && !strcmp(file, "info")) h = HELP_INFO;
-    fputs(h, stdout);
+    fputs(help_for(file), stdout);
     return 0;
   }
   if (strcmp(cmd, "run") && strcmp(cmd, "griffith") && strcmp(cmd, "info")) {

@@ -22,7 +22,13 @@ static int write_state(const ps_problem *pb, const ps_solver *s, const char *dir
   double *astrain = ps_calloc((size_t)na, sizeof *phi, ctx);
   double *aplast = ps_calloc((size_t)na, sizeof *phi, ctx);
   double *abroken = ps_calloc((size_t)na, sizeof *phi, ctx);
-  if (!phi || !pstrain || !pplast || !astrain || !aplast || !abroken) {
+  double *sigma = ps_calloc((size_t)(n * d * d), sizeof *phi, ctx);
+  int ncomp = d == 2 ? 3 : 6; /* xx yy xy [zz yz xz] */
+  static const char *const cname[6] = {"stress_xx", "stress_yy", "stress_xy",
+                                       "stress_zz", "stress_yz", "stress_xz"};
+  static const int cij[6][2] = {{0, 0}, {1, 1}, {0, 1}, {2, 2}, {1, 2}, {0, 2}};
+  double *scomp = ps_calloc((size_t)(n * 6), sizeof *phi, ctx);
+  if (!phi || !pstrain || !pplast || !astrain || !aplast || !abroken || !sigma || !scomp) {
     status = PS_ERR_NOMEM;
     goto cleanup;
   }
@@ -39,31 +45,45 @@ static int write_state(const ps_problem *pb, const ps_solver *s, const char *dir
       if (aplast[i] > pplast[e[k]]) pplast[e[k]] = aplast[i];
     }
   }
+  /* PD stress tensor, Eq. 24 of Fallah et al. (2020) */
+  ps_post_stress_tensor(P, net, s->sys.T, s->sys.q, sigma);
+  for (int c = 0; c < ncomp; c++)
+    for (ps_int a = 0; a < n; a++)
+      scomp[c * n + a] = sigma[a * d * d + cij[c][0] * d + cij[c][1]];
   char path[1200];
-  ps_field pf[5] = {{"displacement", 3, s->u, d},
-                    {"damage", 1, phi, 1},
-                    {"arm_strain_over_eps_y", 1, pstrain, 1},
-                    {"plastic_elongation_over_delta", 1, pplast, 1},
-                    {"h", 1, P->h, 1}};
+  ps_field pf[11] = {{"displacement", 3, s->u, d},
+                     {"damage", 1, phi, 1},
+                     {"arm_strain_over_eps_y", 1, pstrain, 1},
+                     {"plastic_elongation_over_delta", 1, pplast, 1},
+                     {"h", 1, P->h, 1}};
+  int npf = 5;
+  for (int c = 0; c < ncomp; c++) {
+    ps_field fc = {cname[c], 1, &scomp[c * n], 1};
+    pf[npf++] = fc;
+  }
   ps_field af[3] = {{"arm_strain_over_eps_y", 1, astrain, 1},
                     {"plastic_elongation_over_delta", 1, aplast, 1},
                     {"broken", 1, abroken, 1}};
   snprintf(path, sizeof path, "%s/particles_%04d.vtk", dir, step);
-  PS_CHECK_GOTO(ps_vtk_write(path, d, n, P->x, 0, NULL, NULL, pf, 5, NULL, 0, ctx));
+  PS_CHECK_GOTO(ps_vtk_write(path, d, n, P->x, 0, NULL, NULL, pf, npf, NULL, 0, ctx));
   snprintf(path, sizeof path, "%s/arms_%04d.vtk", dir, step);
-  PS_CHECK_GOTO(ps_vtk_write(path, d, n, P->x, na, net->a, net->b, pf, 5, af, 3, ctx));
+  PS_CHECK_GOTO(ps_vtk_write(path, d, n, P->x, na, net->a, net->b, pf, npf, af, 3, ctx));
   if (final) {
     ps_outfile o;
     snprintf(path, sizeof path, "%s/particles.csv", dir);
     PS_CHECK_GOTO(ps_outfile_open(&o, path, ctx));
-    fprintf(o.f, d == 2 ? "id,x,y,ux,uy,damage,volume,mass,h,block\n"
-                        : "id,x,y,z,ux,uy,uz,damage,volume,mass,h,block\n");
+    fprintf(o.f, d == 2 ? "id,x,y,ux,uy,damage,volume,mass,h,block"
+                        : "id,x,y,z,ux,uy,uz,damage,volume,mass,h,block");
+    for (int c = 0; c < ncomp; c++) fprintf(o.f, ",%s_Pa", cname[c]);
+    fprintf(o.f, "\n");
     for (ps_int a = 0; a < n; a++) {
       fprintf(o.f, "%lld", (long long)a);
       for (int k = 0; k < d; k++) fprintf(o.f, ",%.10g", P->x[a * d + k]);
       for (int k = 0; k < d; k++) fprintf(o.f, ",%.10g", s->u[a * d + k]);
-      fprintf(o.f, ",%.6g,%.6g,%.6g,%.6g,%d\n", phi[a], P->volume[a],
+      fprintf(o.f, ",%.6g,%.6g,%.6g,%.6g,%d", phi[a], P->volume[a],
               pb->mat.rho * P->volume[a], P->h[a], P->block[a]);
+      for (int c = 0; c < ncomp; c++) fprintf(o.f, ",%.6g", scomp[c * n + a]);
+      fprintf(o.f, "\n");
     }
     PS_CHECK_GOTO(ps_outfile_commit(&o, ctx));
   }
@@ -74,6 +94,8 @@ cleanup:
   free(astrain);
   free(aplast);
   free(abroken);
+  free(sigma);
+  free(scomp);
   return status;
 }
 

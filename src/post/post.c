@@ -5,6 +5,7 @@
 #include <gsl/gsl_fit.h>
 #include <gsl/gsl_multifit.h>
 #include <math.h>
+#include <string.h>
 
 void ps_post_damage(const ps_network *net, const ps_arm_state *st,
                     double *phi) {
@@ -64,6 +65,25 @@ double ps_post_crack_tip(const ps_particles *P, const ps_network *net,
     if (r > tip) tip = r;
   }
   return tip;
+}
+
+void ps_post_stress_tensor(const ps_particles *P, const ps_network *net,
+                           const double *T, const double *q, double *sigma) {
+  int d = P->dim;
+  memset(sigma, 0, (size_t)(P->n * d * d) * sizeof *sigma);
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    if (T[i] == 0.0) continue;
+    ps_int a = net->a[i], b = net->b[i];
+    /* F_ab (x) (X_b - X_a) is the same for both ends: (-F) (x) (-dX) */
+    for (int r = 0; r < d; r++)
+      for (int c = 0; c < d; c++) {
+        double v = T[i] * q[i * d + r] * (P->x[b * d + c] - P->x[a * d + c]);
+        sigma[a * d * d + r * d + c] += v;
+        sigma[b * d * d + r * d + c] += v;
+      }
+  }
+  for (ps_int a = 0; a < P->n; a++)
+    for (int k = 0; k < d * d; k++) sigma[a * d * d + k] /= 2.0 * P->volume[a];
 }
 
 int ps_post_fit_strain(const ps_particles *P, const double *u,

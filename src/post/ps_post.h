@@ -36,6 +36,15 @@ double ps_post_boundary_stress(const ps_network *net, const double *T,
 double ps_post_crack_tip(const ps_particles *P, const ps_network *net,
                          const ps_arm_state *st, double c);
 
+/* The peridynamic stress tensor of Fallah et al. (2020), Eq. 24:
+ *   sigma_a = 1/(2 V_a) sum_b F_ab (x) (X_b - X_a),
+ * F_ab = T_ab q_ab the force of arm ab on a (q from a to b in the current
+ * configuration), X the reference positions. Works for any central-force
+ * model. sigma[a*dim*dim + i*dim + j], Pa. Accurate one horizon away from
+ * free surfaces and cracks (skin effect; Fallah et al. section 4). */
+void ps_post_stress_tensor(const ps_particles *P, const ps_network *net,
+                           const double *T, const double *q, double *sigma);
+
 /* Least-squares affine fit u(x) = u0 + H x over the particles with
  * mask[a] != 0; writes the symmetric strain eps[i*dim + j] = (H_ij + H_ji)/2.
  * Returns PS_OK, or PS_ERR_INPUT when fewer than dim + 1 particles are

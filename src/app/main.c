@@ -25,6 +25,7 @@ static const char *HELP_MAIN =
     "  -o, --out DIR   output directory (default: output.dir, else out/<case name>)\n"
     "  -q, --quiet     no progress lines\n"
     "  -v, --verbose   Newton iterations too (twice: source locations in errors)\n"
+    "      --resume    griffith: continue a sweep in DIR, reusing finished runs\n"
     "  -h, --help      this text\n"
     "\n"
     "Each load increment prints one progress line:\n"
@@ -69,7 +70,11 @@ static const char *HELP_GRIFFITH =
     "least-squares line over the runs that fractured (griffith_fit.txt: slope,\n"
     "intercept, R^2, and the nominal Griffith slope sqrt(2/(pi eps_y)) beside it),\n"
     "and griffith.png (gnuplot). Griffith's law predicts a straight line through\n"
-    "the origin; see doc/griffith.md for how to read the plot.\n";
+    "the origin; see doc/griffith.md for how to read the plot.\n"
+    "\n"
+    "A fresh sweep replaces DIR when it completes. With --resume it works in DIR\n"
+    "itself and reuses every run folder (delta_cNNNN) whose summary.txt matches\n"
+    "the particle cloud and delta: a long sweep can be stopped and continued.\n";
 
 static const char *HELP_INFO =
     "peristatic info CASE.yaml\n"
@@ -98,7 +103,7 @@ int main(int argc, char **argv) {
   ps_ctx_init(&ctx);
   gsl_set_error_handler_off();
   const char *cmd = NULL, *file = NULL, *out = NULL;
-  int verbosity = -1;
+  int verbosity = -1, resume = 0;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
     if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
@@ -114,6 +119,8 @@ int main(int argc, char **argv) {
       verbosity = 0;
     } else if (!strcmp(a, "-v") || !strcmp(a, "--verbose")) {
       verbosity = verbosity < 2 ? 2 : verbosity + 1;
+    } else if (!strcmp(a, "--resume")) {
+      resume = 1;
     } else if (!strcmp(a, "--version")) {
       puts("peristatic " PACKAGE_VERSION);
       return 0;
@@ -185,7 +192,7 @@ int main(int argc, char **argv) {
   } else {
     double slope, icpt, r2;
     int nf;
-    status = ps_griffith(&pb, outdir, &slope, &icpt, &r2, &nf, &ctx);
+    status = ps_griffith(&pb, outdir, resume, &slope, &icpt, &r2, &nf, &ctx);
     if (status >= 0) ps_log(&ctx, 1, "# results in %s/ (griffith.csv, griffith.png)\n", outdir);
   }
   ps_problem_free(&pb);

@@ -61,10 +61,14 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
 
 /* Griffith sweep over the case's delta/c values on one particle cloud:
  * writes griffith.csv, griffith_fit.txt, griffith.gp and (with gnuplot)
- * griffith.png into out_dir. The fit is over the runs that fractured.
+ * griffith.png into out_dir, and one folder delta_cNNNN per run. The fit
+ * is over the runs that fractured. A fresh sweep (resume = 0) is staged in
+ * out_dir.partial and replaces out_dir at the end; with resume = 1 it works
+ * in out_dir and reuses every run folder whose summary.txt matches this
+ * cloud (particles, arms) and delta, so a long sweep can be continued.
  * Returns PS_OK or a fatal status; fit results in *slope, *intercept, *r2
  * (NAN when fewer than two runs fractured). */
-int ps_griffith(ps_problem *pb, const char *out_dir, double *slope,
+int ps_griffith(ps_problem *pb, const char *out_dir, int resume, double *slope,
                 double *intercept, double *r2, int *n_fractured, ps_ctx *ctx);
 
 #endif

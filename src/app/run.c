@@ -229,7 +229,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
       fprintf(hist, "%d,%.10g,%.10g,%.10g,%d,%.4g,%lld,%lld,%.6g,%.4f\n", step, s.lambda,
               sig, sig / mat.sigma_y, its, s.last_residual, (long long)ny,
               (long long)broken_total, tip, ps_wtime() - t0);
-    if (out_dir && cs->vtk_every > 0 && step % cs->vtk_every == 0)
+    if (out_dir && cs->fields && cs->vtk_every > 0 && step % cs->vtk_every == 0)
       PS_CHECK_GOTO(write_state(pb, &s, staging, step, 0, ctx));
     res->crack_tip = tip;
     if (settle == PS_DIVERGED) {
@@ -281,7 +281,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
          res->fractured ? "" : " [no fracture]", (long long)res->increments,
          (long long)res->newton_iterations, res->wall);
   if (out_dir) {
-    PS_CHECK_GOTO(write_state(pb, &s, staging, res->increments, 1, ctx));
+    if (cs->fields) PS_CHECK_GOTO(write_state(pb, &s, staging, res->increments, 1, ctx));
     if (fclose(hist) != 0) {
       hist = NULL;
       status = ps_error(ctx, PS_ERR_IO, "%s/history.csv: write failed", staging);
@@ -335,7 +335,49 @@ int ps_run(ps_problem *pb, double delta, const char *out_dir,
   return ps_run_keep(pb, delta, out_dir, res, NULL, ctx);
 }
 
-int ps_griffith(ps_problem *pb, const char *out_dir, double *slope,
+/* value of "key: value" in a summary.txt, NAN if absent */
+static double summary_value(const char *path, const char *key, char *text, size_t len) {
+  FILE *f = fopen(path, "r");
+  char line[512];
+  double v = NAN;
+  size_t kl = strlen(key);
+  if (!f) return NAN;
+  while (fgets(line, sizeof line, f))
+    if (!strncmp(line, key, kl) && line[kl] == ':') {
+      v = strtod(line + kl + 1, NULL);
+      if (text) {
+        snprintf(text, len, "%s", line + kl + 2);
+        text[strcspn(text, "\n")] = '\0';
+      }
+      break;
+    }
+  fclose(f);
+  return v;
+}
+
+/* A finished run of this sweep in dir (same particles, arms and delta)?
+ * Then fill *r from its summary.txt. */
+static int reuse_run(const ps_problem *pb, const char *dir, double delta,
+                     ps_run_result *r) {
+  char path[1400], yes[16] = "";
+  snprintf(path, sizeof path, "%s/summary.txt", dir);
+  if (summary_value(path, "particles", NULL, 0) != (double)pb->P.n ||
+      summary_value(path, "arms", NULL, 0) != (double)pb->net.n_arm ||
+      fabs(summary_value(path, "delta_m", NULL, 0) - delta) > 1e-9 * delta)
+    return 0;
+  memset(r, 0, sizeof *r);
+  r->sigma_y = summary_value(path, "sigma_y_Pa", NULL, 0);
+  r->sigma_peak = summary_value(path, "sigma_failure_Pa", NULL, 0);
+  summary_value(path, "fractured", yes, sizeof yes);
+  r->fractured = !strcmp(yes, "yes");
+  r->increments = (ps_int)summary_value(path, "increments", NULL, 0);
+  r->newton_iterations = (ps_int)summary_value(path, "newton_iterations", NULL, 0);
+  r->arms_broken = (ps_int)summary_value(path, "arms_broken", NULL, 0);
+  r->wall = summary_value(path, "wall_s", NULL, 0);
+  return isfinite(r->sigma_peak) && isfinite(r->sigma_y) && r->sigma_y > 0;
+}
+
+int ps_griffith(ps_problem *pb, const char *out_dir, int resume, double *slope,
                 double *intercept, double *r2, int *n_fractured, ps_ctx *ctx) {
   const ps_case *cs = &pb->cs;
   int n = cs->n_sweep, status = PS_OK, nf = 0;
@@ -350,14 +392,25 @@ int ps_griffith(ps_problem *pb, const char *out_dir, double *slope,
                     "disk): delta is swept as a fraction of c",
                     cs->path);
   if (n < 1) return ps_error(ctx, PS_ERR_INPUT, "%s: griffith sweep is empty", cs->path);
-  snprintf(staging, sizeof staging, "%s.partial", out_dir);
-  PS_CHECK(ps_rm_rf(staging, ctx));
+  /* a fresh sweep is staged and renamed at the end; a resumed one works in
+   * out_dir itself, one atomic folder per run, and reuses finished runs */
+  if (resume) {
+    snprintf(staging, sizeof staging, "%s", out_dir);
+  } else {
+    snprintf(staging, sizeof staging, "%s.partial", out_dir);
+    PS_CHECK(ps_rm_rf(staging, ctx));
+  }
   PS_CHECK(ps_mkdir_p(staging, ctx));
   for (int i = 0; i < n; i++) {
     double dc = cs->sweep_delta_over_c[i];
-    ps_log(ctx, 1, "## griffith run %d/%d: delta = c/%.6g\n", i + 1, n, 1.0 / dc);
     snprintf(path, sizeof path, "%s/delta_c%04.0f", staging, 1.0 / dc);
-    PS_CHECK(ps_run(pb, dc * pb->c, path, &res[i], ctx));
+    if (resume && reuse_run(pb, path, dc * pb->c, &res[i])) {
+      ps_log(ctx, 1, "## griffith run %d/%d: delta = c/%.6g: reusing %s\n", i + 1, n,
+             1.0 / dc, path);
+    } else {
+      ps_log(ctx, 1, "## griffith run %d/%d: delta = c/%.6g\n", i + 1, n, 1.0 / dc);
+      PS_CHECK(ps_run(pb, dc * pb->c, path, &res[i], ctx));
+    }
     if (res[i].fractured) {
       xs[nf] = sqrt(dc);
       ys[nf] = res[i].sigma_peak / res[i].sigma_y;
@@ -407,7 +460,7 @@ int ps_griffith(ps_problem *pb, const char *out_dir, double *slope,
           cs->name, *slope, *intercept, *r2, isfinite(*intercept) ? *intercept : 0.0,
           isfinite(*slope) ? *slope : 0.0, nominal);
   PS_CHECK(ps_outfile_commit(&o, ctx));
-  PS_CHECK(ps_dir_commit(staging, out_dir, ctx));
+  if (!resume) PS_CHECK(ps_dir_commit(staging, out_dir, ctx));
   if (PS_GNUPLOT[0]) {
     char cmd[2600];
     snprintf(cmd, sizeof cmd, "cd '%s' && '%s' griffith.gp 2>/dev/null", out_dir,

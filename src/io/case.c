@@ -65,6 +65,7 @@ void ps_case_defaults(ps_case *cs) {
   cs->max_break_rounds = 500;
   cs->out_dir[0] = '\0';
   cs->vtk_every = 10;
+  cs->fields = 1;
   cs->verbosity = 1;
   cs->n_sweep = 12; /* delta/c = 1/500, 1/750, ..., 1/3250 */
   for (int i = 0; i < cs->n_sweep; i++)
@@ -654,7 +655,8 @@ static int on_path(loader *L, void *arg, const char *key, const char *name,
   return get_int(L, v, name, 1, INT_MAX, &cs->max_break_rounds);
 }
 
-static const char *const output_keys[] = {"dir", "vtk_every", "verbosity", NULL};
+static const char *const output_keys[] = {"dir", "vtk_every", "fields", "verbosity",
+                                          NULL};
 
 static int on_output(loader *L, void *arg, const char *key, const char *name,
                      yaml_node_t *v) {
@@ -662,6 +664,7 @@ static int on_output(loader *L, void *arg, const char *key, const char *name,
   (void)arg;
   if (IS("dir")) return get_string(L, v, name, cs->out_dir, sizeof cs->out_dir);
   if (IS("vtk_every")) return get_int(L, v, name, 0, INT_MAX, &cs->vtk_every);
+  if (IS("fields")) return get_bool(L, v, name, &cs->fields);
   return get_int(L, v, name, 0, 3, &cs->verbosity);
 }
 

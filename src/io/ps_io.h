@@ -96,6 +96,8 @@ typedef struct ps_case {
   /* output */
   char out_dir[1024];  /* "" (default): the caller uses out/<name> */
   int vtk_every;       /* write VTK every n increments (0: last only), 10 */
+  int fields;          /* 0: no VTK and no particles.csv, only
+                          history.csv and summary.txt (default 1) */
   int verbosity;       /* 0 quiet, 1 progress, 2 Newton detail, 3 source
                           locations in errors (default 1) */
 

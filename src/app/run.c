@@ -335,6 +335,15 @@ int ps_run(ps_problem *pb, double delta, const char *out_dir,
   return ps_run_keep(pb, delta, out_dir, res, NULL, ctx);
 }
 
+/* "%.8g" of v, or "n/a" when v is not finite (no NaN in outputs) */
+static const char *fmt_or_na(double v, char *buf, size_t len) {
+  if (isfinite(v))
+    snprintf(buf, len, "%.8g", v);
+  else
+    snprintf(buf, len, "n/a");
+  return buf;
+}
+
 /* value of "key: value" in a summary.txt, NAN if absent */
 static double summary_value(const char *path, const char *key, char *text, size_t len) {
   FILE *f = fopen(path, "r");
@@ -383,7 +392,7 @@ int ps_griffith(ps_problem *pb, const char *out_dir, int resume, double *slope,
   int n = cs->n_sweep, status = PS_OK, nf = 0;
   double xs[PS_MAX_SWEEP], ys[PS_MAX_SWEEP];
   ps_run_result res[PS_MAX_SWEEP];
-  char staging[1100], path[1300];
+  char staging[1100], path[1300], b1[32], b2[32], b3[32];
   *slope = *intercept = *r2 = NAN;
   *n_fractured = 0;
   if (!(pb->c > 0))
@@ -437,10 +446,12 @@ int ps_griffith(ps_problem *pb, const char *out_dir, int resume, double *slope,
   PS_CHECK(ps_outfile_open(&o, path, ctx));
   fprintf(o.f,
           "# least-squares line sigma_failure/sigma_y = intercept + slope "
-          "sqrt(delta/c)\n# over the runs that fractured\nruns: %d\nfractured: %d\n"
-          "slope: %.8g\nintercept: %.8g\nr2: %.8g\nnominal_griffith_slope: %.8g\n"
+          "sqrt(delta/c)\n# over the runs that fractured (n/a: fewer than two)\n"
+          "runs: %d\nfractured: %d\nslope: %s\nintercept: %s\nr2: %s\n"
+          "nominal_griffith_slope: %.8g\n"
           "# nominal slope sqrt(2/(pi eps_y)) of Eq. 106/109; see doc/griffith.md\n",
-          n, nf, *slope, *intercept, *r2, nominal);
+          n, nf, fmt_or_na(*slope, b1, sizeof b1), fmt_or_na(*intercept, b2, sizeof b2),
+          fmt_or_na(*r2, b3, sizeof b3), nominal);
   PS_CHECK(ps_outfile_commit(&o, ctx));
   snprintf(path, sizeof path, "%s/griffith.gp", staging);
   PS_CHECK(ps_outfile_open(&o, path, ctx));
@@ -451,9 +462,9 @@ int ps_griffith(ps_problem *pb, const char *out_dir, int resume, double *slope,
           "set xlabel 'sqrt(delta / c)'\nset ylabel 'sigma_failure / sigma_yield'\n"
           "set title 'Griffith check: %s (slope %.4g, intercept %.3g, R^2 %.4f)'\n"
           "set xrange [0:*]\nset yrange [0:*]\n"
-          "plot 'griffith.csv' every ::1 using ($4 eq \"yes\" ? $2 : 1/0):3 with points "
+          "plot 'griffith.csv' every ::1 using (strcol(4) eq \"yes\" ? $2 : 1/0):3 with points "
           "pt 7 ps 1.5 title 'fractured', \\\n"
-          "     'griffith.csv' every ::1 using ($4 eq \"no\" ? $2 : 1/0):3 with points "
+          "     'griffith.csv' every ::1 using (strcol(4) eq \"no\" ? $2 : 1/0):3 with points "
           "pt 6 ps 1.5 title 'no fracture (peak load)', \\\n"
           "     %.10g + %.10g*x title 'least-squares fit' lw 2, \\\n"
           "     %.10g*x title 'nominal Griffith sqrt(2/(pi eps_y)) x' dt 2\n",

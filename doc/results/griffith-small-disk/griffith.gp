@@ -1,0 +1,14 @@
+# gnuplot script: sigma_failure/sigma_y against sqrt(delta/c)
+set terminal pngcairo size 800,600 noenhanced
+set output 'griffith.png'
+set datafile separator ','
+set key top left
+set xlabel 'sqrt(delta / c)'
+set ylabel 'sigma_failure / sigma_yield'
+set title 'Griffith check: small-disk-sweep (slope 36.76, intercept -0.0935, R^2 0.9962)'
+set xrange [0:*]
+set yrange [0:*]
+plot 'griffith.csv' every ::1 using (strcol(4) eq "yes" ? $2 : 1/0):3 with points pt 7 ps 1.5 title 'fractured', \
+     'griffith.csv' every ::1 using (strcol(4) eq "no" ? $2 : 1/0):3 with points pt 6 ps 1.5 title 'no fracture (peak load)', \
+     -0.09349397731 + 36.7598981*x title 'least-squares fit' lw 2, \
+     17.84124116*x title 'nominal Griffith sqrt(2/(pi eps_y)) x' dt 2

@@ -41,23 +41,27 @@ EOC
 
 val() { awk -F': ' -v k="$2" '$1 == k {print $2}' "$1"; }
 
-run_case() { # name n_eta n_xi kind linear reuse repeats
-  f=$(make_case "$1" "$2" "$3" "$4" "$5" "$6")
+# run CASE-FILE NAME KIND LINEAR REUSE REPEATS: run and append one row each
+run_file() {
   r=1
-  while [ "$r" -le "$7" ]; do
-    "$bin" run -q -o "$work/out" "$f" >/dev/null
+  while [ "$r" -le "$6" ]; do
+    "$bin" run -q -o "$work/out" "$1" >/dev/null
     s="$work/out/summary.txt"
-    printf '%s,%s,%s,%s,%s,%s,%s,%s' "$1" "$4" "$(val "$s" particles)" "$(val "$s" arms)" \
-      "$(val "$s" free_dofs)" "$5" "$6" "$r" >> "$csv"
+    printf '%s,%s,%s,%s,%s,%s,%s,%s' "$2" "$3" "$(val "$s" particles)" "$(val "$s" arms)" \
+      "$(val "$s" free_dofs)" "$4" "$5" "$r" >> "$csv"
     for k in network_s assembly_s analyze_s factor_s solve_s increments newton_iterations \
              factorisations cg_iterations nnz_tangent_upper nnz_factor flops_factor \
              sigma_failure_over_sigma_y wall_s peak_memory_MiB; do
       printf ',%s' "$(val "$s" $k)" >> "$csv"
     done
     printf '\n' >> "$csv"
-    echo "bench: $1 ($4, $5, reuse $6) repeat $r: $(val "$s" wall_s) s" >&2
+    echo "bench: $2 ($3, $4, reuse $5) repeat $r: $(val "$s" wall_s) s" >&2
     r=$((r + 1))
   done
+}
+
+run_case() { # name n_eta n_xi kind linear reuse repeats
+  run_file "$(make_case "$1" "$2" "$3" "$4" "$5" "$6")" "$1" "$4" "$5" "$6" "$7"
 }
 
 # elastic solves (one increment) at growing size: network, assembly,
@@ -75,6 +79,32 @@ fi
 for lin in cholmod cholmod-simplicial umfpack; do
   run_case disk-10k-elastic-$lin 14 28 elastic "$lin" false 1
 done
+# a 3D box (elastic solve, uniaxial grips): the two-horizon stencil in 3D
+# is ~8x denser than in 2D, so alpha = 3.5 and 20^3 particles here
+box3d() {
+  f="$work/box3d-$1.yaml"
+  cat > "$f" <<EOC
+name: box3d-$1
+geometry: {type: box, dim: 3, counts: [$1, $1, $1], spacing: 1.0e-3, lattice: square}
+kernel: {alpha: 3.5}
+material: {E: 210.0e9, nu: 0.3, yield_strain: 0.002, plastic: false}
+loading:
+  type: boundary
+  boundary:
+    - select: {x_max: 0.0015}
+      fix: [x, y, z]
+    - select: {x_min: $(awk -v n="$1" 'BEGIN {printf "%.4f", (n - 1.5) * 1e-3}')}
+      displace: {x: 1.0e-6}
+      measure: true
+path: {load_step: 1.0, max_load: 1.0}
+output: {fields: false}
+EOC
+  echo "$f"
+}
+for n3 in 12 20; do
+  run_file "$(box3d "$n3")" "box3d-$n3" elastic cholmod true "$reps"
+done
+
 # full runs to fracture (delta = c/1000): factor reuse on and off
 run_case disk-1.8k-fracture 6 12 fracture cholmod true "$reps"
 run_case disk-1.8k-fracture 6 12 fracture cholmod false 1
@@ -105,7 +135,7 @@ awk -F, 'NR > 1 {
       mw = median(w, k, n[k]); mf = median(fa, k, n[k])
       printf "%-32s %-18s %5s %7d %9d %9.3g %10.3g %9.3g %9.3f %6d %6d %6d %8.3f %9.1f\n", p[1], p[2], p[3],
         n[k], size[k], nnz[k], nl[k], fl[k], mw, its[k], fac[k], cg[k], mf, mem[k]
-      if (kind[k] == "elastic" && p[2] == "cholmod" && p[3] == "true") {
+      if (kind[k] == "elastic" && p[1] ~ /^disk-[0-9.]+k-elastic$/ && p[2] == "cholmod" && p[3] == "true") {
         m++; lx[m] = log(size[k]); ly[m] = log(mw); lf[m] = log(mf / (fac[k] > 0 ? fac[k] : 1))
       }
     }

@@ -32,7 +32,7 @@ name: $1
 geometry: {type: disk, n_eta: $2, n_xi: $3, per_zone: 5, jitter: 0.1, seed: 11}
 material: {E: 210.0e9, nu: 0.3, plane: strain, yield_strain: 0.002, plastic: $plastic, delta_over_c: 0.001}
 loading: {type: eq116}
-solver: {linear: $5, reuse_factor: $6}
+solver: {linear: $5, reuse_factor: $6, reanalyze: ${REANALYZE:-false}}
 path: {load_step: $step, load_step_after_break: 0.01, max_load: $maxload}
 output: {vtk_every: 0}
 EOC
@@ -79,6 +79,8 @@ fi
 for lin in cholmod cholmod-simplicial umfpack; do
   run_case disk-10k-elastic-$lin 14 28 elastic "$lin" false 1
 done
+# fresh symbolic analysis before every factorisation, for comparison
+REANALYZE=true run_case disk-10k-elastic-reanalyze 14 28 elastic cholmod false 1
 # a 3D box (elastic solve, uniaxial grips): the two-horizon stencil in 3D
 # is ~8x denser than in 2D, so alpha = 3.5 and 20^3 particles here
 box3d() {

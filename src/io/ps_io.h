@@ -80,6 +80,8 @@ typedef struct ps_case {
   int reuse_factor;    /* CG preconditioned by the last factor, default 1 */
   double cg_tolerance; /* its relative tolerance, default 1e-6 */
   int cg_max_iterations; /* default 25 */
+  int reanalyze;       /* symbolic analysis before every factorisation
+                          (benchmark comparison), default 0 */
 
   /* path following */
   double load_step;    /* load factor increment, default 0.02 */

@@ -26,7 +26,7 @@ void ps_linsolve_destroy(ps_linsolve *ls) {
 
 int ps_linsolve_factor(ps_linsolve *ls, const ps_csc *A, ps_int *bad_col,
                        ps_ctx *ctx) {
-  if (!ls->analysed) {
+  if (!ls->analysed || ls->reanalyze) {
     PS_CHECK(ls->type->analyze(ls->state, A, &ls->stats, ctx));
     ls->analysed = 1;
   }

@@ -47,6 +47,8 @@ typedef struct ps_linsolve {
   const ps_linsolve_type *type;
   void *state;
   int analysed;
+  int reanalyze;            /* 1: symbolic analysis before every factor
+                               (for comparison only; default 0) */
   ps_linsolve_stats stats;
 } ps_linsolve;
 

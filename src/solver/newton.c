@@ -15,6 +15,7 @@ void ps_solver_opts_default(ps_solver_opts *o) {
   o->reuse_factor = 1;
   o->pcg_rtol = 1e-6;
   o->pcg_max_iterations = 25;
+  o->reanalyze = 0;
 }
 
 void ps_solver_free(ps_solver *s) {
@@ -108,6 +109,7 @@ int ps_solver_create(ps_solver *s, const ps_particles *P,
   PS_CHECK_GOTO(ps_arm_state_alloc(&s->st, net->n_arm, ctx));
   PS_CHECK_GOTO(ps_arm_state_alloc(&s->st_saved, net->n_arm, ctx));
   PS_CHECK_GOTO(ps_linsolve_create(&s->ls, opts->linear, ctx));
+  s->ls.reanalyze = opts->reanalyze;
   ps_int nf = s->sys.n_free;
   s->u = ps_calloc((size_t)nd, sizeof *s->u, ctx);
   s->u_saved = ps_calloc((size_t)nd, sizeof *s->u, ctx);

@@ -811,6 +811,22 @@ static void test_eq116(void) {
   }
 }
 
+/* A disk whose crack line xi = 0 would cut through a row of sub-cells
+ * (odd n_xi * per_zone with a symmetric xi range: one row would sit on the
+ * crack and bridge it) is refused. */
+static void test_disk_crack_row(ps_ctx *ctx) {
+  ps_disk_params dp;
+  ps_disk_params_default(&dp);
+  dp.n_eta = 4;
+  dp.n_xi = 7;
+  dp.per_zone = 5;
+  ps_particles P;
+  int st = ps_geom_disk(&P, &dp, ctx);
+  ps_check(st == PS_ERR_INPUT && strstr(ctx->msg, "sub-cell boundary"),
+           "disk with n_xi * per_zone = 35 (crack through a row) refused: %s", ctx->msg);
+  if (st == PS_OK) ps_particles_free(&P);
+}
+
 int main(int argc, char **argv) {
   small_mode = argc > 1 && strcmp(argv[1], "small") == 0;
   ps_ctx ctx;
@@ -823,6 +839,7 @@ int main(int argc, char **argv) {
   test_network_box(&ctx);
   test_network_crack(&ctx);
   test_disk_geometry(&ctx);
+  test_disk_crack_row(&ctx);
   test_disk_network(&ctx);
   test_eq116();
   printf("t100_network: %.2f s in all (information only)\n", ps_wtime() - t0);

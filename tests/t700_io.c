@@ -159,7 +159,7 @@ static void test_cloud_case(void) {
                cs.bc[0].displace_set[0] && cs.bc[0].displace[0] == 0 &&
                cs.bc[0].sel.lo[2] == 0.5 && cs.bc[1].fix[2],
            "cloud3d: z components accepted (dim given later)");
-  ps_check(cs.delta_over_c == 2e-3 && isnan(cs.mat.delta), "cloud3d: delta_over_c");
+  ps_check(cs.mat.delta == 2e-3 && cs.delta_over_c == 0.0, "cloud3d: delta in metres");
   ps_check(cs.n_sweep == 3 && cs.sweep_delta_over_c[2] == 4e-3, "cloud3d: sweep list");
 
   ps_particles p;
@@ -208,6 +208,8 @@ static void test_bad_cases(void) {
            (const char *const[]){"kernel.alpha must be > 0", "(got 0)", NULL});
   bad_case("bad_alpha_neg.yaml", PS_ERR_INPUT, 4,
            (const char *const[]){"kernel.alpha must be > 0", "(got -1)", NULL});
+  bad_case("bad_delta_over_c_box.yaml", PS_ERR_INPUT, 5,
+           (const char *const[]){"material.delta_over_c needs geometry.type disk", NULL});
   bad_case("bad_nu.yaml", PS_ERR_INPUT, 2,
            (const char *const[]){"material.nu", "(-1, 0.5)", "0.5", NULL});
   bad_case("bad_number.yaml", PS_ERR_INPUT, 2,

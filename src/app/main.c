@@ -169,6 +169,16 @@ int main(int argc, char **argv) {
     snprintf(outdir, sizeof outdir, "%s", cs.out_dir);
   else
     snprintf(outdir, sizeof outdir, "out/%s", cs.name);
+  /* "out/x/" would stage into out/x/.partial and then fail to rename */
+  size_t ol = strlen(outdir);
+  while (ol > 1 && outdir[ol - 1] == '/') outdir[--ol] = '\0';
+  const char *base = strrchr(outdir, '/');
+  base = base ? base + 1 : outdir;
+  if (!strcmp(base, ".") || !strcmp(base, "..") || !strcmp(outdir, "/") || !outdir[0]) {
+    fprintf(stderr, "peristatic: output directory '%s' must name a folder of its own\n",
+            outdir);
+    return 1;
+  }
   ps_problem pb;
   double t0 = ps_wtime();
   status = ps_problem_setup(&pb, &cs, &ctx);
@@ -180,10 +190,11 @@ int main(int argc, char **argv) {
     ps_int nfree = 0, nd = (ps_int)pb.P.dim * pb.P.n;
     for (ps_int j = 0; j < nd; j++) nfree += !pb.fixed[j];
     printf("case: %s\nparticles: %lld\narms: %lld\narms_per_particle: %.2f\n"
-           "size_ratio_max_over_min: %.1f\nfree_dofs: %lld\nsetup_s: %.3f\n",
+           "size_ratio_max_over_min: %.1f\nfree_dofs: %lld\ncase_fingerprint: %016llx\n"
+           "setup_s: %.3f\n",
            cs.name, (long long)pb.P.n, (long long)pb.net.n_arm,
            2.0 * pb.net.n_arm / pb.P.n, pb.net.max_h_ratio, (long long)nfree,
-           ps_wtime() - t0);
+           (unsigned long long)ps_case_fingerprint(&cs), ps_wtime() - t0);
   } else if (!strcmp(cmd, "run")) {
     ps_run_result res;
     status = ps_run(&pb, pb.mat.delta, outdir, &res, &ctx);

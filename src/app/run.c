@@ -140,7 +140,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
       goto cleanup;
     }
     fprintf(hist, "step,load_factor,boundary_stress_Pa,stress_over_sigma_y,"
-                  "newton_iterations,relative_residual,arms_yielding,arms_broken,"
+                  "newton_iterations,relative_residual,converged,arms_yielding,arms_broken,"
                   "crack_tip_over_c,wall_s\n");
   }
   ps_log(ctx, 1, "# %s: %lld particles, %lld arms, %lld free dofs, delta %s%.4g m\n",
@@ -155,6 +155,9 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
            cs->max_increments);
   for (int step = 1; step <= cs->max_increments; step++) {
     double target = s.lambda + dl;
+    static const char *const why[] = {"converged", "no convergence within "
+                                      "solver.max_iterations", "line search failed",
+                                      "residual not finite", "singular tangent"};
     if (target > cs->max_load - 1e-9 * dl) target = cs->max_load; /* no sliver */
     ps_int its0 = s.newton_iterations;
     status = ps_solver_step(&s, target, ctx);
@@ -163,15 +166,16 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
       res->step_cuts++;
       dl *= 0.5;
       good_in_a_row = 0;
-      ps_log(ctx, 1, "  step %d: Newton did not converge (reason %d, residual %.2e); "
-                     "cutting the increment to %.4g\n",
-             step, s.last_reason, s.last_residual, dl);
+      ps_log(ctx, 1, "  step %d: Newton did not converge at load factor %.6g (%s, "
+                     "residual %.2e); cutting the increment to %.4g\n",
+             step, target, why[s.last_reason], s.last_residual, dl);
       if (dl < cs->min_step) {
         status = ps_error(ctx, PS_ERR_SOLVER,
-                          "%s: Newton diverged at load factor %.6g (increment below "
-                          "path.min_step = %g; last relative residual %.3e). Try a "
-                          "smaller path.load_step or solver.linear: umfpack",
-                          cs->path, s.lambda + dl * 2, cs->min_step, s.last_residual);
+                          "%s: Newton diverged at load factor %.6g (%s; the increment "
+                          "is below path.min_step = %g; last relative residual %.3e). "
+                          "Try a smaller path.load_step or solver.linear: umfpack",
+                          cs->path, target, why[s.last_reason], cs->min_step,
+                          s.last_residual);
         goto cleanup;
       }
       step--;
@@ -213,13 +217,16 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
     if (broken_total > 0) dl_nominal = fmin(dl_nominal, cs->load_step_after_break);
     if (++good_in_a_row >= 2 && dl < dl_nominal) dl = fmin(2 * dl, dl_nominal);
     if (dl > dl_nominal) dl = dl_nominal;
+    int converged = settle == PS_OK;
+    if (!converged) /* make T, q, dl those of u (a rejected trial may linger) */
+      PS_CHECK_GOTO(ps_solver_evaluate(&s, ctx));
     double sig = ps_post_boundary_stress(&pb->net, s.sys.T, s.sys.q, pb->measure,
                                         pb->measure_length);
     double tip = pb->c > 0 ? ps_post_crack_tip(&pb->P, &pb->net, &s.st, pb->c) : 0.0;
     ps_int ny = ps_solver_count_yielding(&s);
     int its = (int)(s.newton_iterations - its0);
     res->increments = step;
-    if (sig > peak) {
+    if (converged && sig > peak) { /* an unconverged state sets no peak */
       peak = sig;
       res->lambda_peak = s.lambda;
     }
@@ -227,13 +234,13 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
            sig / mat.sigma_y, its, s.last_residual, (long long)ny, (long long)broken_total,
            tip);
     if (hist)
-      fprintf(hist, "%d,%.10g,%.10g,%.10g,%d,%.4g,%lld,%lld,%.6g,%.4f\n", step, s.lambda,
-              sig, sig / mat.sigma_y, its, s.last_residual, (long long)ny,
-              (long long)broken_total, tip, ps_wtime() - t0);
+      fprintf(hist, "%d,%.10g,%.10g,%.10g,%d,%.4g,%d,%lld,%lld,%.6g,%.4f\n", step,
+              s.lambda, sig, sig / mat.sigma_y, its, s.last_residual, converged,
+              (long long)ny, (long long)broken_total, tip, ps_wtime() - t0);
     if (out_dir && cs->fields && cs->vtk_every > 0 && step % cs->vtk_every == 0)
       PS_CHECK_GOTO(write_state(pb, &s, staging, step, 0, ctx));
-    res->crack_tip = tip;
-    if (settle == PS_DIVERGED) {
+    if (converged) res->crack_tip = tip;
+    if (!converged) {
       res->fractured = broken_total > 0;
       snprintf(res->stop_reason, sizeof res->stop_reason,
                "re-equilibration after breaking arms did not converge at load factor "
@@ -283,7 +290,8 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
          (long long)res->newton_iterations, res->wall);
   if (out_dir) {
     if (cs->fields) PS_CHECK_GOTO(write_state(pb, &s, staging, res->increments, 1, ctx));
-    if (fclose(hist) != 0) {
+    int bad = ferror(hist);
+    if (fclose(hist) != 0 || bad) {
       hist = NULL;
       status = ps_error(ctx, PS_ERR_IO, "%s/history.csv: write failed", staging);
       goto cleanup;
@@ -301,7 +309,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
             "crack_tip_over_c: %.6g\nwall_s: %.3f\nassembly_s: %.3f\nanalyze_s: %.3f\n"
             "factor_s: %.3f\nsolve_s: %.3f\nnetwork_s: %.3f\npeak_memory_MiB: %.1f\n"
             "cg_iterations: %lld\ncg_failures: %lld\nsolves: %lld\nnnz_tangent_upper: %.0f\n"
-            "nnz_factor: %.0f\nflops_factor: %.4g\n",
+            "nnz_factor: %.0f\nflops_factor: %.4g\ncase_fingerprint: %016llx\n",
             cs->name, (long long)pb->P.n, (long long)pb->net.n_arm,
             (long long)s.sys.n_free, delta, mat.sigma_y, peak, peak / mat.sigma_y,
             res->lambda_peak, res->fractured ? "yes" : "no", res->stop_reason,
@@ -311,7 +319,8 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
             res->wall, res->t_assembly, res->t_analyze, res->t_factor, res->t_solve,
             pb->t_network, ps_peak_mib(), (long long)res->pcg_iterations,
             (long long)res->pcg_failures, (long long)res->solves, res->nnz_tangent,
-            res->nnz_factor, res->flops_factor);
+            res->nnz_factor, res->flops_factor,
+            (unsigned long long)ps_case_fingerprint(cs));
     PS_CHECK_GOTO(ps_outfile_commit(&o, ctx));
     PS_CHECK_GOTO(ps_dir_commit(staging, out_dir, ctx));
   }
@@ -369,8 +378,11 @@ static double summary_value(const char *path, const char *key, char *text, size_
  * Then fill *r from its summary.txt. */
 static int reuse_run(const ps_problem *pb, const char *dir, double delta,
                      ps_run_result *r) {
-  char path[1400], yes[16] = "";
+  char path[1400], yes[16] = "", fp[32] = "", want[32];
   snprintf(path, sizeof path, "%s/summary.txt", dir);
+  snprintf(want, sizeof want, "%016llx", (unsigned long long)ps_case_fingerprint(&pb->cs));
+  summary_value(path, "case_fingerprint", fp, sizeof fp);
+  if (strcmp(fp, want) != 0) return 0;
   if (summary_value(path, "particles", NULL, 0) != (double)pb->P.n ||
       summary_value(path, "arms", NULL, 0) != (double)pb->net.n_arm ||
       fabs(summary_value(path, "delta_m", NULL, 0) - delta) > 1e-9 * delta)
@@ -413,13 +425,21 @@ int ps_griffith(ps_problem *pb, const char *out_dir, int resume, double *slope,
   PS_CHECK(ps_mkdir_p(staging, ctx));
   for (int i = 0; i < n; i++) {
     double dc = cs->sweep_delta_over_c[i];
-    snprintf(path, sizeof path, "%s/delta_c%04.0f", staging, 1.0 / dc);
+    snprintf(path, sizeof path, "%s/delta_c%.6g", staging, 1.0 / dc);
     if (resume && reuse_run(pb, path, dc * pb->c, &res[i])) {
       ps_log(ctx, 1, "## griffith run %d/%d: delta = c/%.6g: reusing %s\n", i + 1, n,
              1.0 / dc, path);
     } else {
       ps_log(ctx, 1, "## griffith run %d/%d: delta = c/%.6g\n", i + 1, n, 1.0 / dc);
-      PS_CHECK(ps_run(pb, dc * pb->c, path, &res[i], ctx));
+      status = ps_run(pb, dc * pb->c, path, &res[i], ctx);
+      if (status < 0) {
+        size_t l = strlen(ctx->msg);
+        snprintf(ctx->msg + l, sizeof ctx->msg - l,
+                 "\n(the runs finished so far are in %s; `peristatic griffith --resume "
+                 "-o %s CASE` continues there)",
+                 staging, staging);
+        return status;
+      }
     }
     if (res[i].fractured) {
       xs[nf] = sqrt(dc);
@@ -461,7 +481,7 @@ int ps_griffith(ps_problem *pb, const char *out_dir, int resume, double *slope,
           "set terminal pngcairo size 800,600 noenhanced\nset output 'griffith.png'\n"
           "set datafile separator ','\nset key top left\n"
           "set xlabel 'sqrt(delta / c)'\nset ylabel 'sigma_failure / sigma_yield'\n"
-          "set title 'Griffith check: %s (slope %.4g, intercept %.3g, R^2 %.4f)'\n"
+          "set title 'Griffith check: %s (slope %s, intercept %s, R^2 %s)'\n"
           "set xrange [0:*]\nset yrange [0:*]\n"
           "plot 'griffith.csv' every ::1 using (strcol(4) eq \"yes\" ? $2 : 1/0):3 with points "
           "pt 7 ps 1.5 title 'fractured', \\\n"
@@ -469,7 +489,8 @@ int ps_griffith(ps_problem *pb, const char *out_dir, int resume, double *slope,
           "pt 6 ps 1.5 title 'no fracture (peak load)', \\\n"
           "     %.10g + %.10g*x title 'least-squares fit' lw 2, \\\n"
           "     %.10g*x title 'nominal Griffith sqrt(2/(pi eps_y)) x' dt 2\n",
-          cs->name, *slope, *intercept, *r2, isfinite(*intercept) ? *intercept : 0.0,
+          cs->name, fmt_or_na(*slope, b1, sizeof b1), fmt_or_na(*intercept, b2, sizeof b2),
+          fmt_or_na(*r2, b3, sizeof b3), isfinite(*intercept) ? *intercept : 0.0,
           isfinite(*slope) ? *slope : 0.0, nominal);
   PS_CHECK(ps_outfile_commit(&o, ctx));
   if (!resume) PS_CHECK(ps_dir_commit(staging, out_dir, ctx));
@@ -481,8 +502,9 @@ int ps_griffith(ps_problem *pb, const char *out_dir, int resume, double *slope,
       ps_log(ctx, 1, "# warning: gnuplot failed; the plot script is %s/griffith.gp\n",
              out_dir);
   }
-  ps_log(ctx, 1, "## griffith: %d of %d runs fractured; slope %.5g, intercept %.4g, "
-                 "R^2 %.5f (nominal slope %.5g)\n",
-         nf, n, *slope, *intercept, *r2, nominal);
+  ps_log(ctx, 1, "## griffith: %d of %d runs fractured; slope %s, intercept %s, R^2 %s "
+                 "(nominal slope %.5g)\n",
+         nf, n, fmt_or_na(*slope, b1, sizeof b1), fmt_or_na(*intercept, b2, sizeof b2),
+         fmt_or_na(*r2, b3, sizeof b3), nominal);
   return status;
 }

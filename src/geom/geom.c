@@ -59,6 +59,8 @@ int ps_geom_box(ps_particles *p, int dim, const ps_int counts[3], double d,
   for (int k = 0; k < dim; k++) {
     if (counts[k] < 1)
       return ps_error(ctx, PS_ERR_INPUT, "particle count along axis %d must be >= 1", k);
+    if (counts[k] > ((ps_int)1 << 40) / n)
+      return ps_error(ctx, PS_ERR_INPUT, "too many particles (counts along axis %d)", k);
     n *= counts[k];
   }
   PS_CHECK(ps_particles_alloc(p, dim, n, ctx));
@@ -117,6 +119,19 @@ int ps_geom_disk(ps_particles *p, const ps_disk_params *dp, ps_ctx *ctx) {
     return ps_error(ctx, PS_ERR_INPUT, "disk.jitter must be in [0, 0.5) (got %g)",
                     dp->jitter);
   int m = dp->per_zone;
+  if ((double)dp->n_eta * dp->n_xi * m * m > (double)((ps_int)1 << 40))
+    return ps_error(ctx, PS_ERR_INPUT, "disk: too many particles");
+  {
+    /* the crack (xi = 0) must fall on a sub-cell boundary, else a row of
+     * particles straddles it (or sits on it and bridges the crack) */
+    double cells = -dp->xi_min / ((dp->xi_max - dp->xi_min) / (dp->n_xi * m));
+    if (fabs(cells - floor(cells + 0.5)) > 1e-9)
+      return ps_error(ctx, PS_ERR_INPUT,
+                      "disk: xi = 0 (the crack) must lie on a sub-cell boundary: with "
+                      "xi in (%g, %g), n_xi * per_zone = %d puts it %.3g cells from "
+                      "xi_min (use an even n_xi * per_zone for a symmetric range)",
+                      dp->xi_min, dp->xi_max, dp->n_xi * m, cells);
+  }
   ps_int n = (ps_int)dp->n_eta * dp->n_xi * m * m;
   PS_CHECK(ps_particles_alloc(p, 2, n, ctx));
   p->zone_xi = ps_calloc((size_t)n, sizeof *p->zone_xi, ctx);

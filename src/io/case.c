@@ -786,6 +786,10 @@ static int cross_checks(loader *L) {
     return fail(L, L->line_type, "geometry.type cloud needs geometry.file");
   if (cs->n_cracks > 0 && cs->dim == 3)
     return fail(L, L->line_cracks, "geometry.cracks are 2D only (geometry.dim is 3)");
+  if (L->line_delta_over_c && cs->geometry != PS_GEOM_DISK)
+    return fail(L, L->line_delta_over_c,
+                "material.delta_over_c needs geometry.type disk (c is the disk's half "
+                "crack length): give material.delta in metres");
   if (L->line_delta && L->line_delta_over_c)
     return fail(L, L->line_delta,
                 "material.delta and material.delta_over_c (line %d) are both given: "
@@ -923,4 +927,54 @@ cleanup:
   fclose(f);
   free(work);
   return status;
+}
+
+/* FNV-1a over the bytes of a formatted description */
+static void fnv(uint64_t *h, const char *s) {
+  for (; *s; s++) {
+    *h ^= (unsigned char)*s;
+    *h *= 1099511628211ULL;
+  }
+}
+
+uint64_t ps_case_fingerprint(const ps_case *cs) {
+  uint64_t h = 1469598103934665603ULL;
+  char b[1600];
+  const ps_disk_params *dp = &cs->disk;
+  const ps_material *m = &cs->mat;
+  snprintf(b, sizeof b, "g%d d%d disk %.17g %d %d %d %.17g %.17g %.17g %lu", cs->geometry,
+           cs->dim, dp->c, dp->n_eta, dp->n_xi, dp->per_zone, dp->xi_min, dp->xi_max,
+           dp->jitter, dp->seed);
+  fnv(&h, b);
+  snprintf(b, sizeof b, "box %lld %lld %lld %.17g %s %.17g %lu cloud %s size %d %d",
+           (long long)cs->counts[0], (long long)cs->counts[1], (long long)cs->counts[2],
+           cs->spacing, cs->lattice, cs->jitter, cs->seed, cs->cloud_file, cs->size_rule,
+           cs->size_neighbours);
+  fnv(&h, b);
+  for (int i = 0; i < cs->n_cracks; i++) {
+    snprintf(b, sizeof b, "crack %.17g %.17g %.17g %.17g", cs->cracks[i].p0[0],
+             cs->cracks[i].p0[1], cs->cracks[i].p1[0], cs->cracks[i].p1[1]);
+    fnv(&h, b);
+  }
+  snprintf(b, sizeof b, "kernel %.17g %d model %s E %.17g nu %.17g plane %d ey %.17g "
+           "plastic %d rho %.17g rule %d load %d len %.17g",
+           cs->alpha, cs->kernel_k, cs->model, m->E, m->nu, m->plane, m->yield_strain,
+           m->plastic, m->rho, m->yield_rule, cs->load_type, cs->stress_length);
+  fnv(&h, b);
+  for (int i = 0; i < cs->n_bc; i++) {
+    const ps_bc *bc = &cs->bc[i];
+    snprintf(b, sizeof b, "bc %.17g %.17g %.17g %.17g %.17g %.17g %d %d%d%d %d%d%d "
+             "%.17g %.17g %.17g %d",
+             bc->sel.lo[0], bc->sel.lo[1], bc->sel.lo[2], bc->sel.hi[0], bc->sel.hi[1],
+             bc->sel.hi[2], bc->sel.block, bc->fix[0], bc->fix[1], bc->fix[2],
+             bc->displace_set[0], bc->displace_set[1], bc->displace_set[2],
+             bc->displace[0], bc->displace[1], bc->displace[2], bc->measure);
+    fnv(&h, b);
+  }
+  snprintf(b, sizeof b, "solver %.17g %d %d path %.17g %.17g %.17g %d %.17g %.17g %.17g %d",
+           cs->tolerance, cs->max_iterations, cs->line_search, cs->load_step,
+           cs->load_step_after_break, cs->max_load, cs->max_increments, cs->min_step,
+           cs->stop_crack_tip, cs->stop_load_drop, cs->max_break_rounds);
+  fnv(&h, b);
+  return h;
 }

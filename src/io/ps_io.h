@@ -118,6 +118,13 @@ void ps_case_defaults(ps_case *cs);
  * PS_ERR_IO; on failure *cs is unchanged. */
 int ps_case_load(ps_case *cs, const char *path, ps_ctx *ctx);
 
+/* A 64-bit hash (FNV-1a) of everything in the case that determines a run's
+ * result, except delta, the Griffith list and the output and CG settings:
+ * geometry, sizes, cracks, kernel, material, loading, Newton tolerance and
+ * the load path. Written to summary.txt so that `griffith --resume` only
+ * reuses runs of the same case. */
+uint64_t ps_case_fingerprint(const ps_case *cs);
+
 /* Read a point cloud: one particle per line, "x y [z] volume [block]" (dim
  * coordinates, then the volume in m^N, then an optional integer block id);
  * '#' starts a comment, blank lines are skipped. Errors name file:line.

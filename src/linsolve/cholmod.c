@@ -82,7 +82,10 @@ static int chol_factor(void *state, const ps_csc *A, ps_int *bad_col,
   st->flops_factor = s->c.fl;
   st->nnz_factor = s->c.lnz;
   if (s->c.status == CHOLMOD_NOT_POSDEF) {
-    *bad_col = (ps_int)s->L->minor;
+    /* L->minor is a column of the permuted matrix */
+    ps_int minor = (ps_int)s->L->minor;
+    const ps_int *perm = s->L->Perm;
+    *bad_col = perm && minor < (ps_int)s->L->n ? perm[minor] : minor;
     return PS_NOT_POSDEF;
   }
   if (!ok || s->c.status < CHOLMOD_OK)

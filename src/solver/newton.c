@@ -66,8 +66,9 @@ static int factor_tangent(ps_solver *s, ps_ctx *ctx) {
   if (bad >= 0 && bad < s->sys.n_free)
     ps_system_dof_name(&s->sys, s->P->x, s->sys.dof_of_free[bad], name, sizeof name);
   if (s->ls.type != ps_linsolve_umfpack) {
-    ps_log(ctx, 2, "    tangent not positive definite at column %lld (%s): "
-                   "falling back to UMFPACK\n", (long long)bad, name);
+    ps_log(ctx, 2, "    tangent %s at column %lld (%s): falling back to UMFPACK\n",
+           status == PS_NOT_POSDEF ? "not positive definite" : "singular", (long long)bad,
+           name);
     if (!s->ls_fallback.type)
       PS_CHECK(ps_linsolve_create(&s->ls_fallback, ps_linsolve_umfpack, ctx));
     status = ps_linsolve_factor(&s->ls_fallback, &s->sys.A, &bad, ctx);
@@ -338,6 +339,10 @@ int ps_solver_break_round(ps_solver *s, ps_int *n_broken, ps_ctx *ctx) {
   if (status != PS_OK) return status;
   ps_solver_commit(s);
   return PS_OK;
+}
+
+int ps_solver_evaluate(ps_solver *s, ps_ctx *ctx) {
+  return eval(s, s->u, s->f, &s->energy, 0, ctx);
 }
 
 ps_int ps_solver_count_broken(const ps_solver *s) {

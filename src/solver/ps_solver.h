@@ -121,6 +121,10 @@ void ps_solver_restore(ps_solver *s);
  * state is that of the failed attempt), or fatal. */
 int ps_solver_break_round(ps_solver *s, ps_int *n_broken, ps_ctx *ctx);
 
+/* Re-evaluate forces, tensions and energy at the current u (no tangent):
+ * after a failed solve, sys.T/q/dl may belong to a rejected trial. */
+int ps_solver_evaluate(ps_solver *s, ps_ctx *ctx);
+
 /* Counts of the current state. */
 ps_int ps_solver_count_broken(const ps_solver *s);
 ps_int ps_solver_count_yielding(const ps_solver *s);

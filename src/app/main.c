@@ -90,6 +90,10 @@ static const char *help_for(const char *cmd) {
   return HELP_MAIN;
 }
 
+#ifdef HAVE_OPENBLAS_SET_NUM_THREADS
+void openblas_set_num_threads(int n);
+#endif
+
 static int exit_code(int status) {
   switch (status) {
   case PS_ERR_INPUT: return 1;
@@ -102,6 +106,9 @@ int main(int argc, char **argv) {
   ps_ctx ctx;
   ps_ctx_init(&ctx);
   gsl_set_error_handler_off();
+#ifdef HAVE_OPENBLAS_SET_NUM_THREADS
+  if (!getenv("OPENBLAS_NUM_THREADS")) openblas_set_num_threads(1);
+#endif
   const char *cmd = NULL, *file = NULL, *out = NULL;
   int verbosity = -1, resume = 0;
   for (int i = 1; i < argc; i++) {

@@ -66,9 +66,8 @@ static int factor_tangent(ps_solver *s, ps_ctx *ctx) {
   if (bad >= 0 && bad < s->sys.n_free)
     ps_system_dof_name(&s->sys, s->P->x, s->sys.dof_of_free[bad], name, sizeof name);
   if (s->ls.type != ps_linsolve_umfpack) {
-    ps_log(ctx, 2, "    tangent %s at column %lld (%s): falling back to UMFPACK\n",
-           status == PS_NOT_POSDEF ? "not positive definite" : "singular", (long long)bad,
-           name);
+    ps_log(ctx, 1, "  note: tangent %s at %s: UMFPACK for this system\n",
+           status == PS_NOT_POSDEF ? "not positive definite" : "singular", name);
     if (!s->ls_fallback.type)
       PS_CHECK(ps_linsolve_create(&s->ls_fallback, ps_linsolve_umfpack, ctx));
     status = ps_linsolve_factor(&s->ls_fallback, &s->sys.A, &bad, ctx);

@@ -188,8 +188,19 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
     ps_int nb = 0;
     int settle = PS_OK, rounds = 0, ran = 0;
     for (;;) {
-      ps_int nr;
-      settle = ps_solver_break_round(&s, &nr, ctx);
+      ps_int nr, limit = 0;
+      settle = ps_solver_break_round(&s, 0, &nr, ctx);
+      /* re-equilibration failed: go back and break fewer arms, the worst
+       * first, halving down to one; only if one arm cannot be broken and
+       * re-equilibrated does the run end as unstable */
+      while (settle == PS_DIVERGED && nr > 1) {
+        limit = nr / 2;
+        ps_solver_restore(&s);
+        ps_log(ctx, 2, "    re-equilibration failed: breaking the worst %lld arms only\n",
+               (long long)limit);
+        settle = ps_solver_break_round(&s, limit, &nr, ctx);
+        res->gentle_rounds++;
+      }
       if (settle < 0) {
         status = settle;
         goto cleanup;
@@ -305,7 +316,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
             "sigma_y_Pa: %.10g\nsigma_failure_Pa: %.10g\nsigma_failure_over_sigma_y: "
             "%.8g\nload_factor_at_peak: %.8g\nfractured: %s\nstop_reason: %s\n"
             "increments: %lld\nnewton_iterations: %lld\nfactorisations: %lld\n"
-            "umfpack_fallbacks: %lld\nstep_cuts: %lld\narms_broken: %lld\n"
+            "umfpack_fallbacks: %lld\nstep_cuts: %lld\ngentle_rounds: %lld\narms_broken: %lld\n"
             "crack_tip_over_c: %.6g\nwall_s: %.3f\nassembly_s: %.3f\nanalyze_s: %.3f\n"
             "factor_s: %.3f\nsolve_s: %.3f\nnetwork_s: %.3f\npeak_memory_MiB: %.1f\n"
             "cg_iterations: %lld\ncg_failures: %lld\nsolves: %lld\nnnz_tangent_upper: %.0f\n"
@@ -315,7 +326,8 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
             res->lambda_peak, res->fractured ? "yes" : "no", res->stop_reason,
             (long long)res->increments, (long long)res->newton_iterations,
             (long long)res->factorisations, (long long)res->n_fallback,
-            (long long)res->step_cuts, (long long)res->arms_broken, res->crack_tip,
+            (long long)res->step_cuts, (long long)res->gentle_rounds,
+            (long long)res->arms_broken, res->crack_tip,
             res->wall, res->t_assembly, res->t_analyze, res->t_factor, res->t_solve,
             pb->t_network, ps_peak_mib(), (long long)res->pcg_iterations,
             (long long)res->pcg_failures, (long long)res->solves, res->nnz_tangent,

@@ -937,9 +937,16 @@ static void fnv(uint64_t *h, const char *s) {
   }
 }
 
+/* Bump when the algorithm changes what a run computes, so that `griffith
+ * --resume` does not reuse runs of an older algorithm. 2: breaking rounds
+ * that fail to re-equilibrate are retried with fewer arms. */
+#define PS_ALGORITHM_VERSION 2
+
 uint64_t ps_case_fingerprint(const ps_case *cs) {
   uint64_t h = 1469598103934665603ULL;
   char b[1600];
+  snprintf(b, sizeof b, "peristatic algorithm %d", PS_ALGORITHM_VERSION);
+  fnv(&h, b);
   const ps_disk_params *dp = &cs->disk;
   const ps_material *m = &cs->mat;
   snprintf(b, sizeof b, "g%d d%d disk %.17g %d %d %d %.17g %.17g %.17g %lu", cs->geometry,

@@ -13,6 +13,7 @@
 #include "ps_model.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 /* weight of particle p's side of arm i */
 static inline double side_weight(const ps_network *net, ps_int i, ps_int p) {
@@ -86,17 +87,42 @@ static int fibre_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
   return PS_OK;
 }
 
-static ps_int fibre_break_arms(const ps_model *m, ps_arm_state *st) {
+typedef struct {
+  double excess;
+  ps_int arm;
+} candidate;
+
+static int by_excess_desc(const void *u, const void *v) {
+  double x = ((const candidate *)u)->excess, y = ((const candidate *)v)->excess;
+  return x > y ? -1 : x < y;
+}
+
+static ps_int fibre_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count) {
   const ps_network *net = m->net;
   double delta = m->mat.delta;
   if (!(delta > 0) || !isfinite(delta)) return 0;
-  ps_int nb = 0;
+  ps_int nc = 0;
   for (ps_int i = 0; i < net->n_arm; i++)
-    if (!st->broken[i] && st->eps_p[i] * net->r0[i] > delta) { /* Eq. 118 */
-      st->broken[i] = 1;
-      nb++;
+    nc += !st->broken[i] && st->eps_p[i] * net->r0[i] > delta; /* Eq. 118 */
+  if (nc == 0) return 0;
+  if (max_count <= 0 || nc <= max_count) {
+    for (ps_int i = 0; i < net->n_arm; i++)
+      if (!st->broken[i] && st->eps_p[i] * net->r0[i] > delta) st->broken[i] = 1;
+    return nc;
+  }
+  /* only the max_count arms past the limit by the most */
+  candidate *c = malloc((size_t)nc * sizeof *c);
+  if (!c) return 0;
+  ps_int k = 0;
+  for (ps_int i = 0; i < net->n_arm; i++)
+    if (!st->broken[i] && st->eps_p[i] * net->r0[i] > delta) {
+      c[k].excess = st->eps_p[i] * net->r0[i] - delta;
+      c[k++].arm = i;
     }
-  return nb;
+  qsort(c, (size_t)nc, sizeof *c, by_excess_desc);
+  for (ps_int j = 0; j < max_count; j++) st->broken[c[j].arm] = 1;
+  free(c);
+  return max_count;
 }
 
 static const ps_model_type fibre_type = {"fibre", fibre_evaluate, fibre_break_arms};

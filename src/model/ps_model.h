@@ -81,8 +81,10 @@ typedef struct ps_model_type {
   int (*evaluate)(const ps_model *m, const double *dl, ps_arm_state *st,
                   double *T, double *energy, ps_arm_tangent *tan, ps_ctx *ctx);
   /* After a converged, committed state: mark the arms that break; returns
-   * how many broke now. */
-  ps_int (*break_arms)(const ps_model *m, ps_arm_state *st);
+   * how many broke now. With max_count > 0, only the max_count arms past
+   * the limit by the most (a gentler step when re-equilibration after
+   * breaking them all fails). */
+  ps_int (*break_arms)(const ps_model *m, ps_arm_state *st, ps_int max_count);
 } ps_model_type;
 
 struct ps_model {

@@ -115,11 +115,14 @@ void ps_solver_commit(ps_solver *s);
 void ps_solver_restore(ps_solver *s);
 
 /* One round of fracture: break the arms past the elongation limit (model
- * rule) and re-equilibrate at the same load; commits when converged.
- * *n_broken gets the number broken (0: the state is settled, nothing
- * done). Returns PS_OK, PS_DIVERGED (the re-equilibration failed: the
- * state is that of the failed attempt), or fatal. */
-int ps_solver_break_round(ps_solver *s, ps_int *n_broken, ps_ctx *ctx);
+ * rule; with max_count > 0 only the max_count arms past it by the most)
+ * and re-equilibrate at the same load; commits when converged. *n_broken
+ * gets the number broken (0: the state is settled, nothing done). Returns
+ * PS_OK, PS_DIVERGED (the re-equilibration failed: the state is that of
+ * the failed attempt; ps_solver_restore goes back to before the round),
+ * or fatal. */
+int ps_solver_break_round(ps_solver *s, ps_int max_count, ps_int *n_broken,
+                          ps_ctx *ctx);
 
 /* Re-evaluate forces, tensions and energy at the current u (no tangent):
  * after a failed solve, sys.T/q/dl may belong to a rejected trial. */

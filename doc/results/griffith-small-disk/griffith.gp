@@ -5,7 +5,7 @@ set datafile separator ','
 set key top left
 set xlabel 'sqrt(delta / c)'
 set ylabel 'sigma_failure / sigma_yield'
-set title 'Griffith check: small-disk-sweep (slope 36.76, intercept -0.0935, R^2 0.9962)'
+set title 'Griffith check: small-disk-sweep (slope 36.759898, intercept -0.093493977, R^2 0.99616112)'
 set xrange [0:*]
 set yrange [0:*]
 plot 'griffith.csv' every ::1 using (strcol(4) eq "yes" ? $2 : 1/0):3 with points pt 7 ps 1.5 title 'fractured', \

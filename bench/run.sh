@@ -5,6 +5,7 @@
 #   BENCH_REPEATS  repeats per case (default 3; medians are reported)
 #   BENCH_LARGE=1  also 40k and 80k particles (elastic) and a full run to
 #                  fracture at the paper's 20k (several minutes each)
+#   BENCH_QUICK=1  tiny cases only: a smoke test of this script (seconds)
 # Run it on a quiet machine: it measures wall time.
 set -eu
 top=$(cd "$(dirname "$0")/.." && pwd)
@@ -66,21 +67,34 @@ run_case() { # name n_eta n_xi kind linear reuse repeats
 
 # elastic solves (one increment) at growing size: network, assembly,
 # analysis, factorisation, solve
-for sz in "10 20 5k" "14 28 10k" "20 40 20k"; do
+sizes="10 20 5k|14 28 10k|20 40 20k"
+mid="14 28"
+small_fracture="6 12"
+box3d_sizes="12 20"
+if [ "${BENCH_QUICK:-0}" = 1 ]; then
+  sizes="2 4 0.2k|4 8 0.8k"; mid="4 8"; small_fracture="2 4"; box3d_sizes="6"; reps=1
+fi
+IFS='|'
+set -f
+for sz in $sizes; do
+  IFS=' '
   set -- $sz
   run_case "disk-$3-elastic" "$1" "$2" elastic cholmod true "$reps"
 done
+IFS=' '
+set +f
 if [ "${BENCH_LARGE:-0}" = 1 ]; then
   run_case disk-40k-elastic 28 56 elastic cholmod true "$reps"
   run_case disk-80k-elastic 40 80 elastic cholmod true 1
 fi
 # linear solvers compared on the same elastic solve (10k particles),
 # fresh factorisation each Newton iteration (reuse off)
+set -- $mid
 for lin in cholmod cholmod-simplicial umfpack; do
-  run_case disk-10k-elastic-$lin 14 28 elastic "$lin" false 1
+  run_case disk-mid-elastic-$lin "$1" "$2" elastic "$lin" false 1
 done
 # fresh symbolic analysis before every factorisation, for comparison
-REANALYZE=true run_case disk-10k-elastic-reanalyze 14 28 elastic cholmod false 1
+REANALYZE=true run_case disk-mid-elastic-reanalyze "$1" "$2" elastic cholmod false 1
 # a 3D box (elastic solve, uniaxial grips): the two-horizon stencil in 3D
 # is ~8x denser than in 2D, so alpha = 3.5 and 20^3 particles here
 box3d() {
@@ -103,14 +117,15 @@ output: {fields: false}
 EOC
   echo "$f"
 }
-for n3 in 12 20; do
+for n3 in $box3d_sizes; do
   run_file "$(box3d "$n3")" "box3d-$n3" elastic cholmod true "$reps"
 done
 
 # full runs to fracture (delta = c/1000): factor reuse on and off
-run_case disk-1.8k-fracture 6 12 fracture cholmod true "$reps"
-run_case disk-1.8k-fracture 6 12 fracture cholmod false 1
-run_case disk-5k-fracture 10 20 fracture cholmod true 1
+set -- $small_fracture
+run_case disk-small-fracture "$1" "$2" fracture cholmod true "$reps"
+run_case disk-small-fracture "$1" "$2" fracture cholmod false 1
+[ "${BENCH_QUICK:-0}" = 1 ] || run_case disk-5k-fracture 10 20 fracture cholmod true 1
 if [ "${BENCH_LARGE:-0}" = 1 ]; then
   run_case disk-20k-fracture 20 40 fracture cholmod true 1
 fi
@@ -119,10 +134,10 @@ mv "$csv" "$out/results.csv"
 # medians per (case, linear, reuse) and the growth exponent of the elastic
 # solve (wall and factorisation time against free dofs)
 awk -F, 'NR > 1 {
-    key = $1 "," $6 "," $7; n[key]++; w[key, n[key]] = $22; fa[key, n[key]] = $12
+    key = $1 "," $6 "," $7; if (!(key in n)) keys[++nk] = key
+    n[key]++; w[key, n[key]] = $22; fa[key, n[key]] = $12
     size[key] = $5; its[key] = $15; fac[key] = $16; cg[key] = $17; nnz[key] = $18
     nl[key] = $19; fl[key] = $20; mem[key] = $23; sf[key] = $21; kind[key] = $2
-    order[key] = (key in order) ? order[key] : NR
   }
   function median(a, key, m,   i, j, t, v) {
     for (i = 1; i <= m; i++) v[i] = a[key, i]
@@ -132,7 +147,8 @@ awk -F, 'NR > 1 {
   END {
     printf "%-32s %-18s %5s %7s %9s %9s %10s %9s %9s %6s %6s %6s %8s %9s\n", "case", "linear", "reuse",
       "runs", "free_dofs", "nnz(A)", "nnz(L)", "flops", "wall_s", "newton", "factor", "cg", "factor_s", "peak_MiB"
-    for (k in n) {
+    for (ik = 1; ik <= nk; ik++) {
+      k = keys[ik]
       split(k, p, ",")
       mw = median(w, k, n[k]); mf = median(fa, k, n[k])
       printf "%-32s %-18s %5s %7d %9d %9.3g %10.3g %9.3g %9.3f %6d %6d %6d %8.3f %9.1f\n", p[1], p[2], p[3],

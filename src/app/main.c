@@ -79,8 +79,11 @@ static const char *HELP_GRIFFITH =
 static const char *HELP_INFO =
     "peristatic info CASE.yaml\n"
     "\n"
-    "Reads the case, builds the particle cloud and the arm network and prints\n"
-    "particles, arms, arms per particle, size ratio, free dofs and the time.\n";
+    "Reads the case, builds the particle cloud, the arm network and the\n"
+    "tangent's sparsity pattern, and prints particles, arms, arms per particle,\n"
+    "size ratio, free dofs, nonzeros of the tangent (upper triangle, per row),\n"
+    "coupled particle pairs, the assembly's memory and the times: a quick look\n"
+    "at the size of a case before running it.\n";
 
 /* the help text of a command (the general one when NULL or unknown) */
 static const char *help_for(const char *cmd) {
@@ -202,6 +205,24 @@ int main(int argc, char **argv) {
            cs.name, (long long)pb.P.n, (long long)pb.net.n_arm,
            2.0 * pb.net.n_arm / pb.P.n, pb.net.max_h_ratio, (long long)nfree,
            (unsigned long long)ps_case_fingerprint(&cs), ps_wtime() - t0);
+    /* the tangent's two-horizon pattern: what a factorisation will face */
+    ps_system sys;
+    double t1 = ps_wtime();
+    status = ps_system_create(&sys, &pb.net, pb.fixed, &ctx);
+    if (status < 0) {
+      fprintf(stderr, "peristatic: %s\n", ctx.msg);
+      ps_problem_free(&pb);
+      return exit_code(status);
+    }
+    ps_int d2 = (ps_int)pb.P.dim * pb.P.dim;
+    double mib = ((double)d2 * sys.bptr[pb.P.n] * 8 + (double)sys.fam_slot_ptr[pb.P.n] * 8 +
+                  (double)sys.A.p[sys.n_free] * 24) / 1048576.0;
+    printf("tangent_nnz_upper: %lld\ntangent_nnz_per_row: %.1f\n"
+           "particle_pairs_coupled: %lld\nassembly_memory_MiB: %.0f\npattern_s: %.3f\n",
+           (long long)sys.A.p[sys.n_free],
+           2.0 * sys.A.p[sys.n_free] / (double)(sys.n_free > 0 ? sys.n_free : 1),
+           (long long)sys.bptr[pb.P.n], mib, ps_wtime() - t1);
+    ps_system_free(&sys);
   } else if (!strcmp(cmd, "run")) {
     ps_run_result res;
     status = ps_run(&pb, pb.mat.delta, outdir, &res, &ctx);

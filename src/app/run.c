@@ -187,6 +187,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
      * has passed path.stop_crack_tip: the crack has run */
     ps_int nb = 0;
     int settle = PS_OK, rounds = 0, ran = 0;
+    double t_note = ps_wtime(); /* long increments print a line every 10 s */
     for (;;) {
       ps_int nr, limit = 0;
       settle = ps_solver_break_round(&s, 0, &nr, ctx);
@@ -207,6 +208,13 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
       }
       nb += nr;
       if (settle != PS_OK || nr == 0) break;
+      if (ps_wtime() - t_note > 10.0) {
+        t_note = ps_wtime();
+        ps_log(ctx, 1, "         ... load factor %.5f: breaking round %d, %lld arms broken "
+                       "so far, %lld Newton iterations\n",
+               s.lambda, rounds + 1, (long long)(broken_total + nb),
+               (long long)(s.newton_iterations - its0));
+      }
       double sr = ps_post_boundary_stress(&pb->net, s.sys.T, s.sys.q, pb->measure,
                                           pb->measure_length);
       double tr = pb->c > 0 ? ps_post_crack_tip(&pb->P, &pb->net, &s.st, pb->c) : 0.0;

@@ -1,0 +1,84 @@
+#!/bin/sh
+# t900_cli.sh: the command line on good and bad input. Bad input must exit
+# non-zero with a message naming the file and line (or the parameter or
+# particle); a run that fails must leave earlier outputs intact.
+srcdir=${srcdir:-.}
+D="$srcdir/tests/data/cli"
+P=./peristatic
+T=t900_tmp
+pass=0
+fail=0
+ok() { echo "PASS: $1"; pass=$((pass + 1)); }
+ko() { echo "FAIL: $1"; fail=$((fail + 1)); }
+# expect CODE PATTERN -- ARGS: exit status CODE and stderr matching PATTERN
+expect() {
+  code=$1
+  pat=$2
+  shift 3
+  out=$($P "$@" 2>&1 >/dev/null)
+  rc=$?
+  if [ "$rc" -eq "$code" ] && printf '%s' "$out" | grep -q -- "$pat"; then
+    ok "peristatic $* -> exit $rc, '$pat'"
+  else
+    ko "peristatic $* -> exit $rc (want $code), message: $out (want '$pat')"
+  fi
+}
+rm -rf "$T" "$T.partial"
+mkdir -p "$T"
+
+$P --help | grep -q "Usage: peristatic COMMAND" && ok "--help teaches the usage" || ko "--help"
+$P help run | grep -q "Newton" && ok "help run explains the command" || ko "help run"
+expect 1 "unknown command 'frobnicate'" -- frobnicate x.yaml
+expect 3 "nonexistent.yaml: cannot open" -- run nonexistent.yaml
+expect 1 "malformed.yaml:[0-9]*: YAML syntax error" -- run "$D/malformed.yaml"
+expect 1 "unknown_key.yaml:9: .*colour" -- run "$D/unknown_key.yaml"
+expect 1 "negative_E.yaml:1[0-9]: material.E must be > 0 (got -3.0e9)" -- run "$D/negative_E.yaml"
+expect 1 "alpha_zero.yaml:[0-9]*: kernel.alpha must be > 0" -- run "$D/alpha_zero.yaml"
+expect 1 "cloud_bad.txt:4:" -- run "$D/cloud_bad.yaml"
+expect 1 "no supports in direction y" -- run -o "$T/x" "$D/no_support_y.yaml"
+expect 1 "particle 36 .* has no arms" -- run -o "$T/x" "$D/cloud_loose.yaml"
+expect 1 "not properly supported: .*particle 4[0-4] at (0.50[0-2], 0.50[0-2]), dof [xy]" -- run -o "$T/x" "$D/cloud_island.yaml"
+expect 1 "nothing loads the model" -- run -o "$T/x" "$D/no_load.yaml"
+
+# a good run writes its outputs
+if $P run -q -o "$T/good" "$D/box_base.yaml" && [ -f "$T/good/summary.txt" ] &&
+   [ -f "$T/good/history.csv" ] && head -1 "$T/good/particles_0002.vtk" | grep -q "# vtk DataFile" &&
+   grep -q "^POINTS 128 double" "$T/good/particles_0002.vtk" &&
+   [ "$(wc -l < "$T/good/history.csv")" -eq 3 ] && ! grep -qi nan "$T/good/history.csv"; then
+  ok "a good run writes summary.txt, history.csv (2 increments, no NaN) and VTK"
+else
+  ko "a good run writes its outputs"
+fi
+# a 3D case runs to fracture through the whole pipeline
+if $P run -q -o "$T/b3" "$srcdir/data/cases/tension-block-3d.yaml" &&
+   grep -q "^fractured: yes" "$T/b3/summary.txt" && grep -q "^POINTS 432 double" "$T/b3/particles_0012.vtk" &&
+   head -1 "$T/b3/particles.csv" | grep -q "uz,damage.*stress_xz_Pa"; then
+  ok "3D block: runs to fracture, writes 3D VTK and CSV"
+else
+  ko "3D block run"
+fi
+# a diverging run names the load factor, exits 2, and leaves them intact
+cp "$T/good/summary.txt" "$T/summary.before"
+expect 2 "Newton diverged at load factor" -- run -q -o "$T/good" "$D/diverges.yaml"
+if cmp -s "$T/summary.before" "$T/good/summary.txt"; then
+  ok "the failed run left the earlier outputs intact"
+else
+  ko "the failed run changed the earlier outputs"
+fi
+# a Griffith sweep writes its table, fit and plot
+if $P griffith -q -o "$T/sweep" "$D/tiny_sweep.yaml" && [ "$(wc -l < "$T/sweep/griffith.csv")" -eq 3 ] &&
+   grep -q "^r2: " "$T/sweep/griffith_fit.txt" && ! grep -qi nan "$T/sweep/griffith.csv"; then
+  ok "griffith writes griffith.csv (2 runs, no NaN) and griffith_fit.txt"
+else
+  ko "griffith writes its table and fit"
+fi
+if command -v gnuplot >/dev/null 2>&1; then
+  if [ -s "$T/sweep/griffith.png" ] && head -c 4 "$T/sweep/griffith.png" | grep -q PNG; then
+    ok "griffith.png is a PNG"
+  else
+    ko "griffith.png missing or empty (gnuplot present)"
+  fi
+fi
+rm -rf "$T" "$T.partial"
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]

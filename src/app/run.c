@@ -186,7 +186,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
      * the load has dropped past path.stop_load_drop of its peak or the tip
      * has passed path.stop_crack_tip: the crack has run */
     ps_int nb = 0;
-    int settle = PS_OK, rounds = 0, ran = 0;
+    int settle = PS_OK, rounds = 0;
     double t_note = ps_wtime(); /* long increments print a line every 10 s */
     for (;;) {
       ps_int nr, limit = 0;
@@ -219,10 +219,8 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
                                           pb->measure_length);
       double tr = pb->c > 0 ? ps_post_crack_tip(&pb->P, &pb->net, &s.st, pb->c) : 0.0;
       if (sr < cs->stop_load_drop * fmax(peak, sr) ||
-          (pb->c > 0 && tr >= cs->stop_crack_tip)) {
-        ran = 1;
-        break;
-      }
+          (pb->c > 0 && tr >= cs->stop_crack_tip))
+        break; /* the crack has run: the stop rules below end the run */
       if (++rounds >= cs->max_break_rounds) {
         status = ps_error(ctx, PS_ERR_SOLVER,
                           "%s: arms still breaking after %d re-equilibrations at load "
@@ -231,7 +229,6 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
         goto cleanup;
       }
     }
-    (void)ran;
     broken_total += nb;
     if (broken_total > 0) dl_nominal = fmin(dl_nominal, cs->load_step_after_break);
     if (++good_in_a_row >= 2 && dl < dl_nominal) dl = fmin(2 * dl, dl_nominal);

@@ -75,7 +75,7 @@ int ps_system_create(ps_system *s, const ps_network *net,
                      const unsigned char *fixed, ps_ctx *ctx) {
   int status = PS_OK, d = net->dim;
   ps_int n = net->n_particle;
-  ps_int *mark = NULL, *list = NULL;
+  ps_int *mark = NULL;
   memset(s, 0, sizeof *s);
   s->net = net;
   s->dim = d;
@@ -124,8 +124,6 @@ int ps_system_create(ps_system *s, const ps_network *net,
   ALLOC(mark, n);
   for (ps_int a = 0; a < n; a++) mark[a] = -1;
   ALLOC(s->bptr, n + 1);
-  ps_int cap = 0;
-  ALLOC(list, 1);
   for (int pass = 0; pass < 2; pass++) {
     ps_int nnz = 0;
     for (ps_int Q = 0; Q < n; Q++) {
@@ -145,11 +143,7 @@ int ps_system_create(ps_system *s, const ps_network *net,
       nnz += cnt;
       if (pass == 0) s->bptr[Q + 1] = nnz;
     }
-    if (pass == 0) {
-      ALLOC(s->bidx, nnz);
-      for (ps_int a = 0; a < n; a++) mark[a] = -1;
-    }
-    (void)cap;
+    if (pass == 0) ALLOC(s->bidx, nnz); /* marks Q + pass n never collide */
   }
   ps_int nblk = s->bptr[n];
   ALLOC(s->Kfull, (ps_int)d * d * nblk);
@@ -219,7 +213,6 @@ int ps_system_create(ps_system *s, const ps_network *net,
   PS_CHECK_GOTO(ps_arm_tangent_alloc(&s->tan, net, ctx));
 cleanup:
   free(mark);
-  free(list);
   if (status < 0) ps_system_free(s);
   return status;
 }

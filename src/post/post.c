@@ -17,13 +17,6 @@ void ps_post_damage(const ps_network *net, const ps_arm_state *st,
   }
 }
 
-double ps_post_reaction_stress(ps_int n_dof, const double *m,
-                               const double *f, double length) {
-  double s = 0;
-  for (ps_int j = 0; j < n_dof; j++) s += m[j] * f[j];
-  return length > 0 ? s / length : 0.0;
-}
-
 static int measured(const double *m, ps_int a, int d) {
   for (int k = 0; k < d; k++)
     if (m[a * d + k] != 0.0) return 1;

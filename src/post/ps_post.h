@@ -11,17 +11,10 @@
 void ps_post_damage(const ps_network *net, const ps_arm_state *st,
                     double *phi);
 
-/* Reaction stress: sum_j m_j f_j / length, with the measuring vector m
- * [n_dof] (unit outward normals of the measured particles, 0 elsewhere)
- * and f the internal forces (reactions at prescribed dofs). Pa when length
- * is in m (2D, unit thickness) or m^2 (3D). On a curved or cornered
- * boundary zone this also counts the zone's own hoop/corner forces (see
- * doc/model.md), so it over-estimates the stress at the interface. */
-double ps_post_reaction_stress(ps_int n_dof, const double *m,
-                               const double *f, double length);
-
 /* Boundary stress carried across the interface between the measured
- * particles (m nonzero) and the rest: the sum over arms a (measured) - b
+ * particles (m nonzero) and the rest (the zone's reactions over the
+ * interface length would also count its own hoop and corner forces; see
+ * doc/model.md): the sum over arms a (measured) - b
  * (not) of T_ab (e_ba . m_a), e_ba the current unit vector from b to a,
  * divided by length. This is the normal force the boundary zone exerts on
  * the interior over the interface length. T and q as in ps_system (q from

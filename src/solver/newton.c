@@ -345,12 +345,6 @@ int ps_solver_evaluate(ps_solver *s, ps_ctx *ctx) {
   return eval(s, s->u, s->f, &s->energy, 0, ctx);
 }
 
-ps_int ps_solver_count_broken(const ps_solver *s) {
-  ps_int n = 0;
-  for (ps_int i = 0; i < s->net->n_arm; i++) n += s->st.broken[i];
-  return n;
-}
-
 ps_int ps_solver_count_yielding(const ps_solver *s) {
   ps_int n = 0;
   for (ps_int i = 0; i < s->net->n_arm; i++) n += s->st.yielding[i] && !s->st.broken[i];

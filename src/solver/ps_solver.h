@@ -128,8 +128,7 @@ int ps_solver_break_round(ps_solver *s, ps_int max_count, ps_int *n_broken,
  * after a failed solve, sys.T/q/dl may belong to a rejected trial. */
 int ps_solver_evaluate(ps_solver *s, ps_ctx *ctx);
 
-/* Counts of the current state. */
-ps_int ps_solver_count_broken(const ps_solver *s);
+/* Intact arms on the yield surface in the current state. */
 ps_int ps_solver_count_yielding(const ps_solver *s);
 
 #endif

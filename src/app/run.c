@@ -253,6 +253,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
       fprintf(hist, "%d,%.10g,%.10g,%.10g,%d,%.4g,%d,%lld,%lld,%.6g,%.4f\n", step,
               s.lambda, sig, sig / mat.sigma_y, its, s.last_residual, converged,
               (long long)ny, (long long)broken_total, tip, ps_wtime() - t0);
+    if (hist) fflush(hist); /* tail -f history.csv follows the run */
     if (out_dir && cs->fields && cs->vtk_every > 0 && step % cs->vtk_every == 0)
       PS_CHECK_GOTO(write_state(pb, &s, staging, step, 0, ctx));
     if (converged) res->crack_tip = tip;

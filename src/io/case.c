@@ -939,8 +939,10 @@ static void fnv(uint64_t *h, const char *s) {
 
 /* Bump when the algorithm changes what a run computes, so that `griffith
  * --resume` does not reuse runs of an older algorithm. 2: breaking rounds
- * that fail to re-equilibrate are retried with fewer arms. */
-#define PS_ALGORITHM_VERSION 2
+ * that fail to re-equilibrate are retried with fewer arms. 3: Newton
+ * steps that point uphill (indefinite tangent) are replaced by a shifted
+ * Cholesky step. */
+#define PS_ALGORITHM_VERSION 3
 
 uint64_t ps_case_fingerprint(const ps_case *cs) {
   uint64_t h = 1469598103934665603ULL;

@@ -36,6 +36,7 @@ void ps_solver_free(ps_solver *s) {
   free(s->pcg_work);
   free(s->u_trial);
   free(s->work_dof);
+  free(s->diag_saved);
   free(s->f_trial);
   memset(s, 0, sizeof *s);
 }
@@ -122,9 +123,10 @@ int ps_solver_create(ps_solver *s, const ps_particles *P,
   s->rhs = ps_calloc((size_t)nf, sizeof *s->u, ctx);
   s->du = ps_calloc((size_t)nf, sizeof *s->u, ctx);
   s->work = ps_calloc((size_t)nf, sizeof *s->u, ctx);
+  s->diag_saved = ps_calloc((size_t)nf, sizeof *s->u, ctx);
   s->pcg_work = ps_calloc((size_t)(4 * nf), sizeof *s->u, ctx);
   if (!s->pcg_work || !s->u_prev || !s->work_dof || !s->u || !s->u_saved || !s->ubar || !s->f || !s->u_trial || !s->f_trial ||
-      !s->rhs || !s->du || !s->work) {
+      !s->rhs || !s->du || !s->work || !s->diag_saved) {
     status = PS_ERR_NOMEM;
     goto cleanup;
   }
@@ -182,6 +184,35 @@ static int solve_tangent(ps_solver *s, ps_ctx *ctx) {
   return ps_linsolve_solve((ps_linsolve *)s->ls_last, s->rhs, s->du, ctx);
 }
 
+/* A descent direction where the tangent is indefinite (near a running
+ * crack tip, a Newton step of UMFPACK on K can point uphill in energy):
+ * du = (K + mu diag K)^-1 rhs, mu raised tenfold from 1e-4 until the
+ * shifted matrix factors as positive definite (Levenberg-Marquardt).
+ * Returns PS_OK, PS_SINGULAR (no shift up to mu = 10 worked), or fatal. */
+static int shifted_direction(ps_solver *s, ps_ctx *ctx) {
+  ps_csc *A = &s->sys.A;
+  ps_int n = A->n, bad;
+  for (ps_int k = 0; k < n; k++) s->diag_saved[k] = A->x[A->p[k + 1] - 1];
+  int status = PS_SINGULAR;
+  for (double mu = 1e-4; mu <= 10.0 && status != PS_OK; mu *= 10.0) {
+    for (ps_int k = 0; k < n; k++)
+      A->x[A->p[k + 1] - 1] = s->diag_saved[k] * (1.0 + mu) + (s->diag_saved[k] == 0.0);
+    status = ps_linsolve_factor(&s->ls, A, &bad, ctx);
+    if (status < 0) break;
+    if (status == PS_OK) ps_log(ctx, 2, "    indefinite tangent: shifted by %.0e diag\n", mu);
+  }
+  for (ps_int k = 0; k < n; k++) A->x[A->p[k + 1] - 1] = s->diag_saved[k];
+  if (status != PS_OK) {
+    s->have_factor = 0;
+    return status < 0 ? status
+                      : ps_error(ctx, PS_SINGULAR, "no positive definite shift of the tangent");
+  }
+  s->ls_last = &s->ls;
+  s->have_factor = 1;
+  s->n_shifted++;
+  return ps_linsolve_solve(&s->ls, s->rhs, s->du, ctx);
+}
+
 static double norm_free(const ps_system *sys, const double *f) {
   double s = 0;
   for (ps_int k = 0; k < sys->n_free; k++) {
@@ -232,6 +263,16 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
     /* energy line search: dE/ds at s = 0 is f . du */
     double g0 = 0, E0 = s->energy, step = 1.0, E1 = E0;
     for (ps_int k = 0; k < nf; k++) g0 += s->f[sys->dof_of_free[k]] * s->du[k];
+    if (g0 >= 0 && s->opts.line_search) { /* uphill: the tangent is indefinite */
+      status = shifted_direction(s, ctx);
+      if (status < 0) return status;
+      if (status > 0) {
+        s->last_reason = PS_NEWTON_SINGULAR;
+        return PS_DIVERGED;
+      }
+      g0 = 0;
+      for (ps_int k = 0; k < nf; k++) g0 += s->f[sys->dof_of_free[k]] * s->du[k];
+    }
     int accepted = 0;
     for (int ls = 0; ls < 16; ls++) {
       memcpy(s->u_trial, s->u, (size_t)nd * sizeof *s->u);
@@ -239,7 +280,7 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
       status = eval(s, s->u_trial, s->f_trial, &E1, 0, ctx);
       if (status < 0 && status != PS_ERR_SOLVER) return status;
       int finite = status == PS_OK && isfinite(E1);
-      if (finite && (!s->opts.line_search || g0 >= 0 ||
+      if (finite && (!s->opts.line_search ||
                      E1 <= E0 + 1e-4 * step * g0 + 1e-11 * fabs(E0))) {
         accepted = 1;
         break;

@@ -68,9 +68,11 @@ typedef struct ps_solver {
   double *pcg_work;         /* [4 n_free] */
   double *u_trial, *f_trial;/* [n_dof] line-search work */
   double *work_dof;         /* [n_dof] */
+  double *diag_saved;       /* [n_free] diagonal of the tangent while shifted */
 
   /* statistics of the run */
   ps_int newton_iterations, n_fallback, n_line_search_cuts;
+  ps_int n_shifted;         /* Newton directions from a shifted tangent */
   ps_int pcg_iterations, pcg_solves, pcg_failures;
   double t_pcg;             /* wall seconds spent in CG */
   double t_assembly;

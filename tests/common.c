@@ -50,12 +50,18 @@ void tc_solve(ps_solver *s, const ps_particles *P, const ps_network *net,
 
 void tc_evaluator_create(tc_evaluator *ev, const ps_network *net,
                          const ps_material *mat) {
+  tc_evaluator_create_model(ev, ps_model_fibre, NULL, net, mat);
+}
+
+void tc_evaluator_create_model(tc_evaluator *ev, const ps_model_type *type,
+                               const ps_particles *P, const ps_network *net,
+                               const ps_material *mat) {
   ps_ctx ctx;
   ps_ctx_init(&ctx);
   ps_int nd = (ps_int)net->dim * net->n_particle;
   unsigned char *fixed = calloc((size_t)nd, 1);
   fixed[0] = 1; /* the system needs a free dof; nothing is solved here */
-  if (ps_model_create(&ev->model, ps_model_fibre, net, mat, &ctx) ||
+  if (ps_model_create(&ev->model, type, P, net, mat, &ctx) ||
       ps_arm_state_alloc(&ev->st, net->n_arm, &ctx) ||
       ps_system_create(&ev->sys, net, fixed, &ctx))
     die("evaluator", &ctx);

@@ -31,6 +31,10 @@ typedef struct tc_evaluator {
 } tc_evaluator;
 void tc_evaluator_create(tc_evaluator *ev, const ps_network *net,
                          const ps_material *mat);
+/* The same with a given model type on the particles P. */
+void tc_evaluator_create_model(tc_evaluator *ev, const ps_model_type *type,
+                               const ps_particles *P, const ps_network *net,
+                               const ps_material *mat);
 /* Internal forces (ev->f), tensions and directions (ev->sys) at u. */
 void tc_eval(tc_evaluator *ev, const ps_particles *P, const double *u);
 void tc_evaluator_free(tc_evaluator *ev);

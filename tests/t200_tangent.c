@@ -40,7 +40,7 @@ static void setup(fixture *F, int dim, int plane, double nu, ps_ctx *ctx) {
                      .yield_strain = 2.0e-3, .plastic = 1, .delta = 1.0,
                      .rho = 7800};
   if (ps_material_finish(&mat, dim, ctx)) abort();
-  if (ps_model_create(&F->model, ps_model_fibre, &F->net, &mat, ctx)) abort();
+  if (ps_model_create(&F->model, ps_model_fibre, &F->P, &F->net, &mat, ctx)) abort();
   if (ps_arm_state_alloc(&F->st, F->net.n_arm, ctx)) abort();
   unsigned char *fixed = calloc((size_t)(dim * F->P.n), 1);
   if (ps_system_create(&F->sys, &F->net, fixed, ctx)) abort();

@@ -44,7 +44,7 @@ int main(void) {
   for (ps_int a = 0; a < P.n; a++)
     if (P.x[2 * a] < 2.5e-3) fixed[2 * a] = fixed[2 * a + 1] = 1; /* clamp the left */
   double *u = calloc((size_t)nd, sizeof *u), *f = calloc((size_t)nd, sizeof *f), energy;
-  ps_model_create(&model, ps_model_fibre, &net, &mat, &ctx);
+  ps_model_create(&model, ps_model_fibre, &P, &net, &mat, &ctx);
   ps_arm_state_alloc(&st, net.n_arm, &ctx);
   if (ps_system_create(&sys, &net, fixed, &ctx)) abort();
   for (ps_int a = 0; a < P.n; a++) u[2 * a] = 1e-3 * P.x[2 * a]; /* some tension */

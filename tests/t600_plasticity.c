@@ -32,7 +32,7 @@ int main(void) {
   mat.plastic = 1;
   double ey = mat.yield_strain;
   ps_model m;
-  ps_model_create(&m, ps_model_fibre, &net, &mat, &ctx);
+  ps_model_create(&m, ps_model_fibre, &P, &net, &mat, &ctx);
   ps_arm_state st;
   ps_arm_state_alloc(&st, 1, &ctx);
   double Gc = 4 * mat.G, Kc = 2 * mat.K - Gc, A = net.A_ab[0] + net.A_ba[0];

@@ -217,7 +217,7 @@ static void test_bad_cases(void) {
   bad_case("bad_dup.yaml", PS_ERR_INPUT, 4,
            (const char *const[]){"kernel.alpha", "twice", "line 2", NULL});
   bad_case("bad_bc_nofix.yaml", PS_ERR_INPUT, 7,
-           (const char *const[]){"loading.boundary", "neither fix nor displace", NULL});
+           (const char *const[]){"loading.boundary", "no fix, displace or traction", NULL});
   bad_case("bad_bc_both.yaml", PS_ERR_INPUT, 5,
            (const char *const[]){"loading.boundary", "both fixed and displaced", NULL});
   bad_case("bad_bc_empty_select.yaml", PS_ERR_INPUT, 5,
@@ -232,6 +232,12 @@ static void test_bad_cases(void) {
            (const char *const[]){"geometry.dim must be 2", "disk", NULL});
   bad_case("bad_counts.yaml", PS_ERR_INPUT, 4,
            (const char *const[]){"geometry.counts", "geometry.dim is 3", NULL});
+  bad_case("bad_bond_disk.yaml", PS_ERR_INPUT, 2,
+           (const char *const[]){"material.model bond needs geometry.type box", NULL});
+  bad_case("bad_bc_traction.yaml", PS_ERR_INPUT, 5,
+           (const char *const[]){"entry 1", "traction and a prescribed displacement", NULL});
+  bad_case("bad_hole.yaml", PS_ERR_INPUT, 2,
+           (const char *const[]){"geometry.holes", "[cx, cy, R]", NULL});
   bad_case("bad_griffith.yaml", PS_ERR_INPUT, 2,
            (const char *const[]){"griffith.denominators", "step", NULL});
 }

@@ -39,6 +39,17 @@ expect 1 "no supports in direction y" -- run -o "$T/x" "$D/no_support_y.yaml"
 expect 1 "particle 36 .* has no arms" -- run -o "$T/x" "$D/cloud_loose.yaml"
 expect 1 "not properly supported: .*particle 4[0-4] at (0.50[0-2], 0.50[0-2]), dof [xy]" -- run -o "$T/x" "$D/cloud_island.yaml"
 expect 1 "nothing loads the model" -- run -o "$T/x" "$D/no_load.yaml"
+expect 1 "bond_nu.yaml: material.nu = 0.3: bond-based peridynamics has nu = 1/3" -- run -o "$T/x" "$D/bond_nu.yaml"
+
+# a traction: the bond-based strip carries the applied stress (mean of
+# the Eq. 24 stress over a column in the middle = p = 1 MPa, to 1e-4)
+if $P run -q -o "$T/tr" "$D/traction_box.yaml" &&
+   awk -F, 'NR > 1 && $2 > 0.008 && $2 < 0.009 { s += $11; n++ }
+            END { m = s / n; exit !(n == 10 && m > 0.9999e6 && m < 1.0001e6) }' "$T/tr/particles.csv"; then
+  ok "a traction on the last column gives the mean stress p across the strip"
+else
+  ko "traction: mean stress across the strip is not p"
+fi
 
 # a good run writes its outputs
 if $P run -q -o "$T/good" "$D/box_base.yaml" && [ -f "$T/good/summary.txt" ] &&

@@ -19,6 +19,8 @@ typedef struct ps_problem {
   unsigned char *fixed;   /* [n_dof] prescribed dofs */
   double *ubar;           /* [n_dof] prescribed displacement at lambda 1 */
   double *measure;        /* [n_dof] boundary-stress weights (normals) */
+  double *fext;           /* [n_dof] forces at lambda 1 from tractions (N,
+                             per unit thickness in 2D), or NULL if none */
   double measure_length;  /* m (2D) or m^2 (3D) */
   double t_network;       /* wall seconds of geometry + network */
 } ps_problem;

@@ -127,8 +127,15 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
   mat.delta = delta;
   res->sigma_y = mat.sigma_y;
   solver_opts_from_case(cs, &opts);
-  PS_CHECK_GOTO(ps_solver_create(&s, &pb->P, &pb->net, ps_model_type_find(cs->model),
-                                 &mat, pb->fixed, pb->ubar, &opts, ctx));
+  status = ps_solver_create(&s, &pb->P, &pb->net, ps_model_type_find(cs->model), &mat,
+                            pb->fixed, pb->ubar, &opts, ctx);
+  if (status == PS_ERR_INPUT && strncmp(ctx->msg, cs->path, strlen(cs->path)) != 0) {
+    char m[sizeof ctx->msg];
+    snprintf(m, sizeof m, "%s", ctx->msg);
+    ps_error(ctx, PS_ERR_INPUT, "%s: %s", cs->path, m); /* name the case file */
+  }
+  if (status < 0) goto cleanup;
+  ps_solver_set_forces(&s, pb->fext);
   if (out_dir) {
     snprintf(staging, sizeof staging, "%s.partial", out_dir);
     PS_CHECK_GOTO(ps_rm_rf(staging, ctx));

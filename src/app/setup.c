@@ -3,6 +3,8 @@
  * boundary conditions with the boundary-stress measure. */
 #include "ps_app.h"
 
+#include <gsl/gsl_math.h>
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,6 +15,7 @@ void ps_problem_free(ps_problem *pb) {
   free(pb->fixed);
   free(pb->ubar);
   free(pb->measure);
+  free(pb->fext);
   memset(pb, 0, sizeof *pb);
 }
 
@@ -68,6 +71,14 @@ static int setup_boundary(ps_problem *pb, ps_ctx *ctx) {
           pb->fixed[a * d + k] = 1;
           pb->ubar[a * d + k] = 0.0;
         }
+        if (bc->traction_set[k] && bc->traction[k] != 0.0) {
+          if (!pb->fext) {
+            pb->fext = ps_calloc((size_t)d * P->n, sizeof *pb->fext, ctx);
+            if (!pb->fext) return PS_ERR_NOMEM;
+          }
+          /* body force traction / layer over the selected layer */
+          pb->fext[a * d + k] += bc->traction[k] * P->volume[a] / cs->spacing;
+        }
         if (bc->displace_set[k]) {
           pb->fixed[a * d + k] = 1;
           pb->ubar[a * d + k] = bc->displace[k];
@@ -92,11 +103,14 @@ static int setup_boundary(ps_problem *pb, ps_ctx *ctx) {
     }
   }
   int loaded = 0;
-  for (ps_int j = 0; j < (ps_int)d * P->n; j++) loaded |= pb->ubar[j] != 0.0;
+  for (ps_int j = 0; j < (ps_int)d * P->n; j++) {
+    if (pb->fext && pb->fixed[j]) pb->fext[j] = 0.0; /* a support takes it */
+    loaded |= pb->ubar[j] != 0.0 || (pb->fext && pb->fext[j] != 0.0);
+  }
   if (!loaded)
     return ps_error(ctx, PS_ERR_INPUT,
                     "%s: nothing loads the model: no loading.boundary entry displaces "
-                    "a particle (displace: {x: ...})",
+                    "a particle (displace: {x: ...}) or applies a traction",
                     cs->path);
   if (cs->stress_length > 0) {
     pb->measure_length = cs->stress_length;
@@ -124,9 +138,13 @@ int ps_problem_setup(ps_problem *pb, const ps_case *cs, ps_ctx *ctx) {
   double t0 = ps_wtime();
   memset(pb, 0, sizeof *pb);
   pb->cs = *cs;
-  ps_crack cracks[PS_MAX_CRACKS + 1];
+  enum { HOLE_SIDES = 64 }; /* arms across a hole cross its inscribed polygon */
+  ps_crack *cracks = calloc((size_t)(cs->n_cracks + 1 + HOLE_SIDES * cs->n_holes),
+                            sizeof *cracks);
+  if (!cracks) return PS_ERR_NOMEM;
   int n_cracks = cs->n_cracks;
   memcpy(cracks, cs->cracks, sizeof(ps_crack) * (size_t)cs->n_cracks);
+  int bond = !strcmp(cs->model, "bond");
   int dim = cs->geometry == PS_GEOM_DISK ? 2 : cs->dim;
   switch (cs->geometry) {
   case PS_GEOM_DISK:
@@ -140,6 +158,19 @@ int ps_problem_setup(ps_problem *pb, const ps_case *cs, ps_ctx *ctx) {
   case PS_GEOM_BOX:
     PS_CHECK_GOTO(ps_geom_box(&pb->P, dim, cs->counts, cs->spacing, cs->lattice,
                               cs->jitter, cs->seed, ctx));
+    for (ps_int a = 0; a < pb->P.n; a++)
+      for (int k = 0; k < dim; k++) pb->P.x[a * dim + k] += cs->origin[k];
+    PS_CHECK_GOTO(ps_geom_cut_holes(&pb->P, (const double(*)[3])cs->holes, cs->n_holes,
+                                    ctx));
+    for (int i = 0; i < cs->n_holes; i++)
+      for (int j = 0; j < HOLE_SIDES; j++, n_cracks++) {
+        double t0 = 2 * M_PI * j / HOLE_SIDES, t1 = 2 * M_PI * (j + 1) / HOLE_SIDES;
+        const double *h = cs->holes[i];
+        cracks[n_cracks].p0[0] = h[0] + h[2] * cos(t0);
+        cracks[n_cracks].p0[1] = h[1] + h[2] * sin(t0);
+        cracks[n_cracks].p1[0] = h[0] + h[2] * cos(t1);
+        cracks[n_cracks].p1[1] = h[1] + h[2] * sin(t1);
+      }
     break;
   case PS_GEOM_CLOUD:
     PS_CHECK_GOTO(ps_cloud_read(&pb->P, cs->cloud_file, dim, ctx));
@@ -148,15 +179,24 @@ int ps_problem_setup(ps_problem *pb, const ps_case *cs, ps_ctx *ctx) {
     status = ps_error(ctx, PS_ERR_INPUT, "%s: unknown geometry type", cs->path);
     goto cleanup;
   }
-  if (cs->size_rule == PS_SIZE_EQ44)
+  double alpha = cs->alpha;
+  if (bond) { /* arms r <= delta = m spacing: h = spacing, alpha = m */
+    for (ps_int a = 0; a < pb->P.n; a++) pb->P.h[a] = cs->spacing;
+    alpha = cs->horizon_factor * (1.0 + 1e-9);
+  } else if (cs->size_rule == PS_SIZE_EQ44) {
     ps_geom_sizes_eq44(&pb->P);
-  else
+  } else {
     PS_CHECK_GOTO(ps_geom_sizes_eq115(&pb->P, cs->size_neighbours, ctx));
-  PS_CHECK_GOTO(ps_kernel_init(&pb->kernel, dim, cs->kernel_k, cs->alpha, ctx));
+  }
+  PS_CHECK_GOTO(ps_kernel_init(&pb->kernel, dim, cs->kernel_k, alpha, ctx));
   PS_CHECK_GOTO(ps_network_build(&pb->net, &pb->P, &pb->kernel, cracks, n_cracks, ctx));
   pb->t_network = ps_wtime() - t0;
 
   pb->mat = cs->mat;
+  if (bond) {
+    pb->mat.horizon = cs->horizon_factor * cs->spacing;
+    pb->mat.spacing = cs->spacing;
+  }
   if (cs->delta_over_c > 0 && pb->c > 0) pb->mat.delta = cs->delta_over_c * pb->c;
   if (!(pb->mat.delta > 0)) pb->mat.delta = INFINITY;
   if (ps_material_finish(&pb->mat, dim, ctx) < 0) {
@@ -184,6 +224,7 @@ int ps_problem_setup(ps_problem *pb, const ps_case *cs, ps_ctx *ctx) {
     PS_CHECK_GOTO(setup_boundary(pb, ctx));
   }
 cleanup:
+  free(cracks);
   if (status < 0) ps_problem_free(pb);
   return status;
 }

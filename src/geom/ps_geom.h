@@ -27,6 +27,11 @@ int ps_particles_alloc(ps_particles *p, int dim, ps_int n, ps_ctx *ctx);
 /* Free all arrays; safe on a zeroed or already freed cloud. */
 void ps_particles_free(ps_particles *p);
 
+/* Remove the particles inside any of the n circles (cx, cy, R) (2D),
+ * keeping the order of the rest. Returns PS_OK, PS_ERR_INPUT (not 2D, or
+ * no particle left), PS_ERR_NOMEM. */
+int ps_geom_cut_holes(ps_particles *p, const double (*holes)[3], int n, ps_ctx *ctx);
+
 /* Box on a lattice: counts[k] particles along axis k, spacing d (m), lower
  * corner at the origin. lattice: "square" (cubic in 3D) or "hex" (2D only,
  * rows offset by d/2 and spaced d sqrt(3)/2). jitter in [0, 0.5): each

@@ -36,6 +36,8 @@ void ps_case_defaults(ps_case *cs) {
   cs->alpha = 5.1;
   cs->kernel_k = 2;
   strcpy(cs->model, "fibre");
+  cs->horizon_factor = 3.0;
+  cs->mat.surface_correction = 1;
   cs->mat.E = 210e9;
   cs->mat.nu = 0.3;
   cs->mat.plane = PS_PLANE_STRAIN;
@@ -81,7 +83,7 @@ typedef struct loader {
   yaml_document_t *doc;
   ps_case *cs;
   ps_ctx *ctx;
-  int line_type, line_dim, line_counts, n_counts, line_lattice, line_cracks;
+  int line_type, line_dim, line_counts, n_counts, line_lattice, line_cracks, line_holes;
   int line_load_type, line_boundary, line_delta, line_delta_over_c;
   int line_sweep_list, line_sweep_den;
 } loader;
@@ -354,10 +356,37 @@ static int get_cracks(loader *L, yaml_node_t *v, const char *name) {
   return PS_OK;
 }
 
+/* geometry.holes: a list of circles [cx, cy, R]. */
+static int get_holes(loader *L, yaml_node_t *v, const char *name) {
+  char b[80];
+  ps_case *cs = L->cs;
+  if (v->type != YAML_SEQUENCE_NODE)
+    return fail(L, line_of(v), "%s must be a list of circles [cx, cy, R] (got %s)", name,
+                got(v, b));
+  int n = seq_len(v);
+  if (n > PS_MAX_HOLES)
+    return fail(L, line_of(v), "%s has %d circles, at most %d are allowed", name, n,
+                PS_MAX_HOLES);
+  cs->n_holes = 0;
+  for (int i = 0; i < n; i++) {
+    yaml_node_t *h = seq_item(L, v, i);
+    if (h->type != YAML_SEQUENCE_NODE || seq_len(h) != 3)
+      return fail(L, line_of(h), "%s: a hole must be [cx, cy, R] (got %s)", name, got(h, b));
+    double *c = cs->holes[i];
+    if (get_real(L, seq_item(L, h, 0), name, -INFINITY, 0, INFINITY, 0, &c[0]) ||
+        get_real(L, seq_item(L, h, 1), name, -INFINITY, 0, INFINITY, 0, &c[1]) ||
+        get_real(L, seq_item(L, h, 2), name, 0.0, 1, INFINITY, 0, &c[2]))
+      return PS_ERR_INPUT;
+    cs->n_holes++;
+  }
+  L->line_holes = line_of(v);
+  return PS_OK;
+}
+
 static const char *const geometry_keys[] = {
     "type", "dim", "c", "n_eta", "n_xi", "per_zone", "xi_min", "xi_max",
     "jitter", "seed", "counts", "spacing", "lattice", "file", "sizes",
-    "size_neighbours", "cracks", NULL};
+    "size_neighbours", "origin", "holes", "cracks", NULL};
 
 static int on_geometry(loader *L, void *arg, const char *key, const char *name,
                        yaml_node_t *v) {
@@ -427,6 +456,16 @@ static int on_geometry(loader *L, void *arg, const char *key, const char *name,
   }
   if (IS("sizes")) return get_choice(L, v, name, sizes, &cs->size_rule);
   if (IS("size_neighbours")) return get_int(L, v, name, 1, 64, &cs->size_neighbours);
+  if (IS("origin")) {
+    if (v->type != YAML_SEQUENCE_NODE || seq_len(v) < 2 || seq_len(v) > 3)
+      return fail(L, line_of(v), "%s must be [x0, y0] or [x0, y0, z0] (got %s)", name,
+                  got(v, b));
+    for (int k = 0; k < seq_len(v); k++)
+      if (get_real(L, seq_item(L, v, k), name, -INFINITY, 0, INFINITY, 0, &cs->origin[k]))
+        return PS_ERR_INPUT;
+    return PS_OK;
+  }
+  if (IS("holes")) return get_holes(L, v, name);
   return get_cracks(L, v, name); /* "cracks", the last allowed key */
 }
 
@@ -444,11 +483,11 @@ static int on_kernel(loader *L, void *arg, const char *key, const char *name,
 /* ---- material ---- */
 
 /* The material models a case can name (ps_model_type_find knows them). */
-static const char *const known_models[] = {"fibre", NULL};
+static const char *const known_models[] = {"fibre", "bond", NULL};
 
 static const char *const material_keys[] = {
     "model", "E", "nu", "plane", "yield_strain", "plastic", "delta",
-    "delta_over_c", "rho", "yield_rule", NULL};
+    "delta_over_c", "rho", "yield_rule", "horizon_factor", "surface_correction", NULL};
 
 static int on_material(loader *L, void *arg, const char *key, const char *name,
                        yaml_node_t *v) {
@@ -483,6 +522,8 @@ static int on_material(loader *L, void *arg, const char *key, const char *name,
     return get_pos(L, v, name, &cs->delta_over_c);
   }
   if (IS("rho")) return get_pos(L, v, name, &m->rho);
+  if (IS("horizon_factor")) return get_pos(L, v, name, &cs->horizon_factor);
+  if (IS("surface_correction")) return get_bool(L, v, name, &m->surface_correction);
   if (get_choice(L, v, name, rules, &i)) return PS_ERR_INPUT; /* yield_rule */
   m->yield_rule = i == 0 ? PS_YIELD_TOTAL : PS_YIELD_DEVIATORIC;
   return PS_OK;
@@ -512,7 +553,16 @@ static int on_displace(loader *L, void *arg, const char *key, const char *name,
   return get_real(L, v, name, -INFINITY, 0, INFINITY, 0, &bc->displace[k]);
 }
 
-static const char *const bc_keys[] = {"select", "fix", "displace", "measure", NULL};
+static int on_traction(loader *L, void *arg, const char *key, const char *name,
+                       yaml_node_t *v) {
+  ps_bc *bc = arg;
+  int k = key[0] - 'x';
+  bc->traction_set[k] = 1;
+  return get_real(L, v, name, -INFINITY, 0, INFINITY, 0, &bc->traction[k]);
+}
+
+static const char *const bc_keys[] = {"select", "fix", "displace", "traction", "measure",
+                                      NULL};
 
 static int on_bc(loader *L, void *arg, const char *key, const char *name,
                  yaml_node_t *v) {
@@ -541,6 +591,7 @@ static int on_bc(loader *L, void *arg, const char *key, const char *name,
     return PS_OK;
   }
   if (IS("displace")) return walk_map(L, v, name, component_keys, on_displace, bc);
+  if (IS("traction")) return walk_map(L, v, name, component_keys, on_traction, bc);
   return get_bool(L, v, name, &bc->measure);
 }
 
@@ -568,7 +619,7 @@ static int get_boundary(loader *L, yaml_node_t *v, const char *name) {
     bc->sel.block = -1;
     bc->line = line_of(e);
     if (walk_map(L, e, name, bc_keys, on_bc, bc)) return PS_ERR_INPUT;
-    int has_select = 0, fixes = 0, displaces = 0;
+    int has_select = 0, fixes = 0, displaces = 0, tractions = 0;
     for (yaml_node_pair_t *p = e->data.mapping.pairs.start; p < e->data.mapping.pairs.top;
          p++)
       has_select |= !strcmp(sval(yaml_document_get_node(L->doc, p->key)), "select");
@@ -579,13 +630,18 @@ static int get_boundary(loader *L, yaml_node_t *v, const char *name) {
     for (int k = 0; k < 3; k++) {
       fixes += bc->fix[k];
       displaces += bc->displace_set[k];
+      tractions += bc->traction_set[k];
       if (bc->fix[k] && bc->displace_set[k])
         return fail(L, bc->line, "%s entry %d: component %c is both fixed and displaced",
                     name, i + 1, 'x' + k);
+      if (bc->traction_set[k] && (bc->fix[k] || bc->displace_set[k]))
+        return fail(L, bc->line,
+                    "%s entry %d: component %c has a traction and a prescribed "
+                    "displacement", name, i + 1, 'x' + k);
     }
-    if (!fixes && !displaces)
+    if (!fixes && !displaces && !tractions)
       return fail(L, bc->line,
-                  "%s entry %d has neither fix nor displace: it constrains nothing", name,
+                  "%s entry %d has no fix, displace or traction: it does nothing", name,
                   i + 1);
     if (bc->measure && !displaces)
       return fail(L, bc->line, "%s entry %d: measure: true needs a displaced component",
@@ -786,6 +842,12 @@ static int cross_checks(loader *L) {
     return fail(L, L->line_type, "geometry.type cloud needs geometry.file");
   if (cs->n_cracks > 0 && cs->dim == 3)
     return fail(L, L->line_cracks, "geometry.cracks are 2D only (geometry.dim is 3)");
+  if (cs->n_holes > 0 && (cs->dim == 3 || cs->geometry != PS_GEOM_BOX))
+    return fail(L, L->line_holes, "geometry.holes need a 2D box");
+  if (!strcmp(cs->model, "bond") && cs->geometry != PS_GEOM_BOX)
+    return fail(L, L->line_type ? L->line_type : 1,
+                "material.model bond needs geometry.type box (a regular lattice: the "
+                "horizon is material.horizon_factor * geometry.spacing)");
   if (L->line_delta_over_c && cs->geometry != PS_GEOM_DISK)
     return fail(L, L->line_delta_over_c,
                 "material.delta_over_c needs geometry.type disk (c is the disk's half "
@@ -960,6 +1022,21 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
            cs->spacing, cs->lattice, cs->jitter, cs->seed, cs->cloud_file, cs->size_rule,
            cs->size_neighbours);
   fnv(&h, b);
+  /* newer keys enter only when set, so fingerprints of older cases stay */
+  if (cs->origin[0] != 0 || cs->origin[1] != 0 || cs->origin[2] != 0) {
+    snprintf(b, sizeof b, "origin %.17g %.17g %.17g", cs->origin[0], cs->origin[1],
+             cs->origin[2]);
+    fnv(&h, b);
+  }
+  for (int i = 0; i < cs->n_holes; i++) {
+    snprintf(b, sizeof b, "hole %.17g %.17g %.17g", cs->holes[i][0], cs->holes[i][1],
+             cs->holes[i][2]);
+    fnv(&h, b);
+  }
+  if (!strcmp(cs->model, "bond")) {
+    snprintf(b, sizeof b, "bond %.17g %d", cs->horizon_factor, m->surface_correction);
+    fnv(&h, b);
+  }
   for (int i = 0; i < cs->n_cracks; i++) {
     snprintf(b, sizeof b, "crack %.17g %.17g %.17g %.17g", cs->cracks[i].p0[0],
              cs->cracks[i].p0[1], cs->cracks[i].p1[0], cs->cracks[i].p1[1]);
@@ -979,6 +1056,12 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
              bc->displace_set[0], bc->displace_set[1], bc->displace_set[2],
              bc->displace[0], bc->displace[1], bc->displace[2], bc->measure);
     fnv(&h, b);
+    if (bc->traction_set[0] || bc->traction_set[1] || bc->traction_set[2]) {
+      snprintf(b, sizeof b, "traction %d%d%d %.17g %.17g %.17g", bc->traction_set[0],
+               bc->traction_set[1], bc->traction_set[2], bc->traction[0], bc->traction[1],
+               bc->traction[2]);
+      fnv(&h, b);
+    }
   }
   snprintf(b, sizeof b, "solver %.17g %d %d path %.17g %.17g %.17g %d %.17g %.17g %.17g %d",
            cs->tolerance, cs->max_iterations, cs->line_search, cs->load_step,

@@ -13,6 +13,7 @@ enum ps_size_rule { PS_SIZE_EQ115 = 0, PS_SIZE_EQ44 = 1 };
 enum ps_load_type { PS_LOAD_EQ116 = 0, PS_LOAD_BOUNDARY = 1 };
 
 #define PS_MAX_CRACKS 16
+#define PS_MAX_HOLES 16
 #define PS_MAX_BC 32
 #define PS_MAX_SWEEP 64
 
@@ -29,6 +30,11 @@ typedef struct ps_bc {
   int fix[3];          /* 1: this component held at zero */
   int displace_set[3]; /* 1: this component prescribed */
   double displace[3];  /* prescribed displacement at load factor 1, m */
+  int traction_set[3]; /* 1: a traction on this component */
+  double traction[3];  /* traction at load factor 1, Pa: the selected
+                          particles carry the body force traction / layer
+                          (force traction V_a / layer), layer = the
+                          selection's thickness, geometry.spacing */
   int measure;         /* 1: reactions of these particles give the
                           boundary stress (along the displaced component) */
   int line;            /* line in the case file (messages) */
@@ -47,6 +53,10 @@ typedef struct ps_case {
   double spacing;      /* box: lattice spacing d, m */
   char lattice[16];    /* box: "square" | "hex" */
   double jitter;       /* box: fraction of d */
+  double origin[3];    /* box: corner of the first cell, m (default 0) */
+  int n_holes;
+  double holes[PS_MAX_HOLES][3]; /* box, 2D: circular holes (cx, cy, R), m:
+                          particles inside are removed, arms across cut */
   unsigned long seed;  /* jitter seed (box; geometry.seed also sets
                           disk.seed) */
   char cloud_file[1024]; /* cloud: path (resolved against dir) */
@@ -60,7 +70,9 @@ typedef struct ps_case {
   int kernel_k;        /* default 2 */
 
   /* material */
-  char model[32];      /* "fibre" */
+  char model[32];      /* "fibre" (default) | "bond" */
+  double horizon_factor; /* bond: horizon delta = m * geometry.spacing,
+                            default m = 3 (Fallah et al.) */
   ps_material mat;     /* E, nu, plane, yield_strain, plastic, delta, rho */
   double delta_over_c; /* disk: delta given as a fraction of c (0: unset) */
 

@@ -93,15 +93,15 @@ void ps_arm_tangent_free(ps_arm_tangent *t) {
 }
 
 const ps_model_type *ps_model_type_find(const char *name) {
-  const ps_model_type *const all[] = {ps_model_fibre};
+  const ps_model_type *const all[] = {ps_model_fibre, ps_model_bond};
   for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
     if (strcmp(all[i]->name, name) == 0) return all[i];
   return NULL;
 }
 
 int ps_model_create(ps_model *m, const ps_model_type *type,
-                    const ps_network *net, const ps_material *mat,
-                    ps_ctx *ctx) {
+                    const ps_particles *P, const ps_network *net,
+                    const ps_material *mat, ps_ctx *ctx) {
   memset(m, 0, sizeof *m);
   m->type = type;
   m->net = net;
@@ -112,11 +112,17 @@ int ps_model_create(ps_model *m, const ps_model_type *type,
     ps_model_free(m);
     return PS_ERR_NOMEM;
   }
+  if (type->prepare) {
+    int status = type->prepare(m, P, ctx);
+    if (status < 0) ps_model_free(m);
+    return status;
+  }
   return PS_OK;
 }
 
 void ps_model_free(ps_model *m) {
   free(m->R);
   free(m->epsbar);
+  free(m->arm_k);
   memset(m, 0, sizeof *m);
 }

@@ -31,6 +31,11 @@ typedef struct ps_material {
   double rho;          /* density, kg/m^3; uniform, so it drops out of the
                           forces; gives the masses in particles.csv */
   int yield_rule;      /* enum ps_yield_rule */
+  /* bond-based model only (Fallah et al. 2020): */
+  double horizon;      /* delta, m: arms r <= horizon carry force (Eq. 7) */
+  double spacing;      /* lattice constant Delta x, m (partial volumes) */
+  int surface_correction; /* 1: energy-based surface correction (Li & Hao
+                             2023, Eq. A.3-A.6) */
   /* derived by ps_material_finish: */
   double G;            /* shear modulus, Eq. 78 */
   double K;            /* bulk modulus: Eq. 79 (3D), 80 (plane stress),
@@ -85,6 +90,10 @@ typedef struct ps_model_type {
    * the limit by the most (a gentler step when re-equilibration after
    * breaking them all fails). */
   ps_int (*break_arms)(const ps_model *m, ps_arm_state *st, ps_int max_count);
+  /* Optional (NULL: nothing to do): check the parameters against the
+   * network and precompute per-arm data into m->arm_k. Returns PS_OK,
+   * PS_ERR_INPUT (message names the parameter), PS_ERR_NOMEM. */
+  int (*prepare)(ps_model *m, const ps_particles *P, ps_ctx *ctx);
 } ps_model_type;
 
 struct ps_model {
@@ -93,6 +102,8 @@ struct ps_model {
   ps_material mat;
   double *R;       /* [n_particle] workspace: sum_b A_ab r0_ab */
   double *epsbar;  /* [n_particle] mean strain of the last evaluate */
+  double *arm_k;   /* [n_arm] per-arm data of models that prepare it (bond:
+                      stiffness dT/dl, N/m), else NULL */
 };
 
 /* The virtual-fibre model: Eq. 110 force flux density with the
@@ -100,13 +111,23 @@ struct ps_model {
  * r0, return mapping Eq. 111, breaking Eq. 118. */
 extern const ps_model_type *const ps_model_fibre;
 
-/* Look a model type up by name ("fibre"); NULL if unknown. */
+/* Bond-based peridynamics (Fallah et al. 2020): pairwise force c s V_a V_b
+ * with the conical micromodulus of Eq. 7, c(xi) = c0 (1 - xi/delta),
+ * c0 = 48 K / (pi delta^3) in 2D (= 24 E / (pi delta^3 (1 - nu)) in plane
+ * stress, per unit thickness) and 90 K / (pi delta^4) in 3D, partial
+ * volumes at the horizon (Li & Hao Eq. A.2) and, optionally, the
+ * energy-based surface correction (Eq. A.3-A.6). Elastic, no breaking;
+ * nu is fixed: 1/3 in plane stress, 1/4 in plane strain and 3D. */
+extern const ps_model_type *const ps_model_bond;
+
+/* Look a model type up by name ("fibre", "bond"); NULL if unknown. */
 const ps_model_type *ps_model_type_find(const char *name);
 
-/* Create a model on a network. Returns PS_OK, PS_ERR_NOMEM. */
+/* Create a model on a network of the particles P (and run the type's
+ * prepare). Returns PS_OK, PS_ERR_INPUT (from prepare), PS_ERR_NOMEM. */
 int ps_model_create(ps_model *m, const ps_model_type *type,
-                    const ps_network *net, const ps_material *mat,
-                    ps_ctx *ctx);
+                    const ps_particles *P, const ps_network *net,
+                    const ps_material *mat, ps_ctx *ctx);
 void ps_model_free(ps_model *m);
 
 #endif

@@ -47,9 +47,16 @@ static int eval(ps_solver *s, const double *u, double *f, double *energy,
   double t = ps_wtime();
   int status = ps_system_eval(&s->sys, &s->model, &s->st, s->P->x, u, f,
                               energy, tangent, ctx);
+  if (s->fext && status == PS_OK)
+    for (ps_int j = 0; j < s->sys.n_dof; j++) {
+      f[j] -= s->lambda * s->fext[j];
+      *energy -= s->lambda * s->fext[j] * u[j];
+    }
   s->t_assembly += ps_wtime() - t;
   return status;
 }
+
+void ps_solver_set_forces(ps_solver *s, const double *fext) { s->fext = fext; }
 
 /* Factor sys.A with the chosen backend; on a matrix that is not positive
  * definite fall back to UMFPACK. Returns PS_OK, PS_SINGULAR (message in
@@ -105,7 +112,7 @@ int ps_solver_create(ps_solver *s, const ps_particles *P,
                       "a prescribed %c displacement (see loading.boundary)",
                       "xyz"[k], "xyz"[k]);
   }
-  PS_CHECK_GOTO(ps_model_create(&s->model, type, net, mat, ctx));
+  PS_CHECK_GOTO(ps_model_create(&s->model, type, P, net, mat, ctx));
   PS_CHECK_GOTO(ps_system_create(&s->sys, net, fixed, ctx));
   PS_CHECK_GOTO(ps_arm_state_alloc(&s->st, net->n_arm, ctx));
   PS_CHECK_GOTO(ps_arm_state_alloc(&s->st_saved, net->n_arm, ctx));
@@ -342,8 +349,10 @@ int ps_solver_step(ps_solver *s, double lambda, ps_ctx *ctx) {
     /* predictor: K_ff du_f = -(r_f + K_fp du_p) with the last factor */
     for (ps_int j = 0; j < nd; j++) s->work_dof[j] = sys->fixed[j] ? dl * s->ubar[j] : 0.0;
     ps_system_coupling(sys, s->work_dof, s->work);
-    for (ps_int k = 0; k < nf; k++)
-      s->rhs[k] = -(s->f[sys->dof_of_free[k]] + s->work[k]);
+    for (ps_int k = 0; k < nf; k++) {
+      ps_int j = sys->dof_of_free[k];
+      s->rhs[k] = -(s->f[j] + s->work[k]) + (s->fext ? dl * s->fext[j] : 0.0);
+    }
     PS_CHECK(ps_linsolve_solve((ps_linsolve *)s->ls_last, s->rhs, s->du, ctx));
     for (ps_int k = 0; k < nf; k++) s->u[sys->dof_of_free[k]] += s->du[k];
   }

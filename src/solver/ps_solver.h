@@ -69,6 +69,9 @@ typedef struct ps_solver {
   double *u_trial, *f_trial;/* [n_dof] line-search work */
   double *work_dof;         /* [n_dof] */
   double *diag_saved;       /* [n_free] diagonal of the tangent while shifted */
+  const double *fext;       /* [n_dof] external forces at load factor 1 (N;
+                               per unit thickness in 2D), zero on prescribed
+                               dofs, or NULL; not owned */
 
   /* statistics of the run */
   ps_int newton_iterations, n_fallback, n_line_search_cuts;
@@ -109,6 +112,12 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx);
  * (tangent predictor). Returns PS_OK, PS_DIVERGED (state restored to
  * the last commit), or fatal. Does not commit. */
 int ps_solver_step(ps_solver *s, double lambda, ps_ctx *ctx);
+
+/* Load the model by the forces lambda * fext as well (tractions given as
+ * forces on particles; fext zero on prescribed dofs, kept by the caller).
+ * The residual becomes f_int - lambda fext and the energy Psi - lambda
+ * fext . u. Call before the first ps_solver_step. */
+void ps_solver_set_forces(ps_solver *s, const double *fext);
 
 /* Accept the converged state: eps_p <- trial; save it as the restore
  * point. */

@@ -1,0 +1,129 @@
+/* bond.c: bond-based peridynamics as in Fallah et al. (2020), section 2:
+ * the pairwise force of an arm (bond) of reference length xi is
+ *   T = c(xi) s V_a V_b v R,   s = (l - xi) / xi,
+ * with the conical micromodulus of Eq. 7, c(xi) = c0 (1 - xi/delta) for
+ * xi <= delta (0 beyond), c0 from equating the isotropic-expansion energy
+ * with the continuum's (2D: c0 = 48 K / (pi delta^3), which is Eq. 7's
+ * 24 E / (pi delta^3 (1 - nu)) in plane stress; 3D: 90 K / (pi delta^4)),
+ * the partial volume v of Li & Hao (2023) Eq. A.2 for bonds near the
+ * horizon, and the energy-based surface correction R of their Eq. A.3-A.6
+ * (optional). Forces are per unit thickness in 2D (V_a are areas), so
+ * c0 is Eq. 7 with t = 1. The stored energy is sum 1/2 k dl^2 with
+ * k = c V_a V_b v R / xi, so dT/dl = k: no family coupling. Elastic,
+ * bonds never break here. Bond-based PD fixes Poisson's ratio: 1/3 in
+ * plane stress, 1/4 in plane strain and 3D. */
+#include "ps_model.h"
+
+#include <gsl/gsl_math.h>
+#include <math.h>
+#include <stdlib.h>
+
+/* Li & Hao Eq. A.2: the share of b's cell inside a's horizon */
+static double partial_volume(double xi, double delta, double dx) {
+  if (xi <= delta - 0.5 * dx) return 1.0;
+  if (xi >= delta + 0.5 * dx) return 0.0;
+  return 0.5 + (delta - xi) / dx;
+}
+
+static int bond_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
+  const ps_network *net = m->net;
+  const ps_material *mat = &m->mat;
+  int N = net->dim;
+  double delta = mat->horizon, dx = mat->spacing;
+  if (!P)
+    return ps_error(ctx, PS_ERR_INPUT, "the bond model needs the particle positions");
+  if (!(delta > 0) || !(dx > 0))
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "material.model bond needs a horizon and a lattice spacing (a box "
+                    "geometry with geometry.spacing and material.horizon_factor)");
+  double nu_fixed = (N == 2 && mat->plane == PS_PLANE_STRESS) ? 1.0 / 3.0 : 0.25;
+  if (fabs(mat->nu - nu_fixed) > 1e-3)
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "material.nu = %g: bond-based peridynamics has nu = %s in %s "
+                    "(Fallah et al. 2020, section 5)",
+                    mat->nu, N == 2 && mat->plane == PS_PLANE_STRESS ? "1/3" : "1/4",
+                    N == 3 ? "3D" : mat->plane == PS_PLANE_STRESS ? "plane stress"
+                                                                  : "plane strain");
+  if (mat->plastic)
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "material.model bond is elastic: set material.plastic: false");
+  double c0 = N == 2 ? 48.0 * mat->K / (M_PI * pow(delta, 3))
+                     : 90.0 * mat->K / (M_PI * pow(delta, 4));
+  ps_int na = net->n_arm, np = net->n_particle;
+  m->arm_k = ps_calloc((size_t)na, sizeof *m->arm_k, ctx);
+  double *Wk = ps_calloc((size_t)np * N, sizeof *Wk, ctx);
+  if (!m->arm_k || !Wk) {
+    free(Wk);
+    return PS_ERR_NOMEM;
+  }
+  /* uncorrected bond constants c(xi) v, and (Eq. A.3) each particle's
+   * energy density under the unit uniaxial strain along axis k, up to the
+   * common factor eps0^2: W_k(a) = 1/4 sum_b c v xi n_k^4 V_b */
+  for (ps_int i = 0; i < na; i++) {
+    ps_int a = net->a[i], b = net->b[i];
+    double xi = net->r0[i];
+    double cv = xi < delta ? c0 * (1.0 - xi / delta) * partial_volume(xi, delta, dx) : 0.0;
+    m->arm_k[i] = cv;
+    for (int k = 0; k < N; k++) {
+      double n = (P->x[b * N + k] - P->x[a * N + k]) / xi, n4 = n * n * n * n;
+      Wk[a * N + k] += 0.25 * cv * xi * n4 * P->volume[b];
+      Wk[b * N + k] += 0.25 * cv * xi * n4 * P->volume[a];
+    }
+  }
+  /* the continuum's value (Eq. A.4): 1/2 C11 with C11 of the plane /
+   * solid, so that W_inf / W_k(a) also removes the lattice-sum error */
+  double E = mat->E, nu = mat->nu;
+  double C11 = (N == 2 && mat->plane == PS_PLANE_STRESS)
+                   ? E / (1.0 - nu * nu)
+                   : E * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  double Winf = 0.5 * C11;
+  for (ps_int i = 0; i < na; i++) {
+    ps_int a = net->a[i], b = net->b[i];
+    double xi = net->r0[i], R = 1.0;
+    if (mat->surface_correction && m->arm_k[i] > 0) {
+      double s = 0.0;
+      for (int k = 0; k < N; k++) { /* Eq. A.5 and A.6 on the unit direction */
+        double ga = Wk[a * N + k] > 0 ? Winf / Wk[a * N + k] : 1.0;
+        double gb = Wk[b * N + k] > 0 ? Winf / Wk[b * N + k] : 1.0;
+        double n = (P->x[b * N + k] - P->x[a * N + k]) / xi, g = 0.5 * (ga + gb);
+        s += (n / g) * (n / g);
+      }
+      R = 1.0 / sqrt(s);
+    }
+    m->arm_k[i] *= R * P->volume[a] * P->volume[b] / xi;
+  }
+  free(Wk);
+  return PS_OK;
+}
+
+static int bond_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
+                         double *T, double *energy, ps_arm_tangent *tan, ps_ctx *ctx) {
+  (void)ctx;
+  const ps_network *net = m->net;
+  double psi = 0.0;
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    double k = st->broken[i] ? 0.0 : m->arm_k[i];
+    T[i] = k * dl[i];
+    psi += 0.5 * k * dl[i] * dl[i];
+    st->eps_p_trial[i] = st->eps_p[i];
+    st->yielding[i] = 0;
+    if (tan) tan->D[i] = k;
+  }
+  if (tan) {
+    for (ps_int a = 0; a < net->n_particle; a++) tan->c[a] = 0.0;
+    for (ps_int k = 0; k < 2 * net->n_arm; k++) tan->w[k] = 0.0;
+  }
+  *energy = psi;
+  return PS_OK;
+}
+
+static ps_int bond_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count) {
+  (void)m;
+  (void)st;
+  (void)max_count;
+  return 0;
+}
+
+static const ps_model_type bond_type = {"bond", bond_evaluate, bond_break_arms,
+                                        bond_prepare};
+const ps_model_type *const ps_model_bond = &bond_type;

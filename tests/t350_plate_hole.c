@@ -1,0 +1,245 @@
+/* t350_plate_hole.c: the bond-based model (Fallah et al. 2020) and the
+ * plate with a hole, for the bond-based and the virtual-fibre model.
+ *
+ * (1) Bond-based model on a square lattice (m = 3, plane stress, nu =
+ *     1/3, surface correction on), uniform uniaxial strain eps0 = 1e-7:
+ *     the Eq. 24 stress of the centre particle is sigma_xx = C11 eps0,
+ *     C11 = E / (1 - nu^2), to 1e-5. Closed form: with the correction of
+ *     Li & Hao Eq. A.3-A.6, an interior particle's energy under this strain
+ *     is the continuum's 1/2 C11 eps0^2 by construction, and its Eq. 24
+ *     stress is the derivative of that energy (the tolerance covers the
+ *     geometric nonlinearity, O(eps0), and round-off). sigma_yy: the
+ *     correction scales the cross term alike, so sigma_yy = C11 eps0
+ *     S22/S4 with the lattice sums S of Eq. 7 times Eq. A.2 over the
+ *     lattice vectors, summed independently here (1e-5). It is 6% below
+ *     the continuum's C12 = nu C11 at m = 3 (reported, not asserted: the
+ *     anisotropy of a square lattice, not an error of the code).
+ * (2) Patch test of the bond model: an affine field leaves particles more
+ *     than two horizons from the edge with zero force (1e-9 of the
+ *     median arm force; round-off is ~1e-14). Nearer the edge the
+ *     surface correction makes bond constants differ between the two
+ *     sides of a particle, so it does not hold there (known, not tested).
+ * (3) The plate with a hole of data/cases/plate-hole-{bond,fibre}.yaml
+ *     (Fallah Table 1, 101 x 101 spacings): solved through the same
+ *     set-up and run code as `peristatic run`, stresses by Eq. 24:
+ *     - equilibrium: the mean sigma_xx over a column of particles (a cut
+ *       through the plate away from the hole) equals p to 1e-4 (the column
+ *       mean of Eq. 24 is the cut traction exactly for a field uniform
+ *       along x; the variation of this field across a horizon adds a small
+ *       term, 4e-6 measured next to the clamp);
+ *     - sigma_xx along the vertical section through the hole centre, from
+ *       one horizon plus two spacings off the hole edge to r = 4R, against
+ *       Kirsch (Eq. 30): ratio in [0.98, 1.053] for the bond model: 2%
+ *       for the discretisation (the paper reports 1.19% one horizon from
+ *       the hole) and +3.3% for the finite plate (converged FE of this
+ *       plate gives SCF 3.098 against Kirsch's 3, MODEL-NOTES); the
+ *       fibre model is allowed [0.98, 1.10]: the same plus the fibre
+ *       network's lattice-sum modulus error (up to 7% on regular lattices,
+ *       doc/verification.md), which changes a clamped plate's stresses;
+ *     - sigma_yy along the horizontal section over the same range within
+ *       0.03 p of Kirsch (absolute: Kirsch crosses zero there; 0.033 p is
+ *       the finite-plate allowance above);
+ *     - the largest sigma_xx on the vertical section is at the particle
+ *       nearest the hole and exceeds Kirsch there (the skin effect of PD
+ *       raises it, Fallah section 5.1: PD 3.4 against FE about 3). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "common.h"
+
+static void die_ctx(const char *what, const ps_ctx *ctx) {
+  fprintf(stderr, "t350: %s failed: %s\n", what, ctx->msg);
+  exit(2);
+}
+
+static int cmp_d(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return x < y ? -1 : x > y;
+}
+
+/* (1) and (2): a square-lattice box, all particles displaced affinely */
+static void bond_lattice(void) {
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  ctx.verbosity = 0;
+  const ps_int n = 25;
+  const double d = 1e-3, E = 1e9, nu = 1.0 / 3.0, m = 3.0, eps0 = 1e-7;
+  ps_int counts[3] = {n, n, 1};
+  ps_particles P;
+  ps_network net;
+  ps_kernel K;
+  if (ps_geom_box(&P, 2, counts, d, "square", 0.0, 1, &ctx)) die_ctx("box", &ctx);
+  for (ps_int a = 0; a < P.n; a++) P.h[a] = d;
+  if (ps_kernel_init(&K, 2, 2, m * (1 + 1e-9), &ctx) ||
+      ps_network_build(&net, &P, &K, NULL, 0, &ctx))
+    die_ctx("network", &ctx);
+  ps_material mat = tc_material(nu, PS_PLANE_STRESS);
+  mat.E = E;
+  mat.plastic = 0;
+  mat.horizon = m * d;
+  mat.spacing = d;
+  mat.surface_correction = 1;
+  if (ps_material_finish(&mat, 2, &ctx)) die_ctx("material", &ctx);
+  tc_evaluator ev;
+  tc_evaluator_create_model(&ev, ps_model_bond, &P, &net, &mat);
+  double *u = calloc((size_t)(2 * P.n), sizeof *u), *sig = malloc(4 * P.n * sizeof *sig);
+  for (ps_int a = 0; a < P.n; a++) u[2 * a] = eps0 * P.x[2 * a];
+  tc_eval(&ev, &P, u);
+  ps_post_stress_tensor(&P, &net, ev.sys.T, ev.sys.q, sig);
+  ps_int c = (n / 2) * n + n / 2; /* the centre particle */
+  double C11 = E / (1 - nu * nu), C12 = nu * C11;
+  /* the lattice's own cross term, summed here independently over the
+   * lattice vectors: sigma_yy = C11 eps0 S22 / S4 with S = sum c(xi) v(xi)
+   * xi n_x^2 n_y^2 (S22) or n_x^4 (S4) */
+  double S4 = 0, S22 = 0;
+  for (int i = -4; i <= 4; i++)
+    for (int j = -4; j <= 4; j++) {
+      double xi = d * hypot(i, j);
+      if ((i == 0 && j == 0) || xi > m * d) continue;
+      double v = xi <= (m - 0.5) * d ? 1.0 : 0.5 + (m * d - xi) / d; /* Eq. A.2 */
+      double w = (1 - xi / (m * d)) * v * xi, nx = d * i / xi, ny = d * j / xi;
+      S4 += w * nx * nx * nx * nx;
+      S22 += w * nx * nx * ny * ny;
+    }
+  printf("# bond, uniaxial strain: sigma_xx / (C11 eps0) = %.10f, sigma_yy / (C12 eps0) "
+         "= %.5f (the square lattice's cross term, m = 3: 3 S22/S4 = %.5f; the continuum "
+         "and Cauchy's relation give 1)\n",
+         sig[4 * c] / (C11 * eps0), sig[4 * c + 3] / (C12 * eps0), 3 * S22 / S4);
+  ps_check_rel(sig[4 * c], C11 * eps0, 1e-5, "bond: sigma_xx = C11 eps0 (surface correction)");
+  ps_check_rel(sig[4 * c + 3], C11 * eps0 * S22 / S4, 1e-5,
+               "bond: sigma_yy = C11 eps0 S22/S4 (lattice sum)");
+
+  /* (2) patch test: general affine field with a rotation */
+  const double H[4] = {2e-4, -3e-4, 5e-4, -1e-4};
+  for (ps_int a = 0; a < P.n; a++)
+    for (int i = 0; i < 2; i++)
+      u[2 * a + i] = H[2 * i] * P.x[2 * a] + H[2 * i + 1] * P.x[2 * a + 1];
+  tc_eval(&ev, &P, u);
+  double *Tabs = malloc(net.n_arm * sizeof *Tabs);
+  for (ps_int i = 0; i < net.n_arm; i++) Tabs[i] = fabs(ev.sys.T[i]);
+  qsort(Tabs, (size_t)net.n_arm, sizeof *Tabs, cmp_d);
+  double Tmed = Tabs[net.n_arm / 2], worst = 0;
+  double lo[2] = {0, 0}, hi[2] = {n * d, n * d};
+  ps_int n_int = 0;
+  for (ps_int a = 0; a < P.n; a++) {
+    if (tc_dist_to_box_face(&P.x[2 * a], lo, hi, 2) < 2 * m * d + 0.5 * d) continue;
+    n_int++;
+    worst = fmax(worst, hypot(ev.f[2 * a], ev.f[2 * a + 1]) / Tmed);
+  }
+  ps_check(n_int > 50, "bond patch: %lld interior particles", (long long)n_int);
+  ps_check_le(worst, 1e-9, "bond patch: interior force / median arm force");
+  free(Tabs);
+  free(u);
+  free(sig);
+  tc_evaluator_free(&ev);
+  ps_network_free(&net);
+  ps_particles_free(&P);
+}
+
+/* Kirsch (Eq. 30) for remote sigma0 = 1 along x: sigma_xx on x = cx at
+ * distance r (theta = 90 deg) and sigma_yy on y = cy (theta = 0) */
+static double kirsch_xx_vertical(double r, double R) {
+  double q = R * R / (r * r);
+  return 1 + 0.5 * q + 1.5 * q * q;
+}
+static double kirsch_yy_horizontal(double r, double R) {
+  double q = R * R / (r * r);
+  return 0.5 * ((1 + q) - (1 + 3 * q * q));
+}
+
+static void plate(const char *model, double ratio_hi) {
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  ctx.verbosity = getenv("PS_TEST_VERBOSE") ? 1 : 0;
+  const char *srcdir = getenv("srcdir") ? getenv("srcdir") : ".";
+  char path[1024];
+  snprintf(path, sizeof path, "%s/data/cases/plate-hole-%s.yaml", srcdir, model);
+  ps_case cs;
+  ps_problem pb;
+  ps_run_result res;
+  ps_solver s;
+  ps_case_defaults(&cs);
+  if (ps_case_load(&cs, path, &ctx)) die_ctx("case", &ctx);
+  if (ps_problem_setup(&pb, &cs, &ctx)) die_ctx("setup", &ctx);
+  if (ps_run_keep(&pb, INFINITY, NULL, &res, &s, &ctx)) die_ctx("run", &ctx);
+  const ps_particles *P = &pb.P;
+  double *sig = malloc(4 * P->n * sizeof *sig);
+  ps_post_stress_tensor(P, &pb.net, s.sys.T, s.sys.q, sig);
+  const double p = cs.bc[1].traction[0], dx = cs.spacing, R = cs.holes[0][2];
+  const double cx = cs.holes[0][0], cy = cs.holes[0][1], delta = 3 * dx;
+  /* equilibrium on two cuts, left and right of the hole */
+  const double cuts[2] = {0.0125, 0.0375};
+  for (int k = 0; k < 2; k++) {
+    double sum = 0;
+    ps_int cnt = 0, col = (ps_int)floor((cuts[k] - cs.origin[0]) / dx);
+    double xc = cs.origin[0] + (col + 0.5) * dx;
+    for (ps_int a = 0; a < P->n; a++)
+      if (fabs(P->x[2 * a] - xc) < 0.25 * dx) {
+        sum += sig[4 * a];
+        cnt++;
+      }
+    char what[160];
+    snprintf(what, sizeof what, "%s: mean sigma_xx / p on the cut x = %.4f m (%lld particles)",
+             model, xc, (long long)cnt);
+    ps_check_rel(sum / cnt / p, 1.0, 1e-4, what);
+  }
+  /* the sections */
+  double worst_lo = INFINITY, worst_hi = -INFINITY, worst_yy = 0, r_first = INFINITY;
+  double s_first = 0, s_max = -INFINITY, r_max = 0;
+  ps_int n_sec = 0;
+  for (ps_int a = 0; a < P->n; a++) {
+    double x = P->x[2 * a], y = P->x[2 * a + 1];
+    if (fabs(x - cx) < 0.25 * dx && y > cy) { /* vertical section, above the hole */
+      double r = y - cy, sxx = sig[4 * a] / p;
+      if (r < r_first) {
+        r_first = r;
+        s_first = sxx;
+      }
+      if (sxx > s_max) {
+        s_max = sxx;
+        r_max = r;
+      }
+      if (r - R >= delta + 2 * dx && r <= 4 * R) {
+        double ratio = sxx / kirsch_xx_vertical(r, R);
+        worst_lo = fmin(worst_lo, ratio);
+        worst_hi = fmax(worst_hi, ratio);
+        n_sec++;
+      }
+    }
+    if (fabs(y - cy) < 0.25 * dx && x > cx) { /* horizontal section, right */
+      double r = x - cx;
+      if (r - R >= delta + 2 * dx && r <= 4 * R)
+        worst_yy = fmax(worst_yy, fabs(sig[4 * a + 3] / p - kirsch_yy_horizontal(r, R)));
+    }
+  }
+  printf("# %s: %lld particles, %lld arms; nearest the hole r = %.3f R: sigma_xx/p = %.4f "
+         "(Kirsch there %.4f; SCF at r = R: Kirsch 3, FE 3.098, Fallah PD 3.4)\n",
+         model, (long long)P->n, (long long)pb.net.n_arm, r_first / R, s_first,
+         kirsch_xx_vertical(r_first, R));
+  printf("# %s: sigma_xx / Kirsch on the vertical section, %lld particles from r = R + "
+         "delta + 2 dx to 4R: %.4f .. %.4f; |sigma_yy/p - Kirsch| <= %.4f\n",
+         model, (long long)n_sec, worst_lo, worst_hi, worst_yy);
+  ps_check(n_sec >= 5, "%s: %lld section particles compared", model, (long long)n_sec);
+  ps_check(worst_lo >= 0.98 && worst_hi <= ratio_hi,
+           "%s: sigma_xx / Kirsch in [0.98, %.3f] on the vertical section (%.4f .. %.4f)",
+           model, ratio_hi, worst_lo, worst_hi);
+  char what[160];
+  snprintf(what, sizeof what, "%s: sigma_yy on the horizontal section, |. - Kirsch| / p",
+           model);
+  ps_check_le(worst_yy, 0.03, what);
+  ps_check(r_max == r_first && s_first > kirsch_xx_vertical(r_first, R),
+           "%s: sigma_xx peaks next to the hole (r = %.3f R) above Kirsch", model,
+           r_max / R);
+  free(sig);
+  ps_solver_free(&s);
+  ps_problem_free(&pb);
+}
+
+int main(void) {
+  bond_lattice();
+  plate("bond", 1.053);
+  plate("fibre", 1.10);
+  return ps_check_summary();
+}

@@ -346,6 +346,29 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
             (long long)res->pcg_failures, (long long)res->solves, res->nnz_tangent,
             res->nnz_factor, res->flops_factor,
             (unsigned long long)ps_case_fingerprint(cs));
+    if (cs->n_j_rings > 0 && pb->P.dim == 2) { /* J of the final state, Eq. 39 */
+      double *sig = malloc(4 * (size_t)pb->P.n * sizeof *sig);
+      double *H = malloc(4 * (size_t)pb->P.n * sizeof *H);
+      if (!sig || !H) {
+        free(sig);
+        free(H);
+        ps_outfile_abort(&o);
+        status = ps_error(ctx, PS_ERR_NOMEM, "J-integral: out of memory");
+        goto cleanup;
+      }
+      ps_post_stress_tensor(&pb->P, &pb->net, s.sys.T, s.sys.q, sig);
+      ps_post_displacement_gradient(&pb->P, &pb->net, &s.st, s.u, H);
+      for (int i = 0; i < cs->n_j_rings; i++) {
+        double l = cs->j_rings[i];
+        double J = ps_post_j_domain(&pb->P, sig, H, cs->j_tip, 0.5 * l, l);
+        fprintf(o.f, "j_integral_ring_%.6gm_N_per_m: %.8g\n", l, J);
+        ps_log(ctx, 1, "# J-integral (Eq. 39) over the square ring %.4g..%.4g m around "
+                       "(%.6g, %.6g): %.6g N/m\n",
+               0.5 * l, l, cs->j_tip[0], cs->j_tip[1], J);
+      }
+      free(sig);
+      free(H);
+    }
     PS_CHECK_GOTO(ps_outfile_commit(&o, ctx));
     PS_CHECK_GOTO(ps_dir_commit(staging, out_dir, ctx));
   }

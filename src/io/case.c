@@ -84,6 +84,7 @@ typedef struct loader {
   ps_case *cs;
   ps_ctx *ctx;
   int line_type, line_dim, line_counts, n_counts, line_lattice, line_cracks, line_holes;
+  int line_j, line_j_tip;
   int line_load_type, line_boundary, line_delta, line_delta_over_c;
   int line_sweep_list, line_sweep_den;
 } loader;
@@ -714,7 +715,27 @@ static int on_path(loader *L, void *arg, const char *key, const char *name,
 }
 
 static const char *const output_keys[] = {"dir", "vtk_every", "fields", "verbosity",
-                                          NULL};
+                                          "j_integral", NULL};
+
+static const char *const j_keys[] = {"tip", "rings", NULL};
+
+static int on_j(loader *L, void *arg, const char *key, const char *name, yaml_node_t *v) {
+  ps_case *cs = L->cs;
+  char b[80];
+  (void)arg;
+  if (IS("tip")) {
+    L->line_j_tip = line_of(v);
+    return get_point2(L, v, name, cs->j_tip);
+  }
+  if (v->type != YAML_SEQUENCE_NODE || seq_len(v) < 1 || seq_len(v) > 8)
+    return fail(L, line_of(v), "%s must be a list of 1 to 8 ring sizes in m (got %s)", name,
+                got(v, b));
+  cs->n_j_rings = seq_len(v);
+  for (int i = 0; i < cs->n_j_rings; i++)
+    if (get_real(L, seq_item(L, v, i), name, 0.0, 1, INFINITY, 0, &cs->j_rings[i]))
+      return PS_ERR_INPUT;
+  return PS_OK;
+}
 
 static int on_output(loader *L, void *arg, const char *key, const char *name,
                      yaml_node_t *v) {
@@ -723,6 +744,13 @@ static int on_output(loader *L, void *arg, const char *key, const char *name,
   if (IS("dir")) return get_string(L, v, name, cs->out_dir, sizeof cs->out_dir);
   if (IS("vtk_every")) return get_int(L, v, name, 0, INT_MAX, &cs->vtk_every);
   if (IS("fields")) return get_bool(L, v, name, &cs->fields);
+  if (IS("j_integral")) {
+    L->line_j = line_of(v);
+    if (walk_map(L, v, name, j_keys, on_j, NULL)) return PS_ERR_INPUT;
+    if (!L->line_j_tip || !cs->n_j_rings)
+      return fail(L, L->line_j, "%s needs both tip: [x, y] and rings: [l, ...]", name);
+    return PS_OK;
+  }
   return get_int(L, v, name, 0, 3, &cs->verbosity);
 }
 
@@ -842,6 +870,8 @@ static int cross_checks(loader *L) {
     return fail(L, L->line_type, "geometry.type cloud needs geometry.file");
   if (cs->n_cracks > 0 && cs->dim == 3)
     return fail(L, L->line_cracks, "geometry.cracks are 2D only (geometry.dim is 3)");
+  if (cs->n_j_rings > 0 && cs->dim == 3)
+    return fail(L, L->line_j, "output.j_integral is 2D only (geometry.dim is 3)");
   if (cs->n_holes > 0 && (cs->dim == 3 || cs->geometry != PS_GEOM_BOX))
     return fail(L, L->line_holes, "geometry.holes need a 2D box");
   if (!strcmp(cs->model, "bond") && cs->geometry != PS_GEOM_BOX)

@@ -112,6 +112,11 @@ typedef struct ps_case {
   int vtk_every;       /* write VTK every n increments (0: last only), 10 */
   int fields;          /* 0: no VTK and no particles.csv, only
                           history.csv and summary.txt (default 1) */
+  int n_j_rings;       /* output.j_integral: J of the final state by Eq. 39
+                          (Fallah) for each ring, into summary.txt (2D) */
+  double j_tip[2];     /* crack tip, m (the crack runs along +x to it) */
+  double j_rings[8];   /* outer half-widths l of the square rings, m
+                          (q = 1 inside l/2, 0 outside l) */
   int verbosity;       /* 0 quiet, 1 progress, 2 Newton detail, 3 source
                           locations in errors (default 1) */
 

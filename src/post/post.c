@@ -3,6 +3,7 @@
 #include "ps_post.h"
 
 #include <gsl/gsl_fit.h>
+#include <gsl/gsl_linalg.h>
 #include <gsl/gsl_multifit.h>
 #include <math.h>
 #include <string.h>
@@ -77,6 +78,65 @@ void ps_post_stress_tensor(const ps_particles *P, const ps_network *net,
   }
   for (ps_int a = 0; a < P->n; a++)
     for (int k = 0; k < d * d; k++) sigma[a * d * d + k] /= 2.0 * P->volume[a];
+}
+
+void ps_post_displacement_gradient(const ps_particles *P, const ps_network *net,
+                                   const ps_arm_state *st, const double *u, double *H) {
+  int d = P->dim;
+  for (ps_int a = 0; a < P->n; a++) {
+    double M[9] = {0}, B[9] = {0}; /* M = sum w dX dX^T, B = sum w dU dX^T */
+    for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
+      ps_int i = net->fam_arm[k];
+      if (st && st->broken[i]) continue;
+      ps_int b = net->a[i] == a ? net->b[i] : net->a[i];
+      double w = 1.0 / (net->r0[i] * net->r0[i]), dX[3], dU[3];
+      for (int j = 0; j < d; j++) {
+        dX[j] = P->x[b * d + j] - P->x[a * d + j];
+        dU[j] = u[b * d + j] - u[a * d + j];
+      }
+      for (int r = 0; r < d; r++)
+        for (int c = 0; c < d; c++) {
+          M[r * d + c] += w * dX[r] * dX[c];
+          B[r * d + c] += w * dU[r] * dX[c];
+        }
+    }
+    /* H M = B, M symmetric: solve M h_r = b_r for each row r of H */
+    double *Ha = &H[a * d * d];
+    memset(Ha, 0, (size_t)(d * d) * sizeof *Ha);
+    gsl_matrix_view Mv = gsl_matrix_view_array(M, (size_t)d, (size_t)d);
+    gsl_error_handler_t *old = gsl_set_error_handler_off();
+    int bad = gsl_linalg_cholesky_decomp1(&Mv.matrix) != 0;
+    for (int r = 0; r < d && !bad; r++) {
+      gsl_vector_view bv = gsl_vector_view_array(&B[r * d], (size_t)d);
+      gsl_vector_view hv = gsl_vector_view_array(&Ha[r * d], (size_t)d);
+      bad = gsl_linalg_cholesky_solve(&Mv.matrix, &bv.vector, &hv.vector) != 0;
+    }
+    gsl_set_error_handler(old);
+    if (bad) memset(Ha, 0, (size_t)(d * d) * sizeof *Ha);
+  }
+}
+
+double ps_post_j_domain(const ps_particles *P, const double *sigma, const double *H,
+                        const double *tip, double l_in, double l_out) {
+  double J = 0.0, w = l_out - l_in;
+  for (ps_int a = 0; a < P->n; a++) {
+    double dx = P->x[2 * a] - tip[0], dy = P->x[2 * a + 1] - tip[1];
+    double rho = fmax(fabs(dx), fabs(dy));
+    if (rho <= l_in || rho >= l_out) continue; /* grad q = 0 */
+    double gq[2] = {0, 0}; /* q = (l_out - rho) / w */
+    if (fabs(dx) >= fabs(dy))
+      gq[0] = -(dx > 0 ? 1.0 : -1.0) / w;
+    else
+      gq[1] = -(dy > 0 ? 1.0 : -1.0) / w;
+    const double *s = &sigma[4 * a], *h = &H[4 * a]; /* h[j*2 + k] = du_j/dx_k */
+    double W = 0.5 * (s[0] * h[0] + s[1] * h[1] + s[2] * h[2] + s[3] * h[3]);
+    for (int i = 0; i < 2; i++) {
+      double t = s[i * 2 + 0] * h[0 * 2 + 0] + s[i * 2 + 1] * h[1 * 2 + 0]; /* sigma_ij u_j,1 */
+      if (i == 0) t -= W;
+      J += t * gq[i] * P->volume[a];
+    }
+  }
+  return J;
 }
 
 int ps_post_fit_strain(const ps_particles *P, const double *u,

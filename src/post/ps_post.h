@@ -38,6 +38,26 @@ double ps_post_crack_tip(const ps_particles *P, const ps_network *net,
 void ps_post_stress_tensor(const ps_particles *P, const ps_network *net,
                            const double *T, const double *q, double *sigma);
 
+/* Displacement gradient per particle, H[a d^2 + j d + k] = du_j/dx_k: the
+ * least-squares fit of u_b - u_a = H (X_b - X_a) over a's intact arms,
+ * weights 1 / r0^2 (the nearest neighbours count most). Arms across a
+ * crack do not exist, so at crack faces the fit is one-sided, as it must
+ * be. A particle whose arms do not span the space gets H = 0. */
+void ps_post_displacement_gradient(const ps_particles *P, const ps_network *net,
+                                   const ps_arm_state *st, const double *u, double *H);
+
+/* J-integral of a straight crack running along +x with its tip at tip[],
+ * by the equivalent domain integral of Fallah et al. (2020), Eq. 39:
+ *   J = sum_k (sigma_ij du_j/dx_1 - W delta_1i) dq/dx_i V_k,
+ * sigma from Eq. 24 (ps_post_stress_tensor), du/dx from
+ * ps_post_displacement_gradient, W = sigma_ij du_i/dx_j / 2 (linear
+ * elasticity), and the trapezoidal weight q = 1 for rho <= l_in, 0 for
+ * rho >= l_out, linear in between, rho = max(|x - x_tip|, |y - y_tip|)
+ * (a square ring around the tip, Fallah Fig. 14). 2D; J in J/m^2 (N/m),
+ * V_k areas per unit thickness. */
+double ps_post_j_domain(const ps_particles *P, const double *sigma, const double *H,
+                        const double *tip, double l_in, double l_out);
+
 /* Least-squares affine fit u(x) = u0 + H x over the particles with
  * mask[a] != 0; writes the symmetric strain eps[i*dim + j] = (H_ij + H_ji)/2.
  * Returns PS_OK, or PS_ERR_INPUT when fewer than dim + 1 particles are

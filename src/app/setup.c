@@ -144,7 +144,11 @@ int ps_problem_setup(ps_problem *pb, const ps_case *cs, ps_ctx *ctx) {
   if (!cracks) return PS_ERR_NOMEM;
   int n_cracks = cs->n_cracks;
   memcpy(cracks, cs->cracks, sizeof(ps_crack) * (size_t)cs->n_cracks);
-  int bond = !strcmp(cs->model, "bond");
+  /* the lattice models (bond, state): arms within the horizon delta = m
+   * spacing (state: and the half spacing of partial volumes beyond it) */
+  int lattice = strcmp(cs->model, "fibre") != 0;
+  double reach = !strcmp(cs->model, "state") ? cs->horizon_factor + 0.5 * (1 - 1e-9)
+                                              : cs->horizon_factor * (1 + 1e-9);
   int dim = cs->geometry == PS_GEOM_DISK ? 2 : cs->dim;
   switch (cs->geometry) {
   case PS_GEOM_DISK:
@@ -180,9 +184,9 @@ int ps_problem_setup(ps_problem *pb, const ps_case *cs, ps_ctx *ctx) {
     goto cleanup;
   }
   double alpha = cs->alpha;
-  if (bond) { /* arms r <= delta = m spacing: h = spacing, alpha = m */
+  if (lattice) { /* h = spacing, alpha = reach */
     for (ps_int a = 0; a < pb->P.n; a++) pb->P.h[a] = cs->spacing;
-    alpha = cs->horizon_factor * (1.0 + 1e-9);
+    alpha = reach;
   } else if (cs->size_rule == PS_SIZE_EQ44) {
     ps_geom_sizes_eq44(&pb->P);
   } else {
@@ -193,7 +197,7 @@ int ps_problem_setup(ps_problem *pb, const ps_case *cs, ps_ctx *ctx) {
   pb->t_network = ps_wtime() - t0;
 
   pb->mat = cs->mat;
-  if (bond) {
+  if (lattice) {
     pb->mat.horizon = cs->horizon_factor * cs->spacing;
     pb->mat.spacing = cs->spacing;
   }

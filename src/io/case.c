@@ -484,7 +484,7 @@ static int on_kernel(loader *L, void *arg, const char *key, const char *name,
 /* ---- material ---- */
 
 /* The material models a case can name (ps_model_type_find knows them). */
-static const char *const known_models[] = {"fibre", "bond", NULL};
+static const char *const known_models[] = {"fibre", "bond", "state", NULL};
 
 static const char *const material_keys[] = {
     "model", "E", "nu", "plane", "yield_strain", "plastic", "delta",
@@ -874,10 +874,10 @@ static int cross_checks(loader *L) {
     return fail(L, L->line_j, "output.j_integral is 2D only (geometry.dim is 3)");
   if (cs->n_holes > 0 && (cs->dim == 3 || cs->geometry != PS_GEOM_BOX))
     return fail(L, L->line_holes, "geometry.holes need a 2D box");
-  if (!strcmp(cs->model, "bond") && cs->geometry != PS_GEOM_BOX)
+  if (strcmp(cs->model, "fibre") != 0 && cs->geometry != PS_GEOM_BOX)
     return fail(L, L->line_type ? L->line_type : 1,
-                "material.model bond needs geometry.type box (a regular lattice: the "
-                "horizon is material.horizon_factor * geometry.spacing)");
+                "material.model %s needs geometry.type box (a regular lattice: the "
+                "horizon is material.horizon_factor * geometry.spacing)", cs->model);
   if (L->line_delta_over_c && cs->geometry != PS_GEOM_DISK)
     return fail(L, L->line_delta_over_c,
                 "material.delta_over_c needs geometry.type disk (c is the disk's half "
@@ -1063,8 +1063,8 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
              cs->holes[i][2]);
     fnv(&h, b);
   }
-  if (!strcmp(cs->model, "bond")) {
-    snprintf(b, sizeof b, "bond %.17g %d", cs->horizon_factor, m->surface_correction);
+  if (strcmp(cs->model, "fibre") != 0) {
+    snprintf(b, sizeof b, "lattice %.17g %d", cs->horizon_factor, m->surface_correction);
     fnv(&h, b);
   }
   for (int i = 0; i < cs->n_cracks; i++) {

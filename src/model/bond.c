@@ -18,24 +18,12 @@
 #include <math.h>
 #include <stdlib.h>
 
-/* Li & Hao Eq. A.2: the share of b's cell inside a's horizon */
-static double partial_volume(double xi, double delta, double dx) {
-  if (xi <= delta - 0.5 * dx) return 1.0;
-  if (xi >= delta + 0.5 * dx) return 0.0;
-  return 0.5 + (delta - xi) / dx;
-}
-
 static int bond_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
   const ps_network *net = m->net;
   const ps_material *mat = &m->mat;
   int N = net->dim;
   double delta = mat->horizon, dx = mat->spacing;
-  if (!P)
-    return ps_error(ctx, PS_ERR_INPUT, "the bond model needs the particle positions");
-  if (!(delta > 0) || !(dx > 0))
-    return ps_error(ctx, PS_ERR_INPUT,
-                    "material.model bond needs a horizon and a lattice spacing (a box "
-                    "geometry with geometry.spacing and material.horizon_factor)");
+  PS_CHECK(ps_lattice_model_check(mat, N, P, "bond", ctx));
   double nu_fixed = (N == 2 && mat->plane == PS_PLANE_STRESS) ? 1.0 / 3.0 : 0.25;
   if (fabs(mat->nu - nu_fixed) > 1e-3)
     return ps_error(ctx, PS_ERR_INPUT,
@@ -44,9 +32,6 @@ static int bond_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
                     mat->nu, N == 2 && mat->plane == PS_PLANE_STRESS ? "1/3" : "1/4",
                     N == 3 ? "3D" : mat->plane == PS_PLANE_STRESS ? "plane stress"
                                                                   : "plane strain");
-  if (mat->plastic)
-    return ps_error(ctx, PS_ERR_INPUT,
-                    "material.model bond is elastic: set material.plastic: false");
   double c0 = N == 2 ? 48.0 * mat->K / (M_PI * pow(delta, 3))
                      : 90.0 * mat->K / (M_PI * pow(delta, 4));
   ps_int na = net->n_arm, np = net->n_particle;
@@ -62,7 +47,7 @@ static int bond_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
   for (ps_int i = 0; i < na; i++) {
     ps_int a = net->a[i], b = net->b[i];
     double xi = net->r0[i];
-    double cv = xi < delta ? c0 * (1.0 - xi / delta) * partial_volume(xi, delta, dx) : 0.0;
+    double cv = xi < delta ? c0 * (1.0 - xi / delta) * ps_partial_volume(xi, delta, dx) : 0.0;
     m->arm_k[i] = cv;
     for (int k = 0; k < N; k++) {
       double n = (P->x[b * N + k] - P->x[a * N + k]) / xi, n4 = n * n * n * n;

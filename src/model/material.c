@@ -92,8 +92,29 @@ void ps_arm_tangent_free(ps_arm_tangent *t) {
   memset(t, 0, sizeof *t);
 }
 
+double ps_partial_volume(double xi, double delta, double dx) {
+  if (xi <= delta - 0.5 * dx) return 1.0;
+  if (xi >= delta + 0.5 * dx) return 0.0;
+  return 0.5 + (delta - xi) / dx;
+}
+
+int ps_lattice_model_check(const ps_material *mat, int dim, const ps_particles *P,
+                           const char *model, ps_ctx *ctx) {
+  if (!P)
+    return ps_error(ctx, PS_ERR_INPUT, "the %s model needs the particle positions", model);
+  if (!(mat->horizon > 0) || !(mat->spacing > 0))
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "material.model %s needs a horizon and a lattice spacing (a box "
+                    "geometry with geometry.spacing and material.horizon_factor)", model);
+  if (mat->plastic)
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "material.model %s is elastic: set material.plastic: false", model);
+  (void)dim;
+  return PS_OK;
+}
+
 const ps_model_type *ps_model_type_find(const char *name) {
-  const ps_model_type *const all[] = {ps_model_fibre, ps_model_bond};
+  const ps_model_type *const all[] = {ps_model_fibre, ps_model_bond, ps_model_state};
   for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
     if (strcmp(all[i]->name, name) == 0) return all[i];
   return NULL;

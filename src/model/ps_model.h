@@ -120,7 +120,29 @@ extern const ps_model_type *const ps_model_fibre;
  * nu is fixed: 1/3 in plane stress, 1/4 in plane strain and 3D. */
 extern const ps_model_type *const ps_model_bond;
 
-/* Look a model type up by name ("fibre", "bond"); NULL if unknown. */
+/* Ordinary state-based linear elastic PD with the dilatation / deviatoric
+ * split (pd-elastoplastic-animation-supplement, Eq. 26-47; Madenci &
+ * Oterkus): W_a = a theta_a^2 + b sum_b w (e_ab)^2 V_b, theta_a = d sum_b
+ * w e_ab V_b, influence w = delta / xi, e the arm elongation; 3D: a =
+ * (K - 5G/3)/2, b = 15G/(2 pi delta^5), d = 9/(4 pi delta^4); 2D (per unit
+ * thickness): a = (K - 2G)/2, b = 6G/(pi delta^4), d = 2/(pi delta^3), K
+ * the 2D bulk modulus (Eq. 80/81). Partial volumes (Li & Hao A.2), no
+ * surface correction, elastic, any nu. Tangent: diagonal plus one rank-one
+ * term per family (the dilatation), like the fibre model's epsbar. */
+extern const ps_model_type *const ps_model_state;
+
+/* Li & Hao (2023) Eq. A.2: the share of a lattice cell of size dx at
+ * distance xi inside a horizon delta (1 inside, 0 beyond, linear across
+ * the horizon's edge). */
+double ps_partial_volume(double xi, double delta, double dx);
+
+/* Checks shared by the lattice models (bond, state): positions given, a
+ * horizon and spacing set, elastic. Returns PS_OK or PS_ERR_INPUT naming
+ * the parameter. */
+int ps_lattice_model_check(const ps_material *mat, int dim, const ps_particles *P,
+                           const char *model, ps_ctx *ctx);
+
+/* Look a model type up by name ("fibre", "bond", "state"); NULL if unknown. */
 const ps_model_type *ps_model_type_find(const char *name);
 
 /* Create a model on a network of the particles P (and run the type's

@@ -1,0 +1,107 @@
+/* state.c: ordinary state-based linear elastic peridynamics with the
+ * dilatation / deviatoric split of the supplement to the elasto-plastic
+ * animation paper (../shared/papers/pd-elastoplastic-animation-
+ * supplement.md, Eq. 26-47), in arm-length space. With e_i = l_i - xi_i the
+ * elongation of arm i (ends a, b) and kv_i = w(xi) v(xi) V_a V_b (influence
+ * w = delta/xi, partial volume v of Li & Hao Eq. A.2):
+ *   theta_a = (d / V_a) sum_{i in family(a)} kv_i e_i       (Eq. 27)
+ *   Psi     = sum_a V_a a theta_a^2 + sum_i 2 b kv_i e_i^2  (Eq. 26 summed)
+ *   T_i     = dPsi/de_i = 4 b kv_i e_i + 2 a d kv_i (theta_a + theta_b)
+ * and the tangent D_i = 4 b kv_i plus, per particle a, the rank-one term
+ * 2 a V_a g g^T with g_i = d kv_i / V_a over a's family. The constants
+ * (Eq. 39, 46, 47 in 3D; the same derivation in 2D):
+ *   3D: a = (K - 5G/3)/2, b = 15G / (2 pi delta^5), d = 9 / (4 pi delta^4)
+ *   2D: a = (K - 2G)/2,   b = 6G / (pi delta^4),    d = 2 / (pi delta^3)
+ * (2D per unit thickness, K the 2D bulk modulus of Eq. 80/81). Elastic;
+ * arms do not break. theta is kept in m->epsbar (the dilatation). */
+#include "ps_model.h"
+
+#include <gsl/gsl_math.h>
+#include <math.h>
+#include <stdlib.h>
+
+typedef struct {
+  double a, b, d;
+} state_constants;
+
+static state_constants constants(const ps_material *mat, int N) {
+  state_constants c;
+  double delta = mat->horizon, G = mat->G, K = mat->K;
+  if (N == 3) {
+    c.a = 0.5 * (K - 5.0 * G / 3.0);
+    c.b = 15.0 * G / (2.0 * M_PI * pow(delta, 5));
+    c.d = 9.0 / (4.0 * M_PI * pow(delta, 4));
+  } else {
+    c.a = 0.5 * (K - 2.0 * G);
+    c.b = 6.0 * G / (M_PI * pow(delta, 4));
+    c.d = 2.0 / (M_PI * pow(delta, 3));
+  }
+  return c;
+}
+
+static int state_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
+  const ps_network *net = m->net;
+  const ps_material *mat = &m->mat;
+  PS_CHECK(ps_lattice_model_check(mat, net->dim, P, "state", ctx));
+  double delta = mat->horizon, dx = mat->spacing;
+  m->arm_k = ps_calloc((size_t)net->n_arm, sizeof *m->arm_k, ctx);
+  if (!m->arm_k) return PS_ERR_NOMEM;
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    double xi = net->r0[i];
+    double w = xi < delta + 0.5 * dx ? delta / xi * ps_partial_volume(xi, delta, dx) : 0.0;
+    m->arm_k[i] = w * P->volume[net->a[i]] * P->volume[net->b[i]];
+  }
+  for (ps_int a = 0; a < net->n_particle; a++) m->R[a] = P->volume[a]; /* V_a */
+  return PS_OK;
+}
+
+static int state_evaluate(const ps_model *m, const double *dl, ps_arm_state *st, double *T,
+                          double *energy, ps_arm_tangent *tan, ps_ctx *ctx) {
+  (void)ctx;
+  const ps_network *net = m->net;
+  state_constants c = constants(&m->mat, net->dim);
+  const double *V = m->R, *kv = m->arm_k;
+  double *theta = m->epsbar, psi = 0.0;
+  for (ps_int a = 0; a < net->n_particle; a++) {
+    double s = 0.0;
+    for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
+      ps_int i = net->fam_arm[k];
+      if (!st->broken[i]) s += kv[i] * dl[i];
+    }
+    theta[a] = c.d * s / V[a];
+    psi += V[a] * c.a * theta[a] * theta[a];
+    if (tan) tan->c[a] = 2.0 * c.a * V[a];
+  }
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    st->eps_p_trial[i] = st->eps_p[i];
+    st->yielding[i] = 0;
+    if (st->broken[i]) {
+      T[i] = 0.0;
+      if (tan) tan->D[i] = 0.0;
+      continue;
+    }
+    T[i] = 4.0 * c.b * kv[i] * dl[i] +
+           2.0 * c.a * c.d * kv[i] * (theta[net->a[i]] + theta[net->b[i]]);
+    psi += 2.0 * c.b * kv[i] * dl[i] * dl[i];
+    if (tan) tan->D[i] = 4.0 * c.b * kv[i];
+  }
+  if (tan)
+    for (ps_int a = 0; a < net->n_particle; a++)
+      for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
+        ps_int i = net->fam_arm[k];
+        tan->w[k] = st->broken[i] ? 0.0 : c.d * kv[i] / V[a];
+      }
+  *energy = psi;
+  return PS_OK;
+}
+
+static ps_int state_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count) {
+  (void)m;
+  (void)st;
+  (void)max_count;
+  return 0;
+}
+
+static const ps_model_type state_type = {"state", state_evaluate, state_break_arms,
+                                         state_prepare};
+const ps_model_type *const ps_model_state = &state_type;

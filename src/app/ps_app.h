@@ -41,7 +41,7 @@ typedef struct ps_run_result {
   ps_int increments, newton_iterations, factorisations, arms_broken;
   ps_int n_fallback, step_cuts;
   ps_int gentle_rounds;     /* breaking rounds retried with fewer arms */
-  ps_int pcg_iterations, pcg_failures, solves;
+  ps_int pcg_iterations, pcg_failures, pcg_skipped, solves;
   double nnz_tangent;       /* nonzeros of the free tangent (upper) */
   double nnz_factor, flops_factor; /* of the last factorisation */
   double crack_tip;         /* in units of c (disk) */

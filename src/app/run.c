@@ -298,6 +298,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
   res->n_fallback = s.n_fallback;
   res->pcg_iterations = s.pcg_iterations;
   res->pcg_failures = s.pcg_failures;
+  res->pcg_skipped = s.pcg_skipped;
   res->solves = s.ls.stats.n_solve + s.ls_fallback.stats.n_solve;
   res->nnz_tangent = (double)s.sys.A.p[s.sys.n_free];
   res->nnz_factor = s.ls.stats.nnz_factor;
@@ -332,7 +333,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
             "umfpack_fallbacks: %lld\nstep_cuts: %lld\ngentle_rounds: %lld\narms_broken: %lld\n"
             "crack_tip_over_c: %.6g\nwall_s: %.3f\nassembly_s: %.3f\nanalyze_s: %.3f\n"
             "factor_s: %.3f\nsolve_s: %.3f\nnetwork_s: %.3f\npeak_memory_MiB: %.1f\n"
-            "cg_iterations: %lld\ncg_failures: %lld\nsolves: %lld\nnnz_tangent_upper: %.0f\n"
+            "cg_iterations: %lld\ncg_failures: %lld\ncg_skipped: %lld\nsolves: %lld\nnnz_tangent_upper: %.0f\n"
             "nnz_factor: %.0f\nflops_factor: %.4g\ncase_fingerprint: %016llx\n",
             cs->name, (long long)pb->P.n, (long long)pb->net.n_arm,
             (long long)s.sys.n_free, delta, mat.sigma_y, peak, peak / mat.sigma_y,
@@ -343,7 +344,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
             (long long)res->arms_broken, res->crack_tip,
             res->wall, res->t_assembly, res->t_analyze, res->t_factor, res->t_solve,
             pb->t_network, ps_peak_mib(), (long long)res->pcg_iterations,
-            (long long)res->pcg_failures, (long long)res->solves, res->nnz_tangent,
+            (long long)res->pcg_failures, (long long)res->pcg_skipped, (long long)res->solves, res->nnz_tangent,
             res->nnz_factor, res->flops_factor,
             (unsigned long long)ps_case_fingerprint(cs));
     if (cs->n_j_rings > 0 && pb->P.dim == 2) { /* J of the final state, Eq. 39 */

@@ -37,6 +37,7 @@ void ps_solver_free(ps_solver *s) {
   free(s->u_trial);
   free(s->work_dof);
   free(s->diag_saved);
+  free(s->arm_state_at_factor);
   free(s->f_trial);
   memset(s, 0, sizeof *s);
 }
@@ -61,8 +62,26 @@ void ps_solver_set_forces(ps_solver *s, const double *fext) { s->fext = fext; }
 /* Factor sys.A with the chosen backend; on a matrix that is not positive
  * definite fall back to UMFPACK. Returns PS_OK, PS_SINGULAR (message in
  * ctx names the particle), or fatal. */
+/* the arms' tangent-changing state (yielding, broken) */
+static inline unsigned char arm_state(const ps_arm_state *st, ps_int i) {
+  return (unsigned char)(st->yielding[i] | (st->broken[i] << 1));
+}
+
+static void snapshot_arm_state(ps_solver *s) {
+  for (ps_int i = 0; i < s->net->n_arm; i++) s->arm_state_at_factor[i] = arm_state(&s->st, i);
+}
+
+/* arms whose state differs from the snapshot, counting up to limit */
+static ps_int arms_changed(const ps_solver *s, ps_int limit) {
+  ps_int n = 0;
+  for (ps_int i = 0; i < s->net->n_arm && n <= limit; i++)
+    n += s->arm_state_at_factor[i] != arm_state(&s->st, i);
+  return n;
+}
+
 static int factor_tangent(ps_solver *s, ps_ctx *ctx) {
   ps_int bad = -1;
+  snapshot_arm_state(s);
   char name[256] = "unknown dof";
   int status = ps_linsolve_factor(&s->ls, &s->sys.A, &bad, ctx);
   if (status < 0) return status;
@@ -131,9 +150,11 @@ int ps_solver_create(ps_solver *s, const ps_particles *P,
   s->du = ps_calloc((size_t)nf, sizeof *s->u, ctx);
   s->work = ps_calloc((size_t)nf, sizeof *s->u, ctx);
   s->diag_saved = ps_calloc((size_t)nf, sizeof *s->u, ctx);
+  s->arm_state_at_factor = ps_calloc((size_t)net->n_arm + 1, 1, ctx);
   s->pcg_work = ps_calloc((size_t)(4 * nf), sizeof *s->u, ctx);
   if (!s->pcg_work || !s->u_prev || !s->work_dof || !s->u || !s->u_saved || !s->ubar || !s->f || !s->u_trial || !s->f_trial ||
-      !s->rhs || !s->du || !s->work || !s->diag_saved) {
+      !s->rhs || !s->du || !s->work || !s->diag_saved ||
+      !s->arm_state_at_factor) {
     status = PS_ERR_NOMEM;
     goto cleanup;
   }
@@ -173,6 +194,17 @@ static int solve_tangent(ps_solver *s, ps_ctx *ctx) {
       double cap = t_fac / t_it;
       if (cap < maxit) maxit = cap < 2 ? 2 : (int)cap;
     }
+    /* each arm that yielded, unloaded or broke since the factorisation
+     * changes the tangent by a rank-one term, and CG preconditioned by the
+     * old factor needs about one iteration per such term: with more
+     * changed arms than the cap it cannot converge, so do not try */
+    ps_int changed = arms_changed(s, maxit);
+    if (changed >= maxit) {
+      s->pcg_skipped++;
+      ps_log(ctx, 2, "    %lld+ arms changed state since the last factorisation: "
+                     "refactoring\n", (long long)changed);
+      goto refactor;
+    }
     int its = 0;
     double t0 = ps_wtime();
     int status = ps_linsolve_pcg((ps_linsolve *)s->ls_last, &s->sys.A, s->rhs, s->du,
@@ -186,6 +218,7 @@ static int solve_tangent(ps_solver *s, ps_ctx *ctx) {
     ps_log(ctx, 2, "    CG with the old factor did not converge in %d iterations: "
                    "refactoring\n", its);
   }
+refactor:;
   int status = factor_tangent(s, ctx);
   if (status != PS_OK) return status;
   return ps_linsolve_solve((ps_linsolve *)s->ls_last, s->rhs, s->du, ctx);
@@ -217,6 +250,7 @@ static int shifted_direction(ps_solver *s, ps_ctx *ctx) {
   s->ls_last = &s->ls;
   s->have_factor = 1;
   s->n_shifted++;
+  snapshot_arm_state(s);
   return ps_linsolve_solve(&s->ls, s->rhs, s->du, ctx);
 }
 

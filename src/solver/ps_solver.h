@@ -77,6 +77,9 @@ typedef struct ps_solver {
   ps_int newton_iterations, n_fallback, n_line_search_cuts;
   ps_int n_shifted;         /* Newton directions from a shifted tangent */
   ps_int pcg_iterations, pcg_solves, pcg_failures;
+  ps_int pcg_skipped;       /* CG not tried: too many arms changed state */
+  unsigned char *arm_state_at_factor; /* [n_arm] yielding | 2 broken, when the
+                               last factor was computed */
   double t_pcg;             /* wall seconds spent in CG */
   double t_assembly;
   int last_reason;          /* enum ps_newton_reason of the last solve */

@@ -286,7 +286,11 @@ static double kirsch_yy_horizontal(double r, double R) {
   return 0.5 * ((1 + q) - (1 + 3 * q * q));
 }
 
-static void plate(const char *model, double ratio_hi) {
+/* the plate at n x n spacings (the case files have n = 101) */
+static void plate_n(const char *model, double ratio_hi, int n);
+static void plate(const char *model, double ratio_hi) { plate_n(model, ratio_hi, 0); }
+
+static void plate_n(const char *model, double ratio_hi, int n) {
   ps_ctx ctx;
   ps_ctx_init(&ctx);
   ctx.verbosity = getenv("PS_TEST_VERBOSE") ? 1 : 0;
@@ -299,6 +303,13 @@ static void plate(const char *model, double ratio_hi) {
   ps_solver s;
   ps_case_defaults(&cs);
   if (ps_case_load(&cs, path, &ctx)) die_ctx("case", &ctx);
+  if (n > 0) { /* refine: keep the plate, its fictitious layer and loads */
+    cs.spacing = 0.05 / n;
+    cs.counts[0] = n + 3;
+    cs.counts[1] = n;
+    cs.origin[0] = -3 * cs.spacing;
+    cs.bc[1].sel.lo[0] = 0.05 - cs.spacing;
+  }
   if (ps_problem_setup(&pb, &cs, &ctx)) die_ctx("setup", &ctx);
   if (ps_run_keep(&pb, INFINITY, NULL, &res, &s, &ctx)) die_ctx("run", &ctx);
   const ps_particles *P = &pb.P;
@@ -351,9 +362,9 @@ static void plate(const char *model, double ratio_hi) {
         worst_yy = fmax(worst_yy, fabs(sig[4 * a + 3] / p - kirsch_yy_horizontal(r, R)));
     }
   }
-  printf("# %s: %lld particles, %lld arms; nearest the hole r = %.3f R: sigma_xx/p = %.4f "
+  printf("# %s, %.0f spacings: %lld particles, %lld arms, %.1f s; nearest the hole r = %.3f R: sigma_xx/p = %.4f "
          "(Kirsch there %.4f; SCF at r = R: Kirsch 3, FE 3.098, Fallah PD 3.4)\n",
-         model, (long long)P->n, (long long)pb.net.n_arm, r_first / R, s_first,
+         model, 0.05 / dx, (long long)P->n, (long long)pb.net.n_arm, res.wall, r_first / R, s_first,
          kirsch_xx_vertical(r_first, R));
   printf("# %s: sigma_xx / Kirsch on the vertical section, %lld particles from r = R + "
          "delta + 2 dx to 4R: %.4f .. %.4f; |sigma_yy/p - Kirsch| <= %.4f\n",
@@ -381,5 +392,11 @@ int main(void) {
   state_lattice();
   for (int i = 1; i <= 4; i++) state_poisson(0.1 * i);
   plate("state", 1.10);
+  /* make check-long: the bond model refined to the paper's grid (601
+   * spacings: 361k particles, ~7 GB) */
+  if (getenv("PS_CHECK_LONG")) {
+    const int ns[4] = {51, 201, 401, 601};
+    for (int i = 0; i < 4; i++) plate_n("bond", 1.053, ns[i]);
+  }
   return ps_check_summary();
 }

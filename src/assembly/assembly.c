@@ -73,12 +73,19 @@ void ps_system_free(ps_system *s) {
 
 int ps_system_create(ps_system *s, const ps_network *net,
                      const unsigned char *fixed, ps_ctx *ctx) {
+  return ps_system_create_pattern(s, net, fixed, 1, ctx);
+}
+
+int ps_system_create_pattern(ps_system *s, const ps_network *net,
+                             const unsigned char *fixed, int family_coupling,
+                             ps_ctx *ctx) {
   int status = PS_OK, d = net->dim;
   ps_int n = net->n_particle;
   ps_int *mark = NULL;
   memset(s, 0, sizeof *s);
   s->net = net;
   s->dim = d;
+  s->family_coupling = family_coupling;
   s->n_dof = (ps_int)d * n;
   ALLOC(s->fixed, s->n_dof);
   ALLOC(s->free_of_dof, s->n_dof);
@@ -120,7 +127,8 @@ int ps_system_create(ps_system *s, const ps_network *net,
     if (m - s->fam_members_ptr[a] > maxM) maxM = m - s->fam_members_ptr[a];
   }
 
-  /* column Q's particles: union of M_c over c in M_Q */
+  /* column Q's particles: union of M_c over c in M_Q (two horizons), or
+   * M_Q alone without family terms */
   ALLOC(mark, n);
   for (ps_int a = 0; a < n; a++) mark[a] = -1;
   ALLOC(s->bptr, n + 1);
@@ -130,7 +138,9 @@ int ps_system_create(ps_system *s, const ps_network *net,
       ps_int cnt = 0;
       for (ps_int m = s->fam_members_ptr[Q]; m < s->fam_members_ptr[Q + 1]; m++) {
         ps_int c = s->fam_members[m];
-        for (ps_int r = s->fam_members_ptr[c]; r < s->fam_members_ptr[c + 1]; r++) {
+        ps_int r0 = family_coupling ? s->fam_members_ptr[c] : m;
+        ps_int r1 = family_coupling ? s->fam_members_ptr[c + 1] : m + 1;
+        for (ps_int r = r0; r < r1; r++) {
           ps_int P = s->fam_members[r];
           if (mark[P] != Q + pass * n) {
             mark[P] = Q + pass * n;
@@ -160,12 +170,12 @@ int ps_system_create(ps_system *s, const ps_network *net,
 
   /* family slots: block (M[p], M[q]) in column M[q], merge walk */
   ALLOC(s->fam_slot_ptr, n + 1);
-  for (ps_int a = 0; a < n; a++) {
+  for (ps_int a = 0; a < n && family_coupling; a++) {
     ps_int m = s->fam_members_ptr[a + 1] - s->fam_members_ptr[a];
     s->fam_slot_ptr[a + 1] = s->fam_slot_ptr[a] + m * m;
   }
-  ALLOC(s->fam_slot, s->fam_slot_ptr[n]);
-  for (ps_int a = 0; a < n; a++) {
+  ALLOC(s->fam_slot, s->fam_slot_ptr[n] + 1);
+  for (ps_int a = 0; a < n && family_coupling; a++) {
     const ps_int *M = &s->fam_members[s->fam_members_ptr[a]];
     ps_int m = s->fam_members_ptr[a + 1] - s->fam_members_ptr[a];
     ps_int *out = &s->fam_slot[s->fam_slot_ptr[a]];
@@ -307,6 +317,10 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
   for (ps_int c = 0; c < net->n_particle; c++) {
     double cc = s->tan.c[c];
     if (cc == 0.0) continue;
+    if (!s->family_coupling)
+      return ps_error(ctx, PS_ERR_INPUT,
+                      "the model has family terms but the tangent pattern has none "
+                      "(ps_system_create_pattern with family_coupling 0)");
     const ps_int *M = &s->fam_members[s->fam_members_ptr[c]];
     const ps_int *Mk = &s->fam_member_arm[s->fam_members_ptr[c]];
     ps_int m = s->fam_members_ptr[c + 1] - s->fam_members_ptr[c], self = -1;

@@ -45,12 +45,22 @@ typedef struct ps_system {
   double *l, *dl, *q, *T;
   ps_arm_tangent tan;
   double *g;                /* workspace dim * max |M| */
+  int family_coupling;      /* 1: two-horizon pattern with the family
+                               terms; 0: arms only (one horizon) */
 } ps_system;
 
 /* Build the dof map and the pattern for a network and a prescribed-dof
- * mask (copied). Returns PS_OK, PS_ERR_NOMEM, PS_ERR_INPUT (no free dof). */
+ * mask (copied), with room for the models' rank-one family terms (the
+ * two-horizon stencil). Returns PS_OK, PS_ERR_NOMEM, PS_ERR_INPUT (no
+ * free dof). */
 int ps_system_create(ps_system *sys, const ps_network *net,
                      const unsigned char *fixed, ps_ctx *ctx);
+/* The same; family_coupling = 0 builds the one-horizon pattern of the
+ * arms alone, for models without family terms (ps_model_type
+ * family_coupling = 0): 3-4x fewer nonzeros. */
+int ps_system_create_pattern(ps_system *sys, const ps_network *net,
+                             const unsigned char *fixed, int family_coupling,
+                             ps_ctx *ctx);
 void ps_system_free(ps_system *sys);
 
 /* Evaluate at displacements u[n_dof] (positions y = X + u): arm lengths,

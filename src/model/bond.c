@@ -110,5 +110,5 @@ static ps_int bond_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_co
 }
 
 static const ps_model_type bond_type = {"bond", bond_evaluate, bond_break_arms,
-                                        bond_prepare};
+                                        bond_prepare, 0};
 const ps_model_type *const ps_model_bond = &bond_type;

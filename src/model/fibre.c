@@ -125,5 +125,5 @@ static ps_int fibre_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_c
   return max_count;
 }
 
-static const ps_model_type fibre_type = {"fibre", fibre_evaluate, fibre_break_arms, NULL};
+static const ps_model_type fibre_type = {"fibre", fibre_evaluate, fibre_break_arms, NULL, 1};
 const ps_model_type *const ps_model_fibre = &fibre_type;

@@ -94,6 +94,9 @@ typedef struct ps_model_type {
    * network and precompute per-arm data into m->arm_k. Returns PS_OK,
    * PS_ERR_INPUT (message names the parameter), PS_ERR_NOMEM. */
   int (*prepare)(ps_model *m, const ps_particles *P, ps_ctx *ctx);
+  /* 1: the tangent has rank-one family terms (c != 0), so the assembly
+   * needs the two-horizon pattern; 0: arms only (one horizon) */
+  int family_coupling;
 } ps_model_type;
 
 struct ps_model {

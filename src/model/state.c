@@ -103,5 +103,5 @@ static ps_int state_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_c
 }
 
 static const ps_model_type state_type = {"state", state_evaluate, state_break_arms,
-                                         state_prepare};
+                                         state_prepare, 1};
 const ps_model_type *const ps_model_state = &state_type;

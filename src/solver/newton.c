@@ -132,7 +132,7 @@ int ps_solver_create(ps_solver *s, const ps_particles *P,
                       "xyz"[k], "xyz"[k]);
   }
   PS_CHECK_GOTO(ps_model_create(&s->model, type, P, net, mat, ctx));
-  PS_CHECK_GOTO(ps_system_create(&s->sys, net, fixed, ctx));
+  PS_CHECK_GOTO(ps_system_create_pattern(&s->sys, net, fixed, type->family_coupling, ctx));
   PS_CHECK_GOTO(ps_arm_state_alloc(&s->st, net->n_arm, ctx));
   PS_CHECK_GOTO(ps_arm_state_alloc(&s->st_saved, net->n_arm, ctx));
   PS_CHECK_GOTO(ps_linsolve_create(&s->ls, opts->linear, ctx));

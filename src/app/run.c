@@ -362,10 +362,14 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
       for (int i = 0; i < cs->n_j_rings; i++) {
         double l = cs->j_rings[i];
         double J = ps_post_j_domain(&pb->P, sig, H, cs->j_tip, 0.5 * l, l);
-        fprintf(o.f, "j_integral_ring_%.6gm_N_per_m: %.8g\n", l, J);
-        ps_log(ctx, 1, "# J-integral (Eq. 39) over the square ring %.4g..%.4g m around "
-                       "(%.6g, %.6g): %.6g N/m\n",
-               0.5 * l, l, cs->j_tip[0], cs->j_tip[1], J);
+        double Jc = ps_post_j_contour(&pb->P, &pb->net, s.sys.T, s.sys.q, sig, H, cs->j_tip,
+                                      l, cs->spacing);
+        fprintf(o.f, "j_domain_ring_%.6gm_N_per_m: %.8g\nj_contour_%.6gm_N_per_m: %.8g\n", l,
+                J, l, Jc);
+        ps_log(ctx, 1, "# J-integral around (%.6g, %.6g), square of half-width %.4g m: "
+                       "%.6g N/m (domain form, Eq. 39, q from l/2 to l), %.6g N/m (contour "
+                       "form, Eq. 36)\n",
+               cs->j_tip[0], cs->j_tip[1], l, J, Jc);
       }
       free(sig);
       free(H);

@@ -113,7 +113,9 @@ typedef struct ps_case {
   int fields;          /* 0: no VTK and no particles.csv, only
                           history.csv and summary.txt (default 1) */
   int n_j_rings;       /* output.j_integral: J of the final state by Eq. 39
-                          (Fallah) for each ring, into summary.txt (2D) */
+                          and Eq. 36 (Fallah) for each square, into
+                          summary.txt (2D; contour between particle rows,
+                          geometry.spacing apart) */
   double j_tip[2];     /* crack tip, m (the crack runs along +x to it) */
   double j_rings[8];   /* outer half-widths l of the square rings, m
                           (q = 1 inside l/2, 0 outside l) */

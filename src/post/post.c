@@ -139,6 +139,34 @@ double ps_post_j_domain(const ps_particles *P, const double *sigma, const double
   return J;
 }
 
+static double rho_tip(const ps_particles *P, ps_int a, const double *tip) {
+  return fmax(fabs(P->x[2 * a] - tip[0]), fabs(P->x[2 * a + 1] - tip[1]));
+}
+
+double ps_post_j_contour(const ps_particles *P, const ps_network *net, const double *T,
+                         const double *q, const double *sigma, const double *H,
+                         const double *tip, double l, double dx) {
+  double Jw = 0.0, Jt = 0.0;
+  for (ps_int a = 0; a < P->n; a++) { /* W n_x ds on the vertical sides */
+    double ax = fabs(P->x[2 * a] - tip[0]), ay = fabs(P->x[2 * a + 1] - tip[1]);
+    if (fabs(ax - l) >= dx || ay >= l) continue;
+    const double *s = &sigma[4 * a], *h = &H[4 * a];
+    double W = 0.5 * (s[0] * h[0] + s[1] * h[1] + s[2] * h[2] + s[3] * h[3]);
+    Jw += 0.5 * W * (P->x[2 * a] > tip[0] ? 1.0 : -1.0) * dx;
+  }
+  for (ps_int i = 0; i < net->n_arm; i++) { /* arms across the contour */
+    if (T[i] == 0.0) continue;
+    ps_int a = net->a[i], b = net->b[i];
+    double ra = rho_tip(P, a, tip), rb = rho_tip(P, b, tip);
+    if ((ra < l) == (rb < l)) continue;
+    ps_int k = ra < l ? a : b, m = ra < l ? b : a;
+    double sg = k == a ? 1.0 : -1.0; /* q runs a -> b: the force on k is T q_km */
+    for (int j = 0; j < 2; j++)
+      Jt += sg * T[i] * q[2 * i + j] * 0.5 * (H[4 * k + 2 * j] + H[4 * m + 2 * j]);
+  }
+  return Jw - Jt;
+}
+
 int ps_post_fit_strain(const ps_particles *P, const double *u,
                        const unsigned char *mask, double *eps, ps_ctx *ctx) {
   int d = P->dim;

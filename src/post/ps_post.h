@@ -58,6 +58,20 @@ void ps_post_displacement_gradient(const ps_particles *P, const ps_network *net,
 double ps_post_j_domain(const ps_particles *P, const double *sigma, const double *H,
                         const double *tip, double l_in, double l_out);
 
+/* J-integral by the nonlocal contour form of Hu et al. as Fallah et al.
+ * (2020) write it (Eq. 36): J = sum W n_x ds - sum F_km . (u_k,x +
+ * u_m,x) / 2 over the square contour rho = max(|x - x_tip|, |y - y_tip|)
+ * = l (crack along +x), the first sum over the particle rows on the two
+ * vertical sides (W = sigma_ij u_i,j / 2 averaged over the columns just
+ * inside and outside, ds = dx), the second over the arms that cross the
+ * contour, F_km = T q the force on the inner end k from the outer end m
+ * (the traction of the outside on the inside; the mean of the two ends'
+ * du/dx stands for du/dx on the contour). Place the contour between
+ * particle rows and columns. 2D; J in N/m. */
+double ps_post_j_contour(const ps_particles *P, const ps_network *net, const double *T,
+                         const double *q, const double *sigma, const double *H,
+                         const double *tip, double l, double dx);
+
 /* Least-squares affine fit u(x) = u0 + H x over the particles with
  * mask[a] != 0; writes the symmetric strain eps[i*dim + j] = (H_ij + H_ji)/2.
  * Returns PS_OK, or PS_ERR_INPUT when fewer than dim + 1 particles are

@@ -193,7 +193,8 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
      * the load has dropped past path.stop_load_drop of its peak or the tip
      * has passed path.stop_crack_tip: the crack has run */
     ps_int nb = 0;
-    int settle = PS_OK, rounds = 0;
+    int settle = PS_OK, rounds = 0, settled = 0;
+    double tip_start = pb->c > 0 ? ps_post_crack_tip(&pb->P, &pb->net, &s.st, pb->c) : 0.0;
     double t_note = ps_wtime(); /* long increments print a line every 10 s */
     for (;;) {
       ps_int nr, limit = 0;
@@ -214,6 +215,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
         goto cleanup;
       }
       nb += nr;
+      settled = settle == PS_OK && nr == 0; /* no arm left past delta */
       if (settle != PS_OK || nr == 0) break;
       if (ps_wtime() - t_note > 10.0) {
         t_note = ps_wtime();
@@ -226,7 +228,8 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
                                           pb->measure_length);
       double tr = pb->c > 0 ? ps_post_crack_tip(&pb->P, &pb->net, &s.st, pb->c) : 0.0;
       if (sr < cs->stop_load_drop * fmax(peak, sr) ||
-          (pb->c > 0 && tr >= cs->stop_crack_tip))
+          (pb->c > 0 && tr >= cs->stop_crack_tip) ||
+          (pb->c > 0 && cs->stop_tip_advance > 0 && tr - tip_start >= cs->stop_tip_advance))
         break; /* the crack has run: the stop rules below end the run */
       if (++rounds >= cs->max_break_rounds) {
         status = ps_error(ctx, PS_ERR_SOLVER,
@@ -249,7 +252,9 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
     ps_int ny = ps_solver_count_yielding(&s);
     int its = (int)(s.newton_iterations - its0);
     res->increments = step;
-    if (converged && sig > peak) { /* an unconverged state sets no peak */
+    /* only a state that is converged and settled (no arm left past delta;
+     * a stop rule may end the rounds early) sets the peak */
+    if (converged && settled && sig > peak) {
       peak = sig;
       res->lambda_peak = s.lambda;
     }
@@ -270,6 +275,14 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
                "re-equilibration after breaking arms did not converge at load factor "
                "%.5g: the crack ran unstably (outputs show the last attempt)",
                s.lambda);
+      break;
+    }
+    if (converged && pb->c > 0 && cs->stop_tip_advance > 0 &&
+        tip - tip_start >= cs->stop_tip_advance) {
+      res->fractured = 1;
+      snprintf(res->stop_reason, sizeof res->stop_reason,
+               "the crack tip advanced %.3g c at one load (from %.4g c to %.4g c): it "
+               "runs unstably", tip - tip_start, tip_start, tip);
       break;
     }
     if (pb->c > 0 && tip >= cs->stop_crack_tip) {

@@ -697,7 +697,7 @@ static int on_solver(loader *L, void *arg, const char *key, const char *name,
 
 static const char *const path_keys[] = {
     "load_step", "load_step_after_break", "max_load", "max_increments", "min_step",
-    "stop_crack_tip", "stop_load_drop", "max_break_rounds", NULL};
+    "stop_crack_tip", "stop_tip_advance", "stop_load_drop", "max_break_rounds", NULL};
 
 static int on_path(loader *L, void *arg, const char *key, const char *name,
                    yaml_node_t *v) {
@@ -709,6 +709,7 @@ static int on_path(loader *L, void *arg, const char *key, const char *name,
   if (IS("max_increments")) return get_int(L, v, name, 1, INT_MAX, &cs->max_increments);
   if (IS("min_step")) return get_pos(L, v, name, &cs->min_step);
   if (IS("stop_crack_tip")) return get_pos(L, v, name, &cs->stop_crack_tip);
+  if (IS("stop_tip_advance")) return get_pos(L, v, name, &cs->stop_tip_advance);
   if (IS("stop_load_drop"))
     return get_real(L, v, name, 0.0, 0, 1.0, 1, &cs->stop_load_drop);
   return get_int(L, v, name, 1, INT_MAX, &cs->max_break_rounds);
@@ -1033,8 +1034,9 @@ static void fnv(uint64_t *h, const char *s) {
  * --resume` does not reuse runs of an older algorithm. 2: breaking rounds
  * that fail to re-equilibrate are retried with fewer arms. 3: Newton
  * steps that point uphill (indefinite tangent) are replaced by a shifted
- * Cholesky step. */
-#define PS_ALGORITHM_VERSION 3
+ * Cholesky step. 4: CG skipped when many arms changed state; only settled
+ * states (no arm left past delta) set the peak; path.stop_tip_advance. */
+#define PS_ALGORITHM_VERSION 4
 
 uint64_t ps_case_fingerprint(const ps_case *cs) {
   uint64_t h = 1469598103934665603ULL;
@@ -1098,5 +1100,9 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
            cs->load_step_after_break, cs->max_load, cs->max_increments, cs->min_step,
            cs->stop_crack_tip, cs->stop_load_drop, cs->max_break_rounds);
   fnv(&h, b);
+  if (cs->stop_tip_advance > 0) { /* newer key: only when set */
+    snprintf(b, sizeof b, "tip advance %.17g", cs->stop_tip_advance);
+    fnv(&h, b);
+  }
   return h;
 }

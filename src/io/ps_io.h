@@ -103,6 +103,9 @@ typedef struct ps_case {
   double min_step;     /* smallest increment after cuts, default 1e-6 */
   double stop_crack_tip; /* disk: stop when the tip passes this many c
                             from the centre, default 9 */
+  double stop_tip_advance; /* disk: stop when the tip advances this many c
+                            within one increment (at one load: the crack
+                            runs unstably); 0 (default): off */
   double stop_load_drop; /* stop when the boundary stress falls below this
                             fraction of its peak (after breaking), 0.5 */
   int max_break_rounds;  /* re-equilibrations per increment, default 500 */

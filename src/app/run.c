@@ -321,11 +321,18 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
   res->t_factor = s.ls.stats.t_factor + s.ls_fallback.stats.t_factor;
   res->t_solve = s.ls.stats.t_solve + s.ls_fallback.stats.t_solve;
   res->wall = ps_wtime() - t0;
-  ps_log(ctx, 1, "# end: %s\n# sigma_failure = %.6g Pa = %.5f sigma_y (peak at load "
-                 "factor %.5g)%s; %lld increments, %lld Newton iterations, %.2f s\n",
-         res->stop_reason, peak, peak / mat.sigma_y, res->lambda_peak,
-         res->fractured ? "" : " [no fracture]", (long long)res->increments,
-         (long long)res->newton_iterations, res->wall);
+  if (pb->measure_length > 0)
+    ps_log(ctx, 1, "# end: %s\n# sigma_failure = %.6g Pa = %.5f sigma_y (peak at load "
+                   "factor %.5g)%s; %lld increments, %lld Newton iterations, %.2f s\n",
+           res->stop_reason, peak, peak / mat.sigma_y, res->lambda_peak,
+           res->fractured ? "" : " [no fracture]", (long long)res->increments,
+           (long long)res->newton_iterations, res->wall);
+  else /* no measure: loaded by tractions or unmeasured displacements */
+    ps_log(ctx, 1, "# end: %s\n# no boundary-stress measure (loading.boundary has no "
+                   "measure: true): the stress column is 0; %lld increments, %lld Newton "
+                   "iterations, %.2f s\n",
+           res->stop_reason, (long long)res->increments, (long long)res->newton_iterations,
+           res->wall);
   if (out_dir) {
     if (cs->fields) PS_CHECK_GOTO(write_state(pb, &s, staging, res->increments, 1, ctx));
     int bad = ferror(hist);

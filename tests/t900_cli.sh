@@ -41,6 +41,14 @@ expect 1 "not properly supported: .*particle 4[0-4] at (0.50[0-2], 0.50[0-2]), d
 expect 1 "nothing loads the model" -- run -o "$T/x" "$D/no_load.yaml"
 expect 1 "bond_nu.yaml: material.nu = 0.3: bond-based peridynamics has nu = 1/3" -- run -o "$T/x" "$D/bond_nu.yaml"
 
+# the deviatoric yield reading runs past yield and its arms yield
+if $P run -q -o "$T/dev" "$D/box_deviatoric.yaml" &&
+   awk -F, 'NR > 1 { y = $8 } END { exit !(y > 0) }' "$T/dev/history.csv"; then
+  ok "yield_rule: deviatoric runs past yield (arms yielding)"
+else
+  ko "yield_rule: deviatoric run"
+fi
+
 # a traction: the bond-based strip carries the applied stress (mean of
 # the Eq. 24 stress over a column in the middle = p = 1 MPa, to 1e-4)
 if $P run -q -o "$T/tr" "$D/traction_box.yaml" &&

@@ -36,7 +36,9 @@ static int write_state(const ps_problem *pb, const ps_solver *s, const char *dir
   double ey = pb->mat.yield_strain, delta = pb->mat.delta;
   for (ps_int i = 0; i < na; i++) {
     astrain[i] = s->sys.dl[i] / net->r0[i] / ey;
-    aplast[i] = isfinite(delta) ? s->st.eps_p[i] * net->r0[i] / delta : 0.0;
+    aplast[i] = isfinite(delta) ? ps_arm_plastic_strain(&s->st, i, pb->mat.yield_rule) *
+                                      net->r0[i] / delta
+                                : 0.0;
     abroken[i] = s->st.broken[i];
     if (s->st.broken[i]) continue;
     ps_int e[2] = {net->a[i], net->b[i]};

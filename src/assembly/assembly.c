@@ -249,6 +249,45 @@ static inline void add_block(ps_system *s, ps_int Q, ps_int blk, const double *k
     for (int al = 0; al < d; al++) base[(ps_int)be * d * len + al] += sign * k[be * d + al];
 }
 
+/* add cc g g^T for particle c's family, g = the gradient of
+ * sum_k w[k] l_k (k over c's family positions) with respect to the
+ * positions of c's members */
+static void add_family_term(ps_system *s, ps_int c, double cc, const double *wt) {
+  const ps_network *net = s->net;
+  int d = s->dim;
+  double kmat[9];
+  const ps_int *M = &s->fam_members[s->fam_members_ptr[c]];
+  const ps_int *Mk = &s->fam_member_arm[s->fam_members_ptr[c]];
+  ps_int m = s->fam_members_ptr[c + 1] - s->fam_members_ptr[c], self = -1;
+  double *g = s->g;
+  for (ps_int p = 0; p < m; p++) {
+    double *gp = &g[p * d];
+    if (Mk[p] < 0) {
+      self = p;
+      continue;
+    }
+    ps_int i = net->fam_arm[Mk[p]];
+    double w = wt[Mk[p]];
+    double sgn = net->a[i] == c ? 1.0 : -1.0; /* unit vector c -> other */
+    for (int k = 0; k < d; k++) gp[k] = w * sgn * s->q[i * d + k];
+  }
+  double *gs = &g[self * d];
+  for (int k = 0; k < d; k++) gs[k] = 0.0;
+  for (ps_int p = 0; p < m; p++)
+    if (p != self)
+      for (int k = 0; k < d; k++) gs[k] -= g[p * d + k];
+  const ps_int *slot = &s->fam_slot[s->fam_slot_ptr[c]];
+  for (ps_int qq = 0; qq < m; qq++) {
+    const double *gq = &g[qq * d];
+    for (ps_int pp = 0; pp < m; pp++) {
+      const double *gp = &g[pp * d];
+      for (int be = 0; be < d; be++)
+        for (int al = 0; al < d; al++) kmat[be * d + al] = cc * gp[al] * gq[be];
+      add_block(s, M[qq], slot[qq * m + pp], kmat, 1.0);
+    }
+  }
+}
+
 int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
                    const double *X, const double *u, double *f,
                    double *energy, int want_tangent, ps_ctx *ctx) {
@@ -313,46 +352,17 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
     add_block(s, b, s->slot_ab[i], kmat, -1.0);
     add_block(s, a, s->slot_ba[i], kmat, -1.0);
   }
-  /* rank-one family terms c_a g_a g_a^T */
-  for (ps_int c = 0; c < net->n_particle; c++) {
-    double cc = s->tan.c[c];
-    if (cc == 0.0) continue;
-    if (!s->family_coupling)
-      return ps_error(ctx, PS_ERR_INPUT,
-                      "the model has family terms but the tangent pattern has none "
-                      "(ps_system_create_pattern with family_coupling 0)");
-    const ps_int *M = &s->fam_members[s->fam_members_ptr[c]];
-    const ps_int *Mk = &s->fam_member_arm[s->fam_members_ptr[c]];
-    ps_int m = s->fam_members_ptr[c + 1] - s->fam_members_ptr[c], self = -1;
-    double *g = s->g;
-    for (ps_int p = 0; p < m; p++) {
-      double *gp = &g[p * d];
-      if (Mk[p] < 0) {
-        self = p;
-        continue;
-      }
-      ps_int i = net->fam_arm[Mk[p]];
-      double w = s->tan.w[Mk[p]];
-      double sgn = net->a[i] == c ? 1.0 : -1.0; /* unit vector c -> other */
-      for (int k = 0; k < d; k++) gp[k] = w * sgn * s->q[i * d + k];
+  /* rank-one family terms c_a g_a g_a^T (and a second one, c2 w2) */
+  for (ps_int c = 0; c < net->n_particle; c++)
+    for (int term = 0; term < 2; term++) {
+      double cc = term == 0 ? s->tan.c[c] : s->tan.c2[c];
+      if (cc == 0.0) continue;
+      if (!s->family_coupling)
+        return ps_error(ctx, PS_ERR_INPUT,
+                        "the model has family terms but the tangent pattern has none "
+                        "(ps_system_create_pattern with family_coupling 0)");
+      add_family_term(s, c, cc, term == 0 ? s->tan.w : s->tan.w2);
     }
-    double *gs = &g[self * d];
-    for (int k = 0; k < d; k++) gs[k] = 0.0;
-    for (ps_int p = 0; p < m; p++)
-      if (p != self)
-        for (int k = 0; k < d; k++) gs[k] -= g[p * d + k];
-    const ps_int *slot = &s->fam_slot[s->fam_slot_ptr[c]];
-    for (ps_int qq = 0; qq < m; qq++) {
-      const double *gq = &g[qq * d];
-      for (ps_int pp = 0; pp < m; pp++) {
-        const double *gp = &g[pp * d];
-        for (int be = 0; be < d; be++)
-          for (int al = 0; al < d; al++)
-            kmat[be * d + al] = cc * gp[al] * gq[be];
-        add_block(s, M[qq], slot[qq * m + pp], kmat, 1.0);
-      }
-    }
-  }
   /* a particle whose arms have all broken is a free body: hold it with a
    * spring as stiff as the stiffest dof (it carries no force, so it stays
    * where it is) to keep the tangent nonsingular */

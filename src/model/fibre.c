@@ -20,10 +20,15 @@ static inline double side_weight(const ps_network *net, ps_int i, ps_int p) {
   return net->a[i] == p ? net->A_ab[i] : net->A_ba[i];
 }
 
+static int fibre_evaluate_deviatoric(const ps_model *m, const double *dl, ps_arm_state *st,
+                                     double *T, double *energy, ps_arm_tangent *tan);
+
 static int fibre_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
                           double *T, double *energy, ps_arm_tangent *tan,
                           ps_ctx *ctx) {
   (void)ctx;
+  if (m->mat.yield_rule == PS_YIELD_DEVIATORIC)
+    return fibre_evaluate_deviatoric(m, dl, st, T, energy, tan);
   const ps_network *net = m->net;
   const ps_material *mat = &m->mat;
   int N = net->dim;
@@ -87,6 +92,117 @@ static int fibre_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
   return PS_OK;
 }
 
+/* The deviatoric reading of MODEL-NOTES: per half-arm (a's side with
+ * epsbar_a, b's with epsbar_b) the elastic strain e = eps - epsbar - eps_p
+ * is held at +-eps_y (perfect plasticity, backward Euler from the
+ * committed eps_p of that side), and the energy
+ *   Psi = sum_arms r0 (A_ab psi(e_a) + A_ba psi(e_b))
+ *       + sum_a 1/2 N K R_a epsbar_a^2,   psi(e) = G(N+2) e^2 / 2 (elastic)
+ * gives S_a = psi'(e_a) - m_a + N K epsbar_a with m_a the weighted mean of
+ * psi' over a's family (zero while elastic: Eq. 110 again). Plastic strain
+ * carries no volume. Tangent: diagonal (A_ab psi''_a + A_ba psi''_b)/r0
+ * plus, per particle, (1/R)[C w w^T - u w^T - w u^T] with w the side
+ * weights, u = w psi'', C = sum w r0 psi''/R + N K, written as two
+ * rank-one terms C/R (w - u/C)(w - u/C)^T - 1/(R C) u u^T. */
+static int fibre_evaluate_deviatoric(const ps_model *m, const double *dl, ps_arm_state *st,
+                                     double *T, double *energy, ps_arm_tangent *tan) {
+  const ps_network *net = m->net;
+  const ps_material *mat = &m->mat;
+  int N = net->dim;
+  ps_int na = net->n_arm, np = net->n_particle;
+  double Gc = mat->G * (N + 2), NK = N * mat->K, ey = mat->yield_strain;
+  double *R = m->R, *eb = m->epsbar;
+  double *dpsi = m->arm_k, *d2psi = m->arm_k + 2 * na; /* [2 na] each: side a, b */
+  double *mean = m->arm_k + 4 * na, *cmean = mean + np; /* [np] each */
+  double psi = 0.0;
+  for (ps_int a = 0; a < np; a++) {
+    double Ra = 0.0, num = 0.0;
+    for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
+      ps_int i = net->fam_arm[k];
+      if (st->broken[i]) continue;
+      double Ar = side_weight(net, i, a) * net->r0[i];
+      Ra += Ar;
+      num += Ar * dl[i] / net->r0[i];
+    }
+    R[a] = Ra;
+    eb[a] = Ra > 0 ? num / Ra : 0.0;
+    psi += 0.5 * NK * Ra * eb[a] * eb[a];
+  }
+  /* return mapping per half-arm */
+  for (ps_int i = 0; i < na; i++) {
+    st->yielding[i] = 0;
+    for (int side = 0; side < 2; side++) {
+      ps_int j = side * na + i;
+      if (st->broken[i]) {
+        st->eps_p_trial[j] = st->eps_p[j];
+        dpsi[j] = d2psi[j] = 0.0;
+        continue;
+      }
+      double r0 = net->r0[i], eps = dl[i] / r0;
+      double e = eps - eb[side ? net->b[i] : net->a[i]] - st->eps_p[j], ee = e;
+      double Aw = side ? net->A_ba[i] : net->A_ab[i];
+      int y = mat->plastic && fabs(e) > ey;
+      if (y) {
+        ee = e > 0 ? ey : -ey;
+        psi += Aw * r0 * Gc * (ey * fabs(e) - 0.5 * ey * ey);
+      } else {
+        psi += Aw * r0 * 0.5 * Gc * e * e;
+      }
+      st->eps_p_trial[j] = st->eps_p[j] + (e - ee);
+      st->yielding[i] |= (unsigned char)y;
+      dpsi[j] = Gc * ee;
+      d2psi[j] = y ? 0.0 : Gc;
+    }
+  }
+  /* family means of psi' and psi'' (weights A r0) */
+  for (ps_int a = 0; a < np; a++) {
+    double s1 = 0.0, s2 = 0.0;
+    for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
+      ps_int i = net->fam_arm[k], j = (net->a[i] == a ? 0 : na) + i;
+      if (st->broken[i]) continue;
+      double Ar = side_weight(net, i, a) * net->r0[i];
+      s1 += Ar * dpsi[j];
+      s2 += Ar * d2psi[j];
+    }
+    mean[a] = R[a] > 0 ? s1 / R[a] : 0.0;
+    cmean[a] = R[a] > 0 ? s2 / R[a] : 0.0;
+  }
+  for (ps_int i = 0; i < na; i++) {
+    if (st->broken[i]) {
+      T[i] = 0.0;
+      if (tan) tan->D[i] = 0.0;
+      continue;
+    }
+    ps_int a = net->a[i], b = net->b[i];
+    double Sa = dpsi[i] - mean[a] + NK * eb[a], Sb = dpsi[na + i] - mean[b] + NK * eb[b];
+    T[i] = net->A_ab[i] * Sa + net->A_ba[i] * Sb;
+    if (tan) tan->D[i] = (net->A_ab[i] * d2psi[i] + net->A_ba[i] * d2psi[na + i]) / net->r0[i];
+  }
+  if (tan)
+    for (ps_int a = 0; a < np; a++) {
+      double C = cmean[a] + NK;
+      tan->c[a] = R[a] > 0 ? C / R[a] : 0.0;
+      tan->c2[a] = R[a] > 0 ? -1.0 / (R[a] * C) : 0.0;
+      for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
+        ps_int i = net->fam_arm[k], j = (net->a[i] == a ? 0 : na) + i;
+        double w = st->broken[i] ? 0.0 : side_weight(net, i, a), u = w * d2psi[j];
+        tan->w[k] = w - u / C;
+        tan->w2[k] = u;
+      }
+    }
+  *energy = psi;
+  return PS_OK;
+}
+
+static int fibre_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
+  (void)P;
+  if (m->mat.yield_rule != PS_YIELD_DEVIATORIC) return PS_OK;
+  /* workspace: psi', psi'' per half-arm, family means */
+  m->arm_k = ps_calloc((size_t)(4 * m->net->n_arm + 2 * m->net->n_particle),
+                       sizeof *m->arm_k, ctx);
+  return m->arm_k ? PS_OK : PS_ERR_NOMEM;
+}
+
 typedef struct {
   double excess;
   ps_int arm;
@@ -103,11 +219,14 @@ static ps_int fibre_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_c
   if (!(delta > 0) || !isfinite(delta)) return 0;
   ps_int nc = 0;
   for (ps_int i = 0; i < net->n_arm; i++)
-    nc += !st->broken[i] && st->eps_p[i] * net->r0[i] > delta; /* Eq. 118 */
+    nc += !st->broken[i] && ps_arm_plastic_strain(st, i, m->mat.yield_rule) * net->r0[i] >
+                                delta; /* Eq. 118 */
   if (nc == 0) return 0;
   if (max_count <= 0 || nc <= max_count) {
     for (ps_int i = 0; i < net->n_arm; i++)
-      if (!st->broken[i] && st->eps_p[i] * net->r0[i] > delta) st->broken[i] = 1;
+      if (!st->broken[i] &&
+          ps_arm_plastic_strain(st, i, m->mat.yield_rule) * net->r0[i] > delta)
+        st->broken[i] = 1;
     return nc;
   }
   /* only the max_count arms past the limit by the most */
@@ -115,8 +234,9 @@ static ps_int fibre_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_c
   if (!c) return 0;
   ps_int k = 0;
   for (ps_int i = 0; i < net->n_arm; i++)
-    if (!st->broken[i] && st->eps_p[i] * net->r0[i] > delta) {
-      c[k].excess = st->eps_p[i] * net->r0[i] - delta;
+    if (!st->broken[i] &&
+        ps_arm_plastic_strain(st, i, m->mat.yield_rule) * net->r0[i] > delta) {
+      c[k].excess = ps_arm_plastic_strain(st, i, m->mat.yield_rule) * net->r0[i] - delta;
       c[k++].arm = i;
     }
   qsort(c, (size_t)nc, sizeof *c, by_excess_desc);
@@ -125,5 +245,6 @@ static ps_int fibre_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_c
   return max_count;
 }
 
-static const ps_model_type fibre_type = {"fibre", fibre_evaluate, fibre_break_arms, NULL, 1};
+static const ps_model_type fibre_type = {"fibre", fibre_evaluate, fibre_break_arms,
+                                         fibre_prepare, 1};
 const ps_model_type *const ps_model_fibre = &fibre_type;

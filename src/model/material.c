@@ -15,10 +15,6 @@ int ps_material_finish(ps_material *m, int dim, ps_ctx *ctx) {
   if (m->plastic && !(m->yield_strain > 0))
     return ps_error(ctx, PS_ERR_INPUT,
                     "material.yield_strain must be > 0 (got %g)", m->yield_strain);
-  if (m->yield_rule == PS_YIELD_DEVIATORIC)
-    return ps_error(ctx, PS_ERR_INPUT,
-                    "material.yield_rule: deviatoric is not implemented yet (only "
-                    "total, Eq. 111 as printed)");
   if (!(m->rho > 0))
     return ps_error(ctx, PS_ERR_INPUT, "material.rho must be > 0 (got %g)", m->rho);
   if (dim == 3 && m->plane != PS_SOLID_3D) m->plane = PS_SOLID_3D;
@@ -47,8 +43,8 @@ int ps_material_finish(ps_material *m, int dim, ps_ctx *ctx) {
 int ps_arm_state_alloc(ps_arm_state *st, ps_int n_arm, ps_ctx *ctx) {
   memset(st, 0, sizeof *st);
   st->n_arm = n_arm;
-  st->eps_p = ps_calloc((size_t)n_arm, sizeof *st->eps_p, ctx);
-  st->eps_p_trial = ps_calloc((size_t)n_arm, sizeof *st->eps_p_trial, ctx);
+  st->eps_p = ps_calloc((size_t)(2 * n_arm), sizeof *st->eps_p, ctx);
+  st->eps_p_trial = ps_calloc((size_t)(2 * n_arm), sizeof *st->eps_p_trial, ctx);
   st->broken = ps_calloc((size_t)n_arm, 1, ctx);
   st->yielding = ps_calloc((size_t)n_arm, 1, ctx);
   if (!st->eps_p || !st->eps_p_trial || !st->broken || !st->yielding) {
@@ -68,8 +64,8 @@ void ps_arm_state_free(ps_arm_state *st) {
 
 void ps_arm_state_copy(ps_arm_state *dst, const ps_arm_state *st) {
   size_t n = (size_t)st->n_arm;
-  memcpy(dst->eps_p, st->eps_p, n * sizeof *st->eps_p);
-  memcpy(dst->eps_p_trial, st->eps_p_trial, n * sizeof *st->eps_p);
+  memcpy(dst->eps_p, st->eps_p, 2 * n * sizeof *st->eps_p);
+  memcpy(dst->eps_p_trial, st->eps_p_trial, 2 * n * sizeof *st->eps_p);
   memcpy(dst->broken, st->broken, n);
   memcpy(dst->yielding, st->yielding, n);
 }
@@ -78,7 +74,9 @@ int ps_arm_tangent_alloc(ps_arm_tangent *t, const ps_network *net, ps_ctx *ctx) 
   t->D = ps_calloc((size_t)net->n_arm, sizeof *t->D, ctx);
   t->c = ps_calloc((size_t)net->n_particle, sizeof *t->c, ctx);
   t->w = ps_calloc((size_t)(2 * net->n_arm), sizeof *t->w, ctx);
-  if (!t->D || !t->c || !t->w) {
+  t->c2 = ps_calloc((size_t)net->n_particle, sizeof *t->c2, ctx);
+  t->w2 = ps_calloc((size_t)(2 * net->n_arm), sizeof *t->w2, ctx);
+  if (!t->D || !t->c || !t->w || !t->c2 || !t->w2) {
     ps_arm_tangent_free(t);
     return PS_ERR_NOMEM;
   }
@@ -89,7 +87,14 @@ void ps_arm_tangent_free(ps_arm_tangent *t) {
   free(t->D);
   free(t->c);
   free(t->w);
+  free(t->c2);
+  free(t->w2);
   memset(t, 0, sizeof *t);
+}
+
+double ps_arm_plastic_strain(const ps_arm_state *st, ps_int i, int yield_rule) {
+  return yield_rule == PS_YIELD_DEVIATORIC ? 0.5 * (st->eps_p[i] + st->eps_p[st->n_arm + i])
+                                           : st->eps_p[i];
 }
 
 double ps_partial_volume(double xi, double delta, double dx) {

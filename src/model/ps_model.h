@@ -16,7 +16,8 @@
 enum ps_plane { PS_PLANE_STRAIN = 0, PS_PLANE_STRESS = 1, PS_SOLID_3D = 2 };
 enum ps_yield_rule {
   PS_YIELD_TOTAL = 0,      /* Eq. 111 as printed: |eps - eps_p| > eps_y */
-  PS_YIELD_DEVIATORIC = 1  /* reserved: deviatoric reading (MODEL-NOTES) */
+  PS_YIELD_DEVIATORIC = 1  /* |eps - epsbar_a - eps_p,a| > eps_y per half-arm
+                              (MODEL-NOTES; fibre.c) */
 };
 
 /* Material parameters (SI). */
@@ -51,13 +52,19 @@ int ps_material_finish(ps_material *m, int dim, ps_ctx *ctx);
 /* Per-arm state shared by all models. */
 typedef struct ps_arm_state {
   ps_int n_arm;
-  double *eps_p;          /* committed plastic strain (of the last converged
-                             state) */
-  double *eps_p_trial;    /* from the last evaluate (return mapping from
-                             eps_p) */
+  double *eps_p;          /* [2 n_arm] committed plastic strain (of the last
+                             converged state): [i] the arm's (total reading)
+                             or its a-side's, [n_arm + i] its b-side's
+                             (deviatoric reading) */
+  double *eps_p_trial;    /* [2 n_arm] from the last evaluate (return
+                             mapping from eps_p) */
   unsigned char *broken;  /* 1: arm broken (Eq. 118), carries nothing */
   unsigned char *yielding;/* 1: on the yield surface in the last evaluate */
 } ps_arm_state;
+
+/* The plastic strain of arm i for output and breaking: eps_p[i] (total
+ * reading) or the mean of its two sides (deviatoric reading). */
+double ps_arm_plastic_strain(const ps_arm_state *st, ps_int i, int yield_rule);
 
 int ps_arm_state_alloc(ps_arm_state *st, ps_int n_arm, ps_ctx *ctx);
 void ps_arm_state_free(ps_arm_state *st);
@@ -69,6 +76,9 @@ typedef struct ps_arm_tangent {
   double *D;  /* [n_arm] N/m */
   double *c;  /* [n_particle] family coefficient */
   double *w;  /* [2 n_arm] aligned with net->fam_arm */
+  double *c2; /* [n_particle] a second rank-one family term c2 w2 w2^T
+                 (deviatoric reading), 0 when unused */
+  double *w2; /* [2 n_arm] */
 } ps_arm_tangent;
 
 int ps_arm_tangent_alloc(ps_arm_tangent *t, const ps_network *net, ps_ctx *ctx);

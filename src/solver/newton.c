@@ -355,7 +355,7 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
 
 void ps_solver_commit(ps_solver *s) {
   ps_int na = s->net->n_arm;
-  memcpy(s->st.eps_p, s->st.eps_p_trial, (size_t)na * sizeof *s->st.eps_p);
+  memcpy(s->st.eps_p, s->st.eps_p_trial, (size_t)(2 * na) * sizeof *s->st.eps_p);
   ps_arm_state_copy(&s->st_saved, &s->st);
   memcpy(s->u_saved, s->u, (size_t)s->sys.n_dof * sizeof *s->u);
 }

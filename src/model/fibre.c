@@ -20,6 +20,24 @@ static inline double side_weight(const ps_network *net, ps_int i, ps_int p) {
   return net->a[i] == p ? net->A_ab[i] : net->A_ba[i];
 }
 
+/* R_a = sum_b A_ab r0 and the mean strain epsbar_a over a's intact arms,
+ * into m->R and m->epsbar */
+static void mean_strains(const ps_model *m, const double *dl, const ps_arm_state *st) {
+  const ps_network *net = m->net;
+  for (ps_int a = 0; a < net->n_particle; a++) {
+    double Ra = 0.0, num = 0.0;
+    for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
+      ps_int i = net->fam_arm[k];
+      if (st->broken[i]) continue;
+      double Ar = side_weight(net, i, a) * net->r0[i];
+      Ra += Ar;
+      num += Ar * dl[i] / net->r0[i];
+    }
+    m->R[a] = Ra;
+    m->epsbar[a] = Ra > 0 ? num / Ra : 0.0;
+  }
+}
+
 static int fibre_evaluate_deviatoric(const ps_model *m, const double *dl, ps_arm_state *st,
                                      double *T, double *energy, ps_arm_tangent *tan);
 
@@ -39,20 +57,10 @@ static int fibre_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
   double *R = m->R, *eb = m->epsbar;
   double psi = 0.0;
 
-  /* mean strain per particle over its intact arms */
+  mean_strains(m, dl, st);
   for (ps_int a = 0; a < net->n_particle; a++) {
-    double Ra = 0.0, num = 0.0;
-    for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
-      ps_int i = net->fam_arm[k];
-      if (st->broken[i]) continue;
-      double Ar = side_weight(net, i, a) * net->r0[i];
-      Ra += Ar;
-      num += Ar * dl[i] / net->r0[i];
-    }
-    R[a] = Ra;
-    eb[a] = Ra > 0 ? num / Ra : 0.0;
-    psi += 0.5 * Kc * Ra * eb[a] * eb[a];
-    if (tan) tan->c[a] = Ra > 0 ? Kc / Ra : 0.0;
+    psi += 0.5 * Kc * R[a] * eb[a] * eb[a];
+    if (tan) tan->c[a] = R[a] > 0 ? Kc / R[a] : 0.0;
   }
 
   for (ps_int i = 0; i < net->n_arm; i++) {
@@ -115,19 +123,8 @@ static int fibre_evaluate_deviatoric(const ps_model *m, const double *dl, ps_arm
   double *dpsi = m->arm_k, *d2psi = m->arm_k + 2 * na; /* [2 na] each: side a, b */
   double *mean = m->arm_k + 4 * na, *cmean = mean + np; /* [np] each */
   double psi = 0.0;
-  for (ps_int a = 0; a < np; a++) {
-    double Ra = 0.0, num = 0.0;
-    for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
-      ps_int i = net->fam_arm[k];
-      if (st->broken[i]) continue;
-      double Ar = side_weight(net, i, a) * net->r0[i];
-      Ra += Ar;
-      num += Ar * dl[i] / net->r0[i];
-    }
-    R[a] = Ra;
-    eb[a] = Ra > 0 ? num / Ra : 0.0;
-    psi += 0.5 * NK * Ra * eb[a] * eb[a];
-  }
+  mean_strains(m, dl, st);
+  for (ps_int a = 0; a < np; a++) psi += 0.5 * NK * R[a] * eb[a] * eb[a];
   /* return mapping per half-arm */
   for (ps_int i = 0; i < na; i++) {
     st->yielding[i] = 0;

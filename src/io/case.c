@@ -671,7 +671,7 @@ static int on_loading(loader *L, void *arg, const char *key, const char *name,
 static const char *const solver_keys[] = {"linear", "tolerance", "max_iterations",
                                           "line_search", "reuse_factor",
                                           "cg_tolerance", "cg_max_iterations",
-                                          "reanalyze", NULL};
+                                          "cg_skip_arms", "reanalyze", NULL};
 
 static int on_solver(loader *L, void *arg, const char *key, const char *name,
                      yaml_node_t *v) {
@@ -692,6 +692,7 @@ static int on_solver(loader *L, void *arg, const char *key, const char *name,
   if (IS("cg_tolerance")) return get_real(L, v, name, 0.0, 1, 1.0, 1, &cs->cg_tolerance);
   if (IS("cg_max_iterations"))
     return get_int(L, v, name, 1, INT_MAX, &cs->cg_max_iterations);
+  if (IS("cg_skip_arms")) return get_int(L, v, name, 0, INT_MAX, &cs->cg_skip_arms);
   return get_bool(L, v, name, &cs->line_search);
 }
 
@@ -1034,8 +1035,9 @@ static void fnv(uint64_t *h, const char *s) {
  * --resume` does not reuse runs of an older algorithm. 2: breaking rounds
  * that fail to re-equilibrate are retried with fewer arms. 3: Newton
  * steps that point uphill (indefinite tangent) are replaced by a shifted
- * Cholesky step. 4: CG skipped when many arms changed state; only settled
- * states (no arm left past delta) set the peak; path.stop_tip_advance. */
+ * Cholesky step. 4: only settled states (no arm left past delta) set the
+ * peak; path.stop_tip_advance. (CG settings, e.g. solver.cg_skip_arms, do
+ * not change results beyond the Newton tolerance and are not counted.) */
 #define PS_ALGORITHM_VERSION 4
 
 uint64_t ps_case_fingerprint(const ps_case *cs) {

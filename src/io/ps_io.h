@@ -92,6 +92,8 @@ typedef struct ps_case {
   int reuse_factor;    /* CG preconditioned by the last factor, default 1 */
   double cg_tolerance; /* its relative tolerance, default 1e-6 */
   int cg_max_iterations; /* default 25 */
+  int cg_skip_arms;    /* skip CG when this many arms changed state since
+                          the last factorisation; 0 (default): never */
   int reanalyze;       /* symbolic analysis before every factorisation
                           (benchmark comparison), default 0 */
 

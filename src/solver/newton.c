@@ -15,6 +15,7 @@ void ps_solver_opts_default(ps_solver_opts *o) {
   o->reuse_factor = 1;
   o->pcg_rtol = 1e-6;
   o->pcg_max_iterations = 25;
+  o->pcg_skip_arms = 0;
   o->reanalyze = 0;
 }
 
@@ -198,8 +199,8 @@ static int solve_tangent(ps_solver *s, ps_ctx *ctx) {
      * changes the tangent by a rank-one term, and CG preconditioned by the
      * old factor needs about one iteration per such term: with more
      * changed arms than the cap it cannot converge, so do not try */
-    ps_int changed = arms_changed(s, maxit);
-    if (changed >= maxit) {
+    ps_int limit = s->opts.pcg_skip_arms, changed = arms_changed(s, limit > 0 ? limit : 1000000);
+    if (limit > 0 && changed >= limit) {
       s->pcg_skipped++;
       ps_log(ctx, 2, "    %lld+ arms changed state since the last factorisation: "
                      "refactoring\n", (long long)changed);
@@ -213,10 +214,14 @@ static int solve_tangent(ps_solver *s, ps_ctx *ctx) {
     if (status < 0) return status;
     s->pcg_iterations += its;
     s->pcg_solves++;
-    if (status == PS_OK) return PS_OK;
+    if (status == PS_OK) {
+      ps_log(ctx, 2, "    CG with the old factor: %d iterations (%lld arms changed state)\n",
+             its, (long long)changed);
+      return PS_OK;
+    }
     s->pcg_failures++;
-    ps_log(ctx, 2, "    CG with the old factor did not converge in %d iterations: "
-                   "refactoring\n", its);
+    ps_log(ctx, 2, "    CG with the old factor did not converge in %d iterations (%lld "
+                   "arms changed state): refactoring\n", its, (long long)changed);
   }
 refactor:;
   int status = factor_tangent(s, ctx);

@@ -38,6 +38,9 @@ typedef struct ps_solver_opts {
                              pcg_max_iterations (see doc/performance.md) */
   double pcg_rtol;        /* relative tolerance of that CG (default 1e-6) */
   int pcg_max_iterations; /* default 25 */
+  int pcg_skip_arms;      /* skip CG when at least this many arms changed
+                             state (yield, break) since the last
+                             factorisation; 0: never skip (default 0) */
   int reanalyze;          /* 1: symbolic analysis before every
                              factorisation (benchmark comparison; 0) */
 } ps_solver_opts;

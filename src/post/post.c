@@ -152,7 +152,10 @@ double ps_post_j_contour(const ps_particles *P, const ps_network *net, const dou
     if (fabs(ax - l) >= dx || ay >= l) continue;
     const double *s = &sigma[4 * a], *h = &H[4 * a];
     double W = 0.5 * (s[0] * h[0] + s[1] * h[1] + s[2] * h[2] + s[3] * h[3]);
-    Jw += 0.5 * W * (P->x[2 * a] > tip[0] ? 1.0 : -1.0) * dx;
+    /* hat weight: 1/2 each for the two columns beside a contour between
+     * them, 1 for a column on the contour */
+    double hat = 1.0 - fabs(ax - l) / dx;
+    Jw += hat * W * (P->x[2 * a] > tip[0] ? 1.0 : -1.0) * dx;
   }
   for (ps_int i = 0; i < net->n_arm; i++) { /* arms across the contour */
     if (T[i] == 0.0) continue;

@@ -62,8 +62,8 @@ double ps_post_j_domain(const ps_particles *P, const double *sigma, const double
  * (2020) write it (Eq. 36): J = sum W n_x ds - sum F_km . (u_k,x +
  * u_m,x) / 2 over the square contour rho = max(|x - x_tip|, |y - y_tip|)
  * = l (crack along +x), the first sum over the particle rows on the two
- * vertical sides (W = sigma_ij u_i,j / 2 averaged over the columns just
- * inside and outside, ds = dx), the second over the arms that cross the
+ * vertical sides (W = sigma_ij u_i,j / 2 interpolated linearly between the
+ * columns beside the contour, ds = dx), the second over the arms that cross the
  * contour, F_km = T q the force on the inner end k from the outer end m
  * (the traction of the outside on the inside; the mean of the two ends'
  * du/dx stands for du/dx on the contour). Place the contour between

@@ -212,10 +212,13 @@ int main(int argc, char **argv) {
            cs.name, (long long)pb.P.n, (long long)pb.net.n_arm,
            2.0 * pb.net.n_arm / pb.P.n, pb.net.max_h_ratio, (long long)nfree,
            (unsigned long long)ps_case_fingerprint(&cs), ps_wtime() - t0);
-    /* the tangent's two-horizon pattern: what a factorisation will face */
+    /* the tangent's pattern (two horizons unless the model has no family
+     * terms): what a factorisation will face */
     ps_system sys;
     double t1 = ps_wtime();
-    status = ps_system_create(&sys, &pb.net, pb.fixed, &ctx);
+    const ps_model_type *type = ps_model_type_find(cs.model);
+    status = ps_system_create_pattern(&sys, &pb.net, pb.fixed,
+                                      type ? type->family_coupling : 1, &ctx);
     if (status < 0) {
       fprintf(stderr, "peristatic: %s\n", ctx.msg);
       ps_problem_free(&pb);

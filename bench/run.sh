@@ -121,6 +121,9 @@ for n3 in $box3d_sizes; do
   run_file "$(box3d "$n3")" "box3d-$n3" elastic cholmod true "$reps"
 done
 
+# the plate with a hole with the bond model: its one-horizon pattern
+[ "${BENCH_QUICK:-0}" = 1 ] || run_file "$top/data/cases/plate-hole-bond.yaml" plate-hole-bond elastic cholmod true "$reps"
+
 # full runs to fracture (delta = c/1000): factor reuse on and off
 set -- $small_fracture
 run_case disk-small-fracture "$1" "$2" fracture cholmod true "$reps"

@@ -91,6 +91,14 @@ if $P griffith -q -o "$T/sweep" "$D/tiny_sweep.yaml" && [ "$(wc -l < "$T/sweep/g
 else
   ko "griffith writes its table and fit"
 fi
+# the same sweep with two worker processes gives the same table
+if $P griffith -q -j 2 -o "$T/sweepj" "$D/tiny_sweep.yaml" &&
+   [ -f "$T/sweepj/job-1.log" ] && [ -f "$T/sweepj/job-2.log" ] &&
+   [ "$(cut -d, -f1-7 "$T/sweep/griffith.csv")" = "$(cut -d, -f1-7 "$T/sweepj/griffith.csv")" ]; then
+  ok "griffith -j 2: two workers, the same table (all but wall time)"
+else
+  ko "griffith -j 2 differs from the serial sweep"
+fi
 if command -v gnuplot >/dev/null 2>&1; then
   if [ -s "$T/sweep/griffith.png" ] && head -c 4 "$T/sweep/griffith.png" | grep -q PNG; then
     ok "griffith.png is a PNG"

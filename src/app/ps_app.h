@@ -74,4 +74,13 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
 int ps_griffith(ps_problem *pb, const char *out_dir, int resume, double *slope,
                 double *intercept, double *r2, int *n_fractured, ps_ctx *ctx);
 
+/* The same with the runs shared among `jobs` worker processes (fork; run i
+ * goes to worker i mod jobs; each worker logs to DIR/job-N.log), after
+ * which the sweep's tables, fit and plot are written from the finished
+ * runs as above. jobs <= 1 is ps_griffith. Returns PS_OK, PS_ERR_SOLVER
+ * when a worker failed (its log names the run), or a fatal status. */
+int ps_griffith_jobs(ps_problem *pb, const char *out_dir, int resume, int jobs,
+                     double *slope, double *intercept, double *r2, int *n_fractured,
+                     ps_ctx *ctx);
+
 #endif

@@ -6,6 +6,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "config.h"
 
@@ -475,8 +478,81 @@ static int reuse_run(const ps_problem *pb, const char *dir, double delta,
   return isfinite(r->sigma_peak) && isfinite(r->sigma_y) && r->sigma_y > 0;
 }
 
+static int griffith_sweep(ps_problem *pb, const char *out_dir, int resume, int reuse_all,
+                          double *slope, double *intercept, double *r2, int *n_fractured,
+                          ps_ctx *ctx);
+
 int ps_griffith(ps_problem *pb, const char *out_dir, int resume, double *slope,
                 double *intercept, double *r2, int *n_fractured, ps_ctx *ctx) {
+  return griffith_sweep(pb, out_dir, resume, 0, slope, intercept, r2, n_fractured, ctx);
+}
+
+int ps_griffith_jobs(ps_problem *pb, const char *out_dir, int resume, int jobs,
+                     double *slope, double *intercept, double *r2, int *n_fractured,
+                     ps_ctx *ctx) {
+  const ps_case *cs = &pb->cs;
+  if (jobs <= 1 || cs->n_sweep < 2)
+    return ps_griffith(pb, out_dir, resume, slope, intercept, r2, n_fractured, ctx);
+  if (!(pb->c > 0))
+    return ps_griffith(pb, out_dir, resume, slope, intercept, r2, n_fractured, ctx);
+  if (jobs > cs->n_sweep) jobs = cs->n_sweep;
+  /* the workers write into the folder the sweep works in */
+  char dir[1100], logpath[1300];
+  if (resume) {
+    snprintf(dir, sizeof dir, "%s", out_dir);
+  } else {
+    snprintf(dir, sizeof dir, "%s.partial", out_dir);
+    PS_CHECK(ps_rm_rf(dir, ctx));
+  }
+  PS_CHECK(ps_mkdir_p(dir, ctx));
+  fflush(NULL);
+  pid_t pids[64];
+  for (int w = 0; w < jobs && w < 64; w++) {
+    pid_t pid = fork();
+    if (pid < 0) return ps_error(ctx, PS_ERR_IO, "griffith --jobs: cannot fork a worker");
+    if (pid == 0) { /* worker w: runs i = w, w + jobs, ... */
+      snprintf(logpath, sizeof logpath, "%s/job-%d.log", dir, w + 1);
+      FILE *log = fopen(logpath, "w");
+      ctx->log = log;
+      int bad = 0;
+      for (int i = w; i < cs->n_sweep && !bad; i += jobs) {
+        double dc = cs->sweep_delta_over_c[i];
+        char path[1300];
+        ps_run_result r;
+        snprintf(path, sizeof path, "%s/delta_c%.6g", dir, 1.0 / dc);
+        if (reuse_run(pb, path, dc * pb->c, &r)) continue;
+        ps_log(ctx, 1, "## griffith run %d/%d (job %d): delta = c/%.6g\n", i + 1,
+               cs->n_sweep, w + 1, 1.0 / dc);
+        if (ps_run(pb, dc * pb->c, path, &r, ctx) < 0) {
+          if (log) fprintf(log, "peristatic: %s\n", ctx->msg);
+          bad = 1;
+        }
+      }
+      if (log) fclose(log);
+      _exit(bad);
+    }
+    pids[w] = pid;
+    ps_log(ctx, 1, "## griffith: job %d started (runs %d, %d, ... of %d; log %s/job-%d.log)\n",
+           w + 1, w + 1, w + 1 + jobs, cs->n_sweep, dir, w + 1);
+  }
+  int failed = 0;
+  for (int w = 0; w < jobs && w < 64; w++) {
+    int st = 0;
+    if (waitpid(pids[w], &st, 0) < 0 || !WIFEXITED(st) || WEXITSTATUS(st) != 0) failed = w + 1;
+    else ps_log(ctx, 1, "## griffith: job %d finished\n", w + 1);
+  }
+  if (failed)
+    return ps_error(ctx, PS_ERR_SOLVER,
+                    "griffith --jobs: job %d failed (see %s/job-%d.log); the runs finished "
+                    "so far are in %s, `peristatic griffith --resume -o %s CASE` continues",
+                    failed, dir, failed, dir, dir);
+  /* every run is there now: tables, fit and plot from them */
+  return griffith_sweep(pb, out_dir, resume, 1, slope, intercept, r2, n_fractured, ctx);
+}
+
+static int griffith_sweep(ps_problem *pb, const char *out_dir, int resume, int reuse_all,
+                          double *slope, double *intercept, double *r2, int *n_fractured,
+                          ps_ctx *ctx) {
   const ps_case *cs = &pb->cs;
   int n = cs->n_sweep, status = PS_OK, nf = 0;
   double xs[PS_MAX_SWEEP], ys[PS_MAX_SWEEP];
@@ -496,13 +572,13 @@ int ps_griffith(ps_problem *pb, const char *out_dir, int resume, double *slope,
     snprintf(staging, sizeof staging, "%s", out_dir);
   } else {
     snprintf(staging, sizeof staging, "%s.partial", out_dir);
-    PS_CHECK(ps_rm_rf(staging, ctx));
+    if (!reuse_all) PS_CHECK(ps_rm_rf(staging, ctx)); /* workers filled it */
   }
   PS_CHECK(ps_mkdir_p(staging, ctx));
   for (int i = 0; i < n; i++) {
     double dc = cs->sweep_delta_over_c[i];
     snprintf(path, sizeof path, "%s/delta_c%.6g", staging, 1.0 / dc);
-    if (resume && reuse_run(pb, path, dc * pb->c, &res[i])) {
+    if ((resume || reuse_all) && reuse_run(pb, path, dc * pb->c, &res[i])) {
       ps_log(ctx, 1, "## griffith run %d/%d: delta = c/%.6g: reusing %s\n", i + 1, n,
              1.0 / dc, path);
     } else {

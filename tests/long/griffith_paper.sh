@@ -5,14 +5,15 @@
 # doc/results/griffith-paper/ (griffith.csv, griffith_fit.txt,
 # griffith.png, one folder per run). Passes when the runs that fracture
 # give R^2 >= 0.95 and sigma_failure rising with sqrt(delta/c).
-# Hours on a 2-core machine (see doc/griffith.md for the measured times).
+# Two runs at a time (-j 2, GRIFFITH_JOBS to change), one per core; hours on
+# a 2-core machine (see doc/griffith.md for the measured times).
 top=$(cd "$(dirname "$0")/../.." && pwd)
 out=${GRIFFITH_OUT:-$top/doc/results/griffith-paper}
 export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
 pass=0
 fail=0
 # --resume: runs already in $out (committed from earlier sessions) are reused
-if "$top/peristatic" griffith --resume -o "$out" "$top/data/cases/paper-griffith.yaml"; then
+if "$top/peristatic" griffith --resume -j "${GRIFFITH_JOBS:-2}" -o "$out" "$top/data/cases/paper-griffith.yaml"; then
   echo "PASS: paper-size Griffith sweep ran"
   pass=$((pass + 1))
 else

@@ -910,8 +910,8 @@ static int cross_checks(loader *L) {
   }
   for (int i = 0; i < cs->n_bc && cs->dim == 2; i++) {
     const ps_bc *bc = &cs->bc[i];
-    if (bc->fix[2] || bc->displace_set[2] || isfinite(bc->sel.lo[2]) ||
-        isfinite(bc->sel.hi[2]))
+    if (bc->fix[2] || bc->displace_set[2] || bc->traction_set[2] ||
+        isfinite(bc->sel.lo[2]) || isfinite(bc->sel.hi[2]))
       return fail(L, bc->line,
                   "loading.boundary entry %d uses the z component but geometry.dim is 2",
                   i + 1);

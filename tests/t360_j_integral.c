@@ -23,9 +23,10 @@
  *     both forms.
  *     With the surface correction (the default) J is 5% below FE: the
  *     correction makes C11 exact, but the square lattice's C12 and C66
- *     stay 6% low (t350), a stiffer solid in tension; (2) shows that the
- *     J evaluation is not the cause. Reported here, discussed in
- *     doc/verification.md, not asserted against FE.
+ *     stay 6% low (t350), a solid 2.7% stiffer in tension, which explains
+ *     about half; (2) shows that the J evaluation is not the cause.
+ *     Reported here, discussed in doc/verification.md, not asserted
+ *     against FE.
  * With PS_CHECK_LONG set (make check-long), (3) is repeated at spacings of
  * 1, 0.5, 0.25 and the paper's 0.0833 mm (721,800 particles, 13 GB, ~5
  * min): the error must shrink from 1 mm and be within 3% at 0.25 and

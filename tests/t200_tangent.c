@@ -6,7 +6,13 @@
  * energy is the potential of the forces), zero force at rest and under a
  * rigid rotation. Tolerance 1e-6 on the relative Frobenius error: central
  * differences with step 1e-7 of the spacing have truncation error ~1e-10
- * and round-off ~1e-9 here. */
+ * and round-off ~1e-9 here. For the models with family terms, the
+ * one-horizon majorant P used as a preconditioner (solver.majorant)
+ * bounds the tangent: P - K is positive semidefinite (smallest eigenvalue
+ * >= -1e-12 ||P||, round-off), and for the elastic fibre model at rest the
+ * Rayleigh quotients x^T K x / x^T P x of random x lie in
+ * [min(G(N+2)/(NK), NK/(G(N+2))), 1] (the bound in ps_assembly.h). */
+#include <gsl/gsl_eigen.h>
 #include <gsl/gsl_rng.h>
 #include <math.h>
 #include <stdlib.h>
@@ -61,6 +67,48 @@ static void teardown(fixture *F) {
   ps_model_free(&F->model);
   ps_network_free(&F->net);
   ps_particles_free(&F->P);
+}
+
+/* P = the majorant of the tangent last assembled in F->sys (at the same
+ * state), dense [nd x nd]; returns the smallest eigenvalue of P - Kd
+ * relative to max |P|, and P in Pd */
+static double majorant_gap(fixture *F, const double *Kd, double *Pd, ps_ctx *ctx) {
+  ps_int nd = F->sys.n_dof;
+  unsigned char *fixed = calloc((size_t)nd, 1);
+  ps_system pre;
+  if (ps_system_create_pattern(&pre, &F->net, fixed, 0, ctx)) abort();
+  free(fixed);
+  if (ps_system_assemble_majorant(&pre, &F->sys, &F->st, ctx)) abort();
+  memset(Pd, 0, (size_t)(nd * nd) * sizeof *Pd);
+  double pmax = 0;
+  for (ps_int j = 0; j < nd; j++)
+    for (ps_int k = pre.A.p[j]; k < pre.A.p[j + 1]; k++) {
+      Pd[pre.A.i[k] * nd + j] = pre.A.x[k];
+      Pd[j * nd + pre.A.i[k]] = pre.A.x[k];
+      pmax = fmax(pmax, fabs(pre.A.x[k]));
+    }
+  ps_system_free(&pre);
+  gsl_matrix *M = gsl_matrix_alloc((size_t)nd, (size_t)nd);
+  for (ps_int r = 0; r < nd; r++)
+    for (ps_int c = 0; c < nd; c++) gsl_matrix_set(M, r, c, Pd[r * nd + c] - Kd[r * nd + c]);
+  gsl_vector *ev = gsl_vector_alloc((size_t)nd);
+  gsl_eigen_symm_workspace *w = gsl_eigen_symm_alloc((size_t)nd);
+  gsl_eigen_symm(M, ev, w);
+  double lmin = gsl_vector_min(ev);
+  gsl_eigen_symm_free(w);
+  gsl_vector_free(ev);
+  gsl_matrix_free(M);
+  return lmin / pmax;
+}
+
+/* dense copy of the upper-triangle CSC tangent */
+static void dense(const ps_csc *A, ps_int nd, double *Kd) {
+  memset(Kd, 0, (size_t)(nd * nd) * sizeof *Kd);
+  for (ps_int j = 0; j < nd; j++)
+    for (ps_int k = A->p[j]; k < A->p[j + 1]; k++) {
+      Kd[A->i[k] * nd + j] = A->x[k];
+      Kd[j * nd + A->i[k]] = A->x[k];
+    }
 }
 
 static void run_case(const ps_model_type *type, int rule, int dim, int plane, double nu,
@@ -126,12 +174,7 @@ static void run_case(const ps_model_type *type, int rule, int dim, int plane, do
            "the kink",
            label, (long long)F.net.n_arm, (long long)ny, (long long)nc, (long long)nb);
   /* dense copy of the analytic tangent (all dofs free) */
-  const ps_csc *A = &F.sys.A;
-  for (ps_int j = 0; j < nd; j++)
-    for (ps_int k = A->p[j]; k < A->p[j + 1]; k++) {
-      Kd[A->i[k] * nd + j] = A->x[k];
-      Kd[j * nd + A->i[k]] = A->x[k];
-    }
+  dense(&F.sys.A, nd, Kd);
   /* symmetry of Kfull (both triangles assembled independently) */
   double asym = 0, knorm = 0;
   int d = dim;
@@ -176,6 +219,43 @@ static void run_case(const ps_model_type *type, int rule, int dim, int plane, do
     }
   }
   ps_check_le(sqrt(num / den), 1e-6, "tangent vs central differences (rel. Frobenius)");
+  if (type->family_coupling) { /* the majorant preconditioner */
+    double *Pd = calloc((size_t)(nd * nd), sizeof *Pd);
+    ps_system_eval(&F.sys, &F.model, &F.st, F.P.x, u, f, &E0, 1, &ctx);
+    ps_check(majorant_gap(&F, Kd, Pd, &ctx) >= -1e-12,
+             "%s: majorant P - K positive semidefinite (yielded, broken, compressed)", label);
+    if (type == ps_model_fibre && rule == PS_YIELD_TOTAL) {
+      /* at rest, elastic: x^T K x / x^T P x in [min(r, 1/r), 1], r = G(N+2)/(NK) */
+      memset(u, 0, (size_t)nd * sizeof *u);
+      memset(F.st.broken, 0, (size_t)F.net.n_arm);
+      memset(F.st.eps_p, 0, 2 * (size_t)F.net.n_arm * sizeof *F.st.eps_p);
+      ps_system_eval(&F.sys, &F.model, &F.st, F.P.x, u, f, &E0, 1, &ctx);
+      dense(&F.sys.A, nd, Kd);
+      double gap = majorant_gap(&F, Kd, Pd, &ctx);
+      double lo = F.model.mat.G * (dim + 2) / (dim * F.model.mat.K);
+      if (lo > 1) lo = 1 / lo; /* N K < G(N+2): the family term is negative and
+                                  dropped, K >= (N K / G(N+2)) P */
+      double rmin = 1e300, rmax = -1e300;
+      gsl_rng *r2 = gsl_rng_alloc(gsl_rng_mt19937);
+      gsl_rng_set(r2, 5);
+      for (int t = 0; t < 40; t++) {
+        for (ps_int j = 0; j < nd; j++) u[j] = gsl_rng_uniform(r2) - 0.5;
+        double xk = 0, xp = 0;
+        for (ps_int r = 0; r < nd; r++)
+          for (ps_int c = 0; c < nd; c++) {
+            xk += u[r] * Kd[r * nd + c] * u[c];
+            xp += u[r] * Pd[r * nd + c] * u[c];
+          }
+        rmin = fmin(rmin, xk / xp);
+        rmax = fmax(rmax, xk / xp);
+      }
+      gsl_rng_free(r2);
+      ps_check(gap >= -1e-12 && rmin >= lo * (1 - 1e-12) && rmax <= 1 + 1e-12,
+               "%s at rest: x^T K x / x^T P x in [%.4f, %.4f], bound [%.4f, 1]", label, rmin,
+               rmax, lo);
+    }
+    free(Pd);
+  }
   free(u);
   free(f);
   free(fp);

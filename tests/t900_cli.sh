@@ -84,6 +84,21 @@ if cmp -s "$T/summary.before" "$T/good/summary.txt"; then
 else
   ko "the failed run changed the earlier outputs"
 fi
+# a run whose Newton solve stalls: an error for `run` (exit 2, the partial
+# output has the summary), a "stalled" row (no fracture) in a sweep
+expect 2 "Newton diverged at load factor" -- run -q -o "$T/stall" "$D/stall_sweep.yaml"
+if [ ! -e "$T/stall" ] && grep -q "^stalled: yes" "$T/stall.partial/summary.txt"; then
+  ok "a stalled run: no output folder, summary.txt in the partial one says stalled"
+else
+  ko "a stalled run's outputs"
+fi
+if $P griffith -q -o "$T/stallsweep" "$D/stall_sweep.yaml" &&
+   [ "$(grep -c ',stalled,' "$T/stallsweep/griffith.csv")" -eq 2 ] &&
+   grep -q "^fractured: 0" "$T/stallsweep/griffith_fit.txt" && ! grep -qi nan "$T/stallsweep/griffith.csv"; then
+  ok "griffith: stalled runs are rows marked stalled, not errors, and not fitted"
+else
+  ko "griffith with stalled runs"
+fi
 # a Griffith sweep writes its table, fit and plot
 if $P griffith -q -o "$T/sweep" "$D/tiny_sweep.yaml" && [ "$(wc -l < "$T/sweep/griffith.csv")" -eq 3 ] &&
    grep -q "^r2: " "$T/sweep/griffith_fit.txt" && ! grep -qi nan "$T/sweep/griffith.csv"; then

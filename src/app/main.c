@@ -83,9 +83,14 @@ static const char *HELP_GRIFFITH =
     "A fresh sweep replaces DIR when it completes. With --resume it works in DIR\n"
     "itself and reuses every run folder (delta_cNNNN) whose summary.txt matches\n"
     "the particle cloud and delta: a long sweep can be stopped and continued.\n"
-    "With -j N the runs are shared among N worker processes (run i goes to\n"
-    "worker i mod N, which logs to DIR/job-N.log): on N cores the sweep takes\n"
-    "about 1/N of the time and N times the memory of one run.\n";
+    "With -j N the runs are shared among N worker processes, each taking the\n"
+    "next run not yet taken, largest delta (longest run) first, and logging to\n"
+    "DIR/job-K.log: on N cores the sweep takes about 1/N of the time and N times\n"
+    "the memory of one run.\n"
+    "\n"
+    "A run whose Newton solve stalls (increment below path.min_step) before the\n"
+    "crack runs is a row marked 'stalled' (no fracture, left out of the fit),\n"
+    "not an error: at large delta the whole plate yields first.\n";
 
 static const char *HELP_INFO =
     "peristatic info CASE.yaml\n"

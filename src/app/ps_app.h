@@ -23,6 +23,10 @@ typedef struct ps_problem {
                              per unit thickness in 2D), or NULL if none */
   double measure_length;  /* m (2D) or m^2 (3D) */
   double t_network;       /* wall seconds of geometry + network */
+  int stall_is_result;    /* set by the Griffith sweep: a run whose Newton
+                             solve stalls (increment below path.min_step)
+                             ends as a result, "stalled", no fracture,
+                             instead of an error (doc/griffith.md) */
 } ps_problem;
 
 /* Build the particle cloud, sizes, network and boundary conditions of a
@@ -37,11 +41,15 @@ typedef struct ps_run_result {
   double lambda_peak;       /* load factor at the peak */
   double sigma_y;           /* E eps_y, Pa */
   int fractured;            /* 1: the crack ran (tip or load-drop stop) */
+  int stalled;              /* 1: Newton stalled below path.min_step before
+                               the crack ran (fractured = 0) */
   char stop_reason[160];
   ps_int increments, newton_iterations, factorisations, arms_broken;
   ps_int n_fallback, step_cuts;
   ps_int gentle_rounds;     /* breaking rounds retried with fewer arms */
   ps_int pcg_iterations, pcg_failures, pcg_skipped, solves;
+  ps_int majorant_factorisations, majorant_failures; /* solver.majorant */
+  double t_majorant_factor;
   double nnz_tangent;       /* nonzeros of the free tangent (upper) */
   double nnz_factor, flops_factor; /* of the last factorisation */
   double crack_tip;         /* in units of c (disk) */

@@ -2,8 +2,11 @@
  * stopping rules, progress lines, outputs) and the Griffith sweep. */
 #include "ps_app.h"
 
+#include <errno.h>
+#include <fcntl.h>
 #include <gsl/gsl_math.h>
 #include <math.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/types.h>
@@ -113,6 +116,7 @@ static void solver_opts_from_case(const ps_case *cs, ps_solver_opts *o) {
   o->pcg_rtol = cs->cg_tolerance;
   o->pcg_max_iterations = cs->cg_max_iterations;
   o->pcg_skip_arms = cs->cg_skip_arms;
+  o->majorant = cs->majorant;
   o->reanalyze = cs->reanalyze;
   const ps_linsolve_type *t = ps_linsolve_type_find(cs->linear);
   if (t) o->linear = t;
@@ -125,7 +129,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
   ps_solver s;
   ps_solver_opts opts;
   FILE *hist = NULL;
-  char staging[1100] = "", path[1200];
+  char staging[1100] = "", path[1200], stall_msg[1024] = "";
   double t0 = ps_wtime();
   memset(res, 0, sizeof *res);
   memset(&s, 0, sizeof s);
@@ -183,13 +187,20 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
                      "residual %.2e); cutting the increment to %.4g\n",
              step, target, why[s.last_reason], s.last_residual, dl);
       if (dl < cs->min_step) {
-        status = ps_error(ctx, PS_ERR_SOLVER,
-                          "%s: Newton diverged at load factor %.6g (%s; the increment "
-                          "is below path.min_step = %g; last relative residual %.3e). "
-                          "Try a smaller path.load_step or solver.linear: umfpack",
-                          cs->path, target, why[s.last_reason], cs->min_step,
-                          s.last_residual);
-        goto cleanup;
+        /* the run ends here: an error for `run` (after the summary is
+         * written to the partial output), a result for the sweep */
+        res->stalled = 1;
+        res->fractured = 0;
+        snprintf(stall_msg, sizeof stall_msg,
+                 "%s: Newton diverged at load factor %.6g (%s; the increment is below "
+                 "path.min_step = %g; last relative residual %.3e). Try a smaller "
+                 "path.load_step or solver.linear: umfpack",
+                 cs->path, target, why[s.last_reason], cs->min_step, s.last_residual);
+        snprintf(res->stop_reason, sizeof res->stop_reason,
+                 "Newton stalled at load factor %.6g (increments below path.min_step "
+                 "did not converge, last residual %.2e) before the crack ran",
+                 target, s.last_residual);
+        break;
       }
       step--;
       continue;
@@ -311,6 +322,8 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
     }
   }
   res->sigma_peak = peak;
+  /* a stall is a result only in the sweep, and only after a settled peak */
+  int stall_ok = pb->stall_is_result && isfinite(peak);
   res->newton_iterations = s.newton_iterations;
   res->factorisations = s.ls.stats.n_factor + s.ls_fallback.stats.n_factor;
   res->arms_broken = broken_total;
@@ -318,6 +331,9 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
   res->pcg_iterations = s.pcg_iterations;
   res->pcg_failures = s.pcg_failures;
   res->pcg_skipped = s.pcg_skipped;
+  res->majorant_factorisations = s.ls_pre.stats.n_factor;
+  res->majorant_failures = s.pre_failures;
+  res->t_majorant_factor = s.ls_pre.stats.t_factor;
   res->solves = s.ls.stats.n_solve + s.ls_fallback.stats.n_solve;
   res->nnz_tangent = (double)s.sys.A.p[s.sys.n_free];
   res->nnz_factor = s.ls.stats.nnz_factor;
@@ -354,16 +370,18 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
     fprintf(o.f,
             "case: %s\nparticles: %lld\narms: %lld\nfree_dofs: %lld\ndelta_m: %.10g\n"
             "sigma_y_Pa: %.10g\nsigma_failure_Pa: %.10g\nsigma_failure_over_sigma_y: "
-            "%.8g\nload_factor_at_peak: %.8g\nfractured: %s\nstop_reason: %s\n"
+            "%.8g\nload_factor_at_peak: %.8g\nfractured: %s\nstalled: %s\nstop_reason: %s\n"
             "increments: %lld\nnewton_iterations: %lld\nfactorisations: %lld\n"
             "umfpack_fallbacks: %lld\nstep_cuts: %lld\ngentle_rounds: %lld\narms_broken: %lld\n"
             "crack_tip_over_c: %.6g\nwall_s: %.3f\nassembly_s: %.3f\nanalyze_s: %.3f\n"
             "factor_s: %.3f\nsolve_s: %.3f\nnetwork_s: %.3f\npeak_memory_MiB: %.1f\n"
             "cg_iterations: %lld\ncg_failures: %lld\ncg_skipped: %lld\nsolves: %lld\nnnz_tangent_upper: %.0f\n"
-            "nnz_factor: %.0f\nflops_factor: %.4g\ncase_fingerprint: %016llx\n",
+            "nnz_factor: %.0f\nflops_factor: %.4g\nmajorant_factorisations: %lld\n"
+            "majorant_cg_failures: %lld\nmajorant_factor_s: %.3f\ncase_fingerprint: %016llx\n",
             cs->name, (long long)pb->P.n, (long long)pb->net.n_arm,
             (long long)s.sys.n_free, delta, mat.sigma_y, peak, peak / mat.sigma_y,
-            res->lambda_peak, res->fractured ? "yes" : "no", res->stop_reason,
+            res->lambda_peak, res->fractured ? "yes" : "no", res->stalled ? "yes" : "no",
+            res->stop_reason,
             (long long)res->increments, (long long)res->newton_iterations,
             (long long)res->factorisations, (long long)res->n_fallback,
             (long long)res->step_cuts, (long long)res->gentle_rounds,
@@ -371,7 +389,8 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
             res->wall, res->t_assembly, res->t_analyze, res->t_factor, res->t_solve,
             pb->t_network, ps_peak_mib(), (long long)res->pcg_iterations,
             (long long)res->pcg_failures, (long long)res->pcg_skipped, (long long)res->solves, res->nnz_tangent,
-            res->nnz_factor, res->flops_factor,
+            res->nnz_factor, res->flops_factor, (long long)res->majorant_factorisations,
+            (long long)res->majorant_failures, res->t_majorant_factor,
             (unsigned long long)ps_case_fingerprint(cs));
     if (cs->n_j_rings > 0 && pb->P.dim == 2) { /* J of the final state, Eq. 39 */
       double *sig = malloc(4 * (size_t)pb->P.n * sizeof *sig);
@@ -401,8 +420,11 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
       free(H);
     }
     PS_CHECK_GOTO(ps_outfile_commit(&o, ctx));
-    PS_CHECK_GOTO(ps_dir_commit(staging, out_dir, ctx));
+    if (!(res->stalled && !stall_ok))
+      PS_CHECK_GOTO(ps_dir_commit(staging, out_dir, ctx));
   }
+  if (res->stalled && !stall_ok)
+    status = ps_error(ctx, PS_ERR_SOLVER, "%s", stall_msg);
 cleanup:
   if (hist) fclose(hist);
   if (status < 0 && staging[0]) {
@@ -471,6 +493,8 @@ static int reuse_run(const ps_problem *pb, const char *dir, double delta,
   r->sigma_peak = summary_value(path, "sigma_failure_Pa", NULL, 0);
   summary_value(path, "fractured", yes, sizeof yes);
   r->fractured = !strcmp(yes, "yes");
+  summary_value(path, "stalled", yes, sizeof yes); /* absent in older runs */
+  r->stalled = !strcmp(yes, "yes");
   r->increments = (ps_int)summary_value(path, "increments", NULL, 0);
   r->newton_iterations = (ps_int)summary_value(path, "newton_iterations", NULL, 0);
   r->arms_broken = (ps_int)summary_value(path, "arms_broken", NULL, 0);
@@ -478,65 +502,113 @@ static int reuse_run(const ps_problem *pb, const char *dir, double delta,
   return isfinite(r->sigma_peak) && isfinite(r->sigma_y) && r->sigma_y > 0;
 }
 
-static int griffith_sweep(ps_problem *pb, const char *out_dir, int resume, int reuse_all,
-                          double *slope, double *intercept, double *r2, int *n_fractured,
-                          ps_ctx *ctx);
-
-int ps_griffith(ps_problem *pb, const char *out_dir, int resume, double *slope,
-                double *intercept, double *r2, int *n_fractured, ps_ctx *ctx) {
-  return griffith_sweep(pb, out_dir, resume, 0, slope, intercept, r2, n_fractured, ctx);
+/* Run i of the sweep in staging/delta_cNNNN, or reuse it there when
+ * try_reuse and it matches (reuse_run). job > 0 labels a worker's log.
+ * Returns ps_run's status. */
+static int sweep_run(ps_problem *pb, const char *staging, int i, int try_reuse, int job,
+                     ps_run_result *res, ps_ctx *ctx) {
+  const ps_case *cs = &pb->cs;
+  double dc = cs->sweep_delta_over_c[i];
+  char path[1300], label[32] = "";
+  snprintf(path, sizeof path, "%s/delta_c%.6g", staging, 1.0 / dc);
+  if (job > 0) snprintf(label, sizeof label, " (job %d)", job);
+  if (try_reuse && reuse_run(pb, path, dc * pb->c, res)) {
+    ps_log(ctx, 1, "## griffith run %d/%d%s: delta = c/%.6g: reusing %s\n", i + 1,
+           cs->n_sweep, label, 1.0 / dc, path);
+    return PS_OK;
+  }
+  ps_log(ctx, 1, "## griffith run %d/%d%s: delta = c/%.6g\n", i + 1, cs->n_sweep, label,
+         1.0 / dc);
+  return ps_run(pb, dc * pb->c, path, res, ctx);
 }
 
-int ps_griffith_jobs(ps_problem *pb, const char *out_dir, int resume, int jobs,
-                     double *slope, double *intercept, double *r2, int *n_fractured,
-                     ps_ctx *ctx) {
-  const ps_case *cs = &pb->cs;
-  if (jobs <= 1 || cs->n_sweep < 2)
-    return ps_griffith(pb, out_dir, resume, slope, intercept, r2, n_fractured, ctx);
-  if (!(pb->c > 0))
-    return ps_griffith(pb, out_dir, resume, slope, intercept, r2, n_fractured, ctx);
-  if (jobs > cs->n_sweep) jobs = cs->n_sweep;
-  /* the workers write into the folder the sweep works in */
-  char dir[1100], logpath[1300];
-  if (resume) {
-    snprintf(dir, sizeof dir, "%s", out_dir);
-  } else {
-    snprintf(dir, sizeof dir, "%s.partial", out_dir);
-    PS_CHECK(ps_rm_rf(dir, ctx));
+static void claim_path(const ps_problem *pb, const char *staging, int i, char *path,
+                       size_t len) {
+  snprintf(path, len, "%s/delta_c%.6g.claim", staging, 1.0 / pb->cs.sweep_delta_over_c[i]);
+}
+
+/* Claim run i for this process: create staging/delta_cNNNN.claim
+ * exclusively (O_EXCL is atomic, so two workers, also of two sweeps in the
+ * same folder, never take the same run) holding our pid. A claim whose
+ * process is gone (an interrupted sweep) is taken over. Returns 1 when
+ * this process got it; release_run removes it when the run is done. */
+static int claim_run(const ps_problem *pb, const char *staging, int i) {
+  char path[1300];
+  claim_path(pb, staging, i, path, sizeof path);
+  for (int attempt = 0; attempt < 2; attempt++) {
+    int fd = open(path, O_WRONLY | O_CREAT | O_EXCL, 0644);
+    if (fd >= 0) {
+      char buf[32];
+      int n = snprintf(buf, sizeof buf, "%ld\n", (long)getpid());
+      int ok = write(fd, buf, (size_t)n) == n;
+      close(fd);
+      return ok;
+    }
+    FILE *f = fopen(path, "r");
+    long pid = 0;
+    if (f) {
+      if (fscanf(f, "%ld", &pid) != 1) pid = 0;
+      fclose(f);
+    }
+    if (pid <= 0 || (kill((pid_t)pid, 0) == 0 || errno != ESRCH)) return 0; /* alive */
+    unlink(path); /* stale: its process is gone */
   }
-  PS_CHECK(ps_mkdir_p(dir, ctx));
-  fflush(NULL);
+  return 0;
+}
+
+static void release_run(const ps_problem *pb, const char *staging, int i) {
+  char path[1300];
+  claim_path(pb, staging, i, path, sizeof path);
+  unlink(path);
+}
+
+/* Share the sweep's runs among `jobs` forked workers writing into staging
+ * and wait for them. Each worker (logging to staging/job-N.log) takes the
+ * next unclaimed run, largest delta first: those have the most increments,
+ * so the longest runs start first and the short ones fill the gaps
+ * (longest-processing-time-first scheduling). The table does not depend on
+ * which worker ran what. Returns PS_OK, or PS_ERR_SOLVER / PS_ERR_IO naming
+ * the job. */
+static int run_workers(ps_problem *pb, const char *staging, int jobs, ps_ctx *ctx) {
+  const ps_case *cs = &pb->cs;
+  int n = cs->n_sweep, order[PS_MAX_SWEEP];
+  for (int k = 0; k < n; k++) order[k] = k;
+  for (int k = 1; k < n; k++) /* insertion sort by delta, descending */
+    for (int j = k; j > 0 && cs->sweep_delta_over_c[order[j]] >
+                               cs->sweep_delta_over_c[order[j - 1]]; j--) {
+      int t = order[j];
+      order[j] = order[j - 1];
+      order[j - 1] = t;
+    }
   pid_t pids[64];
-  for (int w = 0; w < jobs && w < 64; w++) {
+  fflush(NULL);
+  for (int w = 0; w < jobs; w++) {
     pid_t pid = fork();
     if (pid < 0) return ps_error(ctx, PS_ERR_IO, "griffith --jobs: cannot fork a worker");
-    if (pid == 0) { /* worker w: runs i = w, w + jobs, ... */
-      snprintf(logpath, sizeof logpath, "%s/job-%d.log", dir, w + 1);
+    if (pid == 0) {
+      char logpath[1300];
+      snprintf(logpath, sizeof logpath, "%s/job-%d.log", staging, w + 1);
       FILE *log = fopen(logpath, "w");
       ctx->log = log;
       int bad = 0;
-      for (int i = w; i < cs->n_sweep && !bad; i += jobs) {
-        double dc = cs->sweep_delta_over_c[i];
-        char path[1300];
+      for (int k = 0; k < n; k++) { /* after a failed run, go on with the others */
         ps_run_result r;
-        snprintf(path, sizeof path, "%s/delta_c%.6g", dir, 1.0 / dc);
-        if (reuse_run(pb, path, dc * pb->c, &r)) continue;
-        ps_log(ctx, 1, "## griffith run %d/%d (job %d): delta = c/%.6g\n", i + 1,
-               cs->n_sweep, w + 1, 1.0 / dc);
-        if (ps_run(pb, dc * pb->c, path, &r, ctx) < 0) {
+        if (!claim_run(pb, staging, order[k])) continue;
+        if (sweep_run(pb, staging, order[k], 1, w + 1, &r, ctx) < 0) {
           if (log) fprintf(log, "peristatic: %s\n", ctx->msg);
           bad = 1;
         }
+        release_run(pb, staging, order[k]); /* done: later claims just reuse it */
       }
       if (log) fclose(log);
-      _exit(bad);
+      _exit(bad ? 1 : 0);
     }
     pids[w] = pid;
-    ps_log(ctx, 1, "## griffith: job %d started (runs %d, %d, ... of %d; log %s/job-%d.log)\n",
-           w + 1, w + 1, w + 1 + jobs, cs->n_sweep, dir, w + 1);
+    ps_log(ctx, 1, "## griffith: job %d started (log %s/job-%d.log)\n", w + 1, staging,
+           w + 1);
   }
   int failed = 0;
-  for (int w = 0; w < jobs && w < 64; w++) {
+  for (int w = 0; w < jobs; w++) {
     int st = 0;
     if (waitpid(pids[w], &st, 0) < 0 || !WIFEXITED(st) || WEXITSTATUS(st) != 0) failed = w + 1;
     else ps_log(ctx, 1, "## griffith: job %d finished\n", w + 1);
@@ -545,12 +617,26 @@ int ps_griffith_jobs(ps_problem *pb, const char *out_dir, int resume, int jobs,
     return ps_error(ctx, PS_ERR_SOLVER,
                     "griffith --jobs: job %d failed (see %s/job-%d.log); the runs finished "
                     "so far are in %s, `peristatic griffith --resume -o %s CASE` continues",
-                    failed, dir, failed, dir, dir);
-  /* every run is there now: tables, fit and plot from them */
+                    failed, staging, failed, staging, staging);
+  return PS_OK;
+}
+
+static int griffith_sweep(ps_problem *pb, const char *out_dir, int resume, int jobs,
+                          double *slope, double *intercept, double *r2, int *n_fractured,
+                          ps_ctx *ctx);
+
+int ps_griffith(ps_problem *pb, const char *out_dir, int resume, double *slope,
+                double *intercept, double *r2, int *n_fractured, ps_ctx *ctx) {
   return griffith_sweep(pb, out_dir, resume, 1, slope, intercept, r2, n_fractured, ctx);
 }
 
-static int griffith_sweep(ps_problem *pb, const char *out_dir, int resume, int reuse_all,
+int ps_griffith_jobs(ps_problem *pb, const char *out_dir, int resume, int jobs,
+                     double *slope, double *intercept, double *r2, int *n_fractured,
+                     ps_ctx *ctx) {
+  return griffith_sweep(pb, out_dir, resume, jobs, slope, intercept, r2, n_fractured, ctx);
+}
+
+static int griffith_sweep(ps_problem *pb, const char *out_dir, int resume, int jobs,
                           double *slope, double *intercept, double *r2, int *n_fractured,
                           ps_ctx *ctx) {
   const ps_case *cs = &pb->cs;
@@ -572,26 +658,37 @@ static int griffith_sweep(ps_problem *pb, const char *out_dir, int resume, int r
     snprintf(staging, sizeof staging, "%s", out_dir);
   } else {
     snprintf(staging, sizeof staging, "%s.partial", out_dir);
-    if (!reuse_all) PS_CHECK(ps_rm_rf(staging, ctx)); /* workers filled it */
+    PS_CHECK(ps_rm_rf(staging, ctx));
   }
   PS_CHECK(ps_mkdir_p(staging, ctx));
+  /* a run whose Newton solve stalls before the crack runs (the paper's
+   * delta = c/500: the plate yields) is a row of the table, not an error */
+  pb->stall_is_result = 1;
+  if (jobs > n) jobs = n;
+  if (jobs > 64) jobs = 64;
+  if (jobs > 1) PS_CHECK(run_workers(pb, staging, jobs, ctx)); /* then all reused */
   for (int i = 0; i < n; i++) {
     double dc = cs->sweep_delta_over_c[i];
-    snprintf(path, sizeof path, "%s/delta_c%.6g", staging, 1.0 / dc);
-    if ((resume || reuse_all) && reuse_run(pb, path, dc * pb->c, &res[i])) {
-      ps_log(ctx, 1, "## griffith run %d/%d: delta = c/%.6g: reusing %s\n", i + 1, n,
-             1.0 / dc, path);
-    } else {
-      ps_log(ctx, 1, "## griffith run %d/%d: delta = c/%.6g\n", i + 1, n, 1.0 / dc);
-      status = ps_run(pb, dc * pb->c, path, &res[i], ctx);
-      if (status < 0) {
-        size_t l = strlen(ctx->msg);
-        snprintf(ctx->msg + l, sizeof ctx->msg - l,
-                 "\n(the runs finished so far are in %s; `peristatic griffith --resume "
-                 "-o %s CASE` continues there)",
-                 staging, staging);
-        return status;
-      }
+    int try_reuse = resume || jobs > 1;
+    if (claim_run(pb, staging, i)) {
+      status = sweep_run(pb, staging, i, try_reuse, 0, &res[i], ctx);
+      release_run(pb, staging, i);
+    } else { /* another sweep in this folder holds it: only its result will do */
+      snprintf(path, sizeof path, "%s/delta_c%.6g", staging, 1.0 / dc);
+      status = try_reuse && reuse_run(pb, path, dc * pb->c, &res[i])
+                   ? PS_OK
+                   : ps_error(ctx, PS_ERR_SOLVER,
+                              "%s is being run by another peristatic process (pid in "
+                              "%s.claim)",
+                              path, path);
+    }
+    if (status < 0) {
+      size_t l = strlen(ctx->msg);
+      snprintf(ctx->msg + l, sizeof ctx->msg - l,
+               "\n(the runs finished so far are in %s; `peristatic griffith --resume "
+               "-o %s CASE` continues there)",
+               staging, staging);
+      return status;
     }
     if (res[i].fractured) {
       xs[nf] = sqrt(dc);
@@ -610,7 +707,8 @@ static int griffith_sweep(ps_problem *pb, const char *out_dir, int resume, int r
   for (int i = 0; i < n; i++) {
     double dc = cs->sweep_delta_over_c[i];
     fprintf(o.f, "%.8g,%.8g,%.8g,%s,%lld,%lld,%lld,%.3f\n", dc, sqrt(dc),
-            res[i].sigma_peak / res[i].sigma_y, res[i].fractured ? "yes" : "no",
+            res[i].sigma_peak / res[i].sigma_y,
+            res[i].fractured ? "yes" : res[i].stalled ? "stalled" : "no",
             (long long)res[i].increments, (long long)res[i].newton_iterations,
             (long long)res[i].arms_broken, res[i].wall);
   }
@@ -639,6 +737,8 @@ static int griffith_sweep(ps_problem *pb, const char *out_dir, int resume, int r
           "pt 7 ps 1.5 title 'fractured', \\\n"
           "     'griffith.csv' every ::1 using (strcol(4) eq \"no\" ? $2 : 1/0):3 with points "
           "pt 6 ps 1.5 title 'no fracture (peak load)', \\\n"
+          "     'griffith.csv' every ::1 using (strcol(4) eq \"stalled\" ? $2 : 1/0):3 with "
+          "points pt 4 ps 1.5 title 'no fracture: Newton stalled (last settled load)', \\\n"
           "     %.10g + %.10g*x title 'least-squares fit' lw 2, \\\n"
           "     %.10g*x title 'nominal Griffith sqrt(2/(pi eps_y)) x' dt 2\n",
           cs->name, fmt_or_na(*slope, b1, sizeof b1), fmt_or_na(*intercept, b2, sizeof b2),

@@ -249,6 +249,59 @@ static inline void add_block(ps_system *s, ps_int Q, ps_int blk, const double *k
     for (int al = 0; al < d; al++) base[(ps_int)be * d * len + al] += sign * k[be * d + al];
 }
 
+/* Zero dst's Kfull and add the arm terms D q q^T + (T/l)(I - q q^T) of
+ * the intact arms, with the geometry (q, T, l) of src and stiffnesses D.
+ * Returns PS_OK. */
+static int assemble_arms(ps_system *dst, const ps_system *src, const ps_arm_state *st,
+                         const double *D) {
+  const ps_network *net = dst->net;
+  int d = dst->dim;
+  ps_int nblk = dst->bptr[net->n_particle];
+  memset(dst->Kfull, 0, (size_t)(d * d * nblk) * sizeof *dst->Kfull);
+  double kmat[9];
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    if (st->broken[i]) continue;
+    const double *q = &src->q[i * d];
+    double Tl = src->T[i] / src->l[i];
+    for (int be = 0; be < d; be++)
+      for (int al = 0; al < d; al++)
+        kmat[be * d + al] = D[i] * q[al] * q[be] + Tl * ((al == be) - q[al] * q[be]);
+    ps_int a = net->a[i], b = net->b[i];
+    add_block(dst, a, dst->slot_diag[a], kmat, 1.0);
+    add_block(dst, b, dst->slot_diag[b], kmat, 1.0);
+    add_block(dst, b, dst->slot_ab[i], kmat, -1.0);
+    add_block(dst, a, dst->slot_ba[i], kmat, -1.0);
+  }
+  return PS_OK;
+}
+
+/* A particle whose arms have all broken is a free body: hold it with a
+ * spring as stiff as the stiffest dof (it carries no force, so it stays
+ * where it is) to keep the tangent nonsingular. */
+static void hold_free_bodies(ps_system *s, const ps_arm_state *st) {
+  const ps_network *net = s->net;
+  int d = s->dim;
+  double kmax = 0.0;
+  for (ps_int a = 0; a < net->n_particle; a++) {
+    ps_int len = s->bptr[a + 1] - s->bptr[a];
+    for (int k = 0; k < d; k++) {
+      double v = s->Kfull[(ps_int)d * d * s->bptr[a] + (ps_int)k * d * len +
+                          (s->slot_diag[a] - s->bptr[a]) * d + k];
+      if (v > kmax) kmax = v;
+    }
+  }
+  for (ps_int a = 0; a < net->n_particle; a++) {
+    ps_int intact = 0;
+    for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1] && !intact; k++)
+      intact = !st->broken[net->fam_arm[k]];
+    if (intact) continue;
+    ps_int len = s->bptr[a + 1] - s->bptr[a];
+    for (int k = 0; k < d; k++)
+      s->Kfull[(ps_int)d * d * s->bptr[a] + (ps_int)k * d * len +
+               (s->slot_diag[a] - s->bptr[a]) * d + k] += kmax;
+  }
+}
+
 /* add cc g g^T for particle c's family, g = the gradient of
  * sum_k w[k] l_k (k over c's family positions) with respect to the
  * positions of c's members */
@@ -336,22 +389,7 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
   }
   if (!want_tangent) return PS_OK;
 
-  ps_int nblk = s->bptr[net->n_particle];
-  memset(s->Kfull, 0, (size_t)(d * d * nblk) * sizeof *s->Kfull);
-  double kmat[9];
-  for (ps_int i = 0; i < net->n_arm; i++) {
-    if (st->broken[i]) continue;
-    const double *q = &s->q[i * d];
-    double D = s->tan.D[i], Tl = s->T[i] / s->l[i];
-    for (int be = 0; be < d; be++)
-      for (int al = 0; al < d; al++)
-        kmat[be * d + al] = D * q[al] * q[be] + Tl * ((al == be) - q[al] * q[be]);
-    ps_int a = net->a[i], b = net->b[i];
-    add_block(s, a, s->slot_diag[a], kmat, 1.0);
-    add_block(s, b, s->slot_diag[b], kmat, 1.0);
-    add_block(s, b, s->slot_ab[i], kmat, -1.0);
-    add_block(s, a, s->slot_ba[i], kmat, -1.0);
-  }
+  PS_CHECK(assemble_arms(s, s, st, s->tan.D));
   /* rank-one family terms c_a g_a g_a^T (and a second one, c2 w2) */
   for (ps_int c = 0; c < net->n_particle; c++)
     for (int term = 0; term < 2; term++) {
@@ -363,29 +401,37 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
                         "(ps_system_create_pattern with family_coupling 0)");
       add_family_term(s, c, cc, term == 0 ? s->tan.w : s->tan.w2);
     }
-  /* a particle whose arms have all broken is a free body: hold it with a
-   * spring as stiff as the stiffest dof (it carries no force, so it stays
-   * where it is) to keep the tangent nonsingular */
-  double kmax = 0.0;
-  for (ps_int a = 0; a < net->n_particle; a++) {
-    ps_int len = s->bptr[a + 1] - s->bptr[a];
-    for (int k = 0; k < d; k++) {
-      double v = s->Kfull[(ps_int)d * d * s->bptr[a] + (ps_int)k * d * len +
-                          (s->slot_diag[a] - s->bptr[a]) * d + k];
-      if (v > kmax) kmax = v;
-    }
-  }
-  for (ps_int a = 0; a < net->n_particle; a++) {
-    ps_int intact = 0;
-    for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1] && !intact; k++)
-      intact = !st->broken[net->fam_arm[k]];
-    if (intact) continue;
-    ps_int len = s->bptr[a + 1] - s->bptr[a];
-    for (int k = 0; k < d; k++)
-      s->Kfull[(ps_int)d * d * s->bptr[a] + (ps_int)k * d * len +
-               (s->slot_diag[a] - s->bptr[a]) * d + k] += kmax;
-  }
+  hold_free_bodies(s, st);
   for (ps_int k = 0; k < s->A.p[s->n_free]; k++) s->A.x[k] = s->Kfull[s->A_src[k]];
+  return PS_OK;
+}
+
+int ps_system_assemble_majorant(ps_system *pre, const ps_system *K, const ps_arm_state *st,
+                                ps_ctx *ctx) {
+  const ps_network *net = K->net;
+  if (pre->net != net || pre->family_coupling || pre->n_free != K->n_free)
+    return ps_error(ctx, PS_ERR_INPUT, "majorant: the systems do not match");
+  /* pre's own per-arm arrays are not used otherwise (its geometry is K's):
+   * pre->T holds the arm stiffnesses of the majorant */
+  double *D = pre->T;
+  memcpy(D, K->tan.D, (size_t)net->n_arm * sizeof *D);
+  for (ps_int c = 0; c < net->n_particle; c++)
+    for (int term = 0; term < 2; term++) {
+      double cc = term == 0 ? K->tan.c[c] : K->tan.c2[c];
+      const double *w = term == 0 ? K->tan.w : K->tan.w2;
+      if (!(cc > 0.0)) continue; /* negative terms only lower K */
+      /* (sum_k w_k x_k)^2 <= (sum_k |w_k| r0_k) (sum_k |w_k| x_k^2 / r0_k) */
+      double S = 0.0;
+      for (ps_int k = net->fam_ptr[c]; k < net->fam_ptr[c + 1]; k++)
+        S += fabs(w[k]) * net->r0[net->fam_arm[k]];
+      for (ps_int k = net->fam_ptr[c]; k < net->fam_ptr[c + 1]; k++) {
+        ps_int i = net->fam_arm[k];
+        D[i] += cc * S * fabs(w[k]) / net->r0[i];
+      }
+    }
+  PS_CHECK(assemble_arms(pre, K, st, D));
+  hold_free_bodies(pre, st);
+  for (ps_int k = 0; k < pre->A.p[pre->n_free]; k++) pre->A.x[k] = pre->Kfull[pre->A_src[k]];
   return PS_OK;
 }
 

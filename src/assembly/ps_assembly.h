@@ -72,6 +72,20 @@ int ps_system_eval(ps_system *sys, const ps_model *model, ps_arm_state *st,
                    const double *X, const double *u, double *f,
                    double *energy, int want_tangent, ps_ctx *ctx);
 
+/* A one-horizon majorant of the last tangent of K, for preconditioning:
+ * into pre (a system on the same network and dofs, created with
+ * family_coupling = 0), the arm terms of K with each positive family term
+ * c g g^T replaced by arm stiffnesses that bound it from above by
+ * Cauchy-Schwarz,
+ *   c (sum_k w_k dl_k)^2 <= c (sum_k |w_k| r0_k) sum_k |w_k| dl_k^2 / r0_k,
+ * and negative family terms dropped, so that x^T K x <= x^T pre x for all
+ * x: the eigenvalues of pre^-1 K lie in (0, 1] when K is positive
+ * definite, and for the elastic fibre model in [min(r, 1/r), 1] with
+ * r = G(N+2)/(NK) (0.8 for nu = 0.3 in plane strain; doc/performance.md). Needs K evaluated with the tangent. Returns PS_OK,
+ * PS_ERR_INPUT when the systems do not match. */
+int ps_system_assemble_majorant(ps_system *pre, const ps_system *K, const ps_arm_state *st,
+                                ps_ctx *ctx);
+
 /* out[n_free] = K_fp du_p: the coupling of prescribed increments du[n_dof]
  * (free entries ignored) into the free rows, from the last Kfull. */
 void ps_system_coupling(const ps_system *sys, const double *du, double *out);

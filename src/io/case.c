@@ -671,7 +671,7 @@ static int on_loading(loader *L, void *arg, const char *key, const char *name,
 static const char *const solver_keys[] = {"linear", "tolerance", "max_iterations",
                                           "line_search", "reuse_factor",
                                           "cg_tolerance", "cg_max_iterations",
-                                          "cg_skip_arms", "reanalyze", NULL};
+                                          "cg_skip_arms", "reanalyze", "majorant", NULL};
 
 static int on_solver(loader *L, void *arg, const char *key, const char *name,
                      yaml_node_t *v) {
@@ -689,6 +689,7 @@ static int on_solver(loader *L, void *arg, const char *key, const char *name,
   if (IS("max_iterations")) return get_int(L, v, name, 1, INT_MAX, &cs->max_iterations);
   if (IS("reuse_factor")) return get_bool(L, v, name, &cs->reuse_factor);
   if (IS("reanalyze")) return get_bool(L, v, name, &cs->reanalyze);
+  if (IS("majorant")) return get_bool(L, v, name, &cs->majorant);
   if (IS("cg_tolerance")) return get_real(L, v, name, 0.0, 1, 1.0, 1, &cs->cg_tolerance);
   if (IS("cg_max_iterations"))
     return get_int(L, v, name, 1, INT_MAX, &cs->cg_max_iterations);

@@ -96,6 +96,8 @@ typedef struct ps_case {
                           the last factorisation; 0 (default): never */
   int reanalyze;       /* symbolic analysis before every factorisation
                           (benchmark comparison), default 0 */
+  int majorant;        /* CG with a factor of the one-horizon majorant
+                          before refactoring the tangent, default 0 */
 
   /* path following */
   double load_step;    /* load factor increment, default 0.02 */

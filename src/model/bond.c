@@ -102,13 +102,6 @@ static int bond_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
   return PS_OK;
 }
 
-static ps_int bond_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count) {
-  (void)m;
-  (void)st;
-  (void)max_count;
-  return 0;
-}
-
-static const ps_model_type bond_type = {"bond", bond_evaluate, bond_break_arms,
+static const ps_model_type bond_type = {"bond", bond_evaluate, ps_model_never_breaks,
                                         bond_prepare, 0};
 const ps_model_type *const ps_model_bond = &bond_type;

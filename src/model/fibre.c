@@ -210,32 +210,36 @@ static int by_excess_desc(const void *u, const void *v) {
   return x > y ? -1 : x < y;
 }
 
+/* plastic elongation past delta of an intact arm (Eq. 118 breaks it when
+ * positive); <= 0 for a broken arm */
+static double excess(const ps_model *m, const ps_arm_state *st, ps_int i) {
+  if (st->broken[i]) return 0.0;
+  return ps_arm_plastic_strain(st, i, m->mat.yield_rule) * m->net->r0[i] - m->mat.delta;
+}
+
 static ps_int fibre_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count) {
   const ps_network *net = m->net;
   double delta = m->mat.delta;
   if (!(delta > 0) || !isfinite(delta)) return 0;
   ps_int nc = 0;
-  for (ps_int i = 0; i < net->n_arm; i++)
-    nc += !st->broken[i] && ps_arm_plastic_strain(st, i, m->mat.yield_rule) * net->r0[i] >
-                                delta; /* Eq. 118 */
+  for (ps_int i = 0; i < net->n_arm; i++) nc += excess(m, st, i) > 0;
   if (nc == 0) return 0;
   if (max_count <= 0 || nc <= max_count) {
     for (ps_int i = 0; i < net->n_arm; i++)
-      if (!st->broken[i] &&
-          ps_arm_plastic_strain(st, i, m->mat.yield_rule) * net->r0[i] > delta)
-        st->broken[i] = 1;
+      if (excess(m, st, i) > 0) st->broken[i] = 1;
     return nc;
   }
   /* only the max_count arms past the limit by the most */
   candidate *c = malloc((size_t)nc * sizeof *c);
   if (!c) return 0;
   ps_int k = 0;
-  for (ps_int i = 0; i < net->n_arm; i++)
-    if (!st->broken[i] &&
-        ps_arm_plastic_strain(st, i, m->mat.yield_rule) * net->r0[i] > delta) {
-      c[k].excess = ps_arm_plastic_strain(st, i, m->mat.yield_rule) * net->r0[i] - delta;
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    double e = excess(m, st, i);
+    if (e > 0) {
+      c[k].excess = e;
       c[k++].arm = i;
     }
+  }
   qsort(c, (size_t)nc, sizeof *c, by_excess_desc);
   for (ps_int j = 0; j < max_count; j++) st->broken[c[j].arm] = 1;
   free(c);

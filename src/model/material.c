@@ -92,6 +92,13 @@ void ps_arm_tangent_free(ps_arm_tangent *t) {
   memset(t, 0, sizeof *t);
 }
 
+ps_int ps_model_never_breaks(const ps_model *m, ps_arm_state *st, ps_int max_count) {
+  (void)m;
+  (void)st;
+  (void)max_count;
+  return 0;
+}
+
 double ps_arm_plastic_strain(const ps_arm_state *st, ps_int i, int yield_rule) {
   return yield_rule == PS_YIELD_DEVIATORIC ? 0.5 * (st->eps_p[i] + st->eps_p[st->n_arm + i])
                                            : st->eps_p[i];

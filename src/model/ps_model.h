@@ -133,6 +133,9 @@ extern const ps_model_type *const ps_model_fibre;
  * nu is fixed: 1/3 in plane stress, 1/4 in plane strain and 3D. */
 extern const ps_model_type *const ps_model_bond;
 
+/* break_arms of the elastic models: nothing ever breaks; returns 0. */
+ps_int ps_model_never_breaks(const ps_model *m, ps_arm_state *st, ps_int max_count);
+
 /* Ordinary state-based linear elastic PD with the dilatation / deviatoric
  * split (pd-elastoplastic-animation-supplement, Eq. 26-47; Madenci &
  * Oterkus): W_a = a theta_a^2 + b sum_b w (e_ab)^2 V_b, theta_a = d sum_b

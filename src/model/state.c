@@ -95,13 +95,6 @@ static int state_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
   return PS_OK;
 }
 
-static ps_int state_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count) {
-  (void)m;
-  (void)st;
-  (void)max_count;
-  return 0;
-}
-
-static const ps_model_type state_type = {"state", state_evaluate, state_break_arms,
+static const ps_model_type state_type = {"state", state_evaluate, ps_model_never_breaks,
                                          state_prepare, 1};
 const ps_model_type *const ps_model_state = &state_type;

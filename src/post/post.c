@@ -83,6 +83,7 @@ void ps_post_stress_tensor(const ps_particles *P, const ps_network *net,
 void ps_post_displacement_gradient(const ps_particles *P, const ps_network *net,
                                    const ps_arm_state *st, const double *u, double *H) {
   int d = P->dim;
+  gsl_error_handler_t *old = gsl_set_error_handler_off(); /* a singular M gives H = 0 */
   for (ps_int a = 0; a < P->n; a++) {
     double M[9] = {0}, B[9] = {0}; /* M = sum w dX dX^T, B = sum w dU dX^T */
     for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
@@ -104,16 +105,26 @@ void ps_post_displacement_gradient(const ps_particles *P, const ps_network *net,
     double *Ha = &H[a * d * d];
     memset(Ha, 0, (size_t)(d * d) * sizeof *Ha);
     gsl_matrix_view Mv = gsl_matrix_view_array(M, (size_t)d, (size_t)d);
-    gsl_error_handler_t *old = gsl_set_error_handler_off();
     int bad = gsl_linalg_cholesky_decomp1(&Mv.matrix) != 0;
     for (int r = 0; r < d && !bad; r++) {
       gsl_vector_view bv = gsl_vector_view_array(&B[r * d], (size_t)d);
       gsl_vector_view hv = gsl_vector_view_array(&Ha[r * d], (size_t)d);
       bad = gsl_linalg_cholesky_solve(&Mv.matrix, &bv.vector, &hv.vector) != 0;
     }
-    gsl_set_error_handler(old);
     if (bad) memset(Ha, 0, (size_t)(d * d) * sizeof *Ha);
   }
+  gsl_set_error_handler(old);
+}
+
+/* 2D strain energy density sigma_ij u_i,j / 2 of particle a */
+static double energy_density_2d(const double *sigma, const double *H, ps_int a) {
+  const double *s = &sigma[4 * a], *h = &H[4 * a];
+  return 0.5 * (s[0] * h[0] + s[1] * h[1] + s[2] * h[2] + s[3] * h[3]);
+}
+
+/* distance from the tip in the max norm (square contours) */
+static double rho_tip(const ps_particles *P, ps_int a, const double *tip) {
+  return fmax(fabs(P->x[2 * a] - tip[0]), fabs(P->x[2 * a + 1] - tip[1]));
 }
 
 double ps_post_j_domain(const ps_particles *P, const double *sigma, const double *H,
@@ -121,7 +132,7 @@ double ps_post_j_domain(const ps_particles *P, const double *sigma, const double
   double J = 0.0, w = l_out - l_in;
   for (ps_int a = 0; a < P->n; a++) {
     double dx = P->x[2 * a] - tip[0], dy = P->x[2 * a + 1] - tip[1];
-    double rho = fmax(fabs(dx), fabs(dy));
+    double rho = rho_tip(P, a, tip);
     if (rho <= l_in || rho >= l_out) continue; /* grad q = 0 */
     double gq[2] = {0, 0}; /* q = (l_out - rho) / w */
     if (fabs(dx) >= fabs(dy))
@@ -129,7 +140,7 @@ double ps_post_j_domain(const ps_particles *P, const double *sigma, const double
     else
       gq[1] = -(dy > 0 ? 1.0 : -1.0) / w;
     const double *s = &sigma[4 * a], *h = &H[4 * a]; /* h[j*2 + k] = du_j/dx_k */
-    double W = 0.5 * (s[0] * h[0] + s[1] * h[1] + s[2] * h[2] + s[3] * h[3]);
+    double W = energy_density_2d(sigma, H, a);
     for (int i = 0; i < 2; i++) {
       double t = s[i * 2 + 0] * h[0 * 2 + 0] + s[i * 2 + 1] * h[1 * 2 + 0]; /* sigma_ij u_j,1 */
       if (i == 0) t -= W;
@@ -139,10 +150,6 @@ double ps_post_j_domain(const ps_particles *P, const double *sigma, const double
   return J;
 }
 
-static double rho_tip(const ps_particles *P, ps_int a, const double *tip) {
-  return fmax(fabs(P->x[2 * a] - tip[0]), fabs(P->x[2 * a + 1] - tip[1]));
-}
-
 double ps_post_j_contour(const ps_particles *P, const ps_network *net, const double *T,
                          const double *q, const double *sigma, const double *H,
                          const double *tip, double l, double dx) {
@@ -150,8 +157,7 @@ double ps_post_j_contour(const ps_particles *P, const ps_network *net, const dou
   for (ps_int a = 0; a < P->n; a++) { /* W n_x ds on the vertical sides */
     double ax = fabs(P->x[2 * a] - tip[0]), ay = fabs(P->x[2 * a + 1] - tip[1]);
     if (fabs(ax - l) >= dx || ay >= l) continue;
-    const double *s = &sigma[4 * a], *h = &H[4 * a];
-    double W = 0.5 * (s[0] * h[0] + s[1] * h[1] + s[2] * h[2] + s[3] * h[3]);
+    double W = energy_density_2d(sigma, H, a);
     /* hat weight: 1/2 each for the two columns beside a contour between
      * them, 1 for a column on the contour */
     double hat = 1.0 - fabs(ax - l) / dx;

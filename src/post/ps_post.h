@@ -66,8 +66,9 @@ double ps_post_j_domain(const ps_particles *P, const double *sigma, const double
  * columns beside the contour, ds = dx), the second over the arms that cross the
  * contour, F_km = T q the force on the inner end k from the outer end m
  * (the traction of the outside on the inside; the mean of the two ends'
- * du/dx stands for du/dx on the contour). Place the contour between
- * particle rows and columns. 2D; J in N/m. */
+ * du/dx stands for du/dx on the contour). On a lattice put the contour
+ * between particle rows (particles exactly on a horizontal side count as
+ * outside). 2D; J in N/m. */
 double ps_post_j_contour(const ps_particles *P, const ps_network *net, const double *T,
                          const double *q, const double *sigma, const double *H,
                          const double *tip, double l, double dx);

@@ -17,11 +17,14 @@ void ps_solver_opts_default(ps_solver_opts *o) {
   o->pcg_max_iterations = 25;
   o->pcg_skip_arms = 0;
   o->reanalyze = 0;
+  o->majorant = 0;
 }
 
 void ps_solver_free(ps_solver *s) {
   ps_linsolve_destroy(&s->ls);
   ps_linsolve_destroy(&s->ls_fallback);
+  ps_linsolve_destroy(&s->ls_pre);
+  ps_system_free(&s->sys_pre);
   ps_system_free(&s->sys);
   ps_arm_state_free(&s->st);
   ps_arm_state_free(&s->st_saved);
@@ -60,15 +63,19 @@ static int eval(ps_solver *s, const double *u, double *f, double *energy,
 
 void ps_solver_set_forces(ps_solver *s, const double *fext) { s->fext = fext; }
 
-/* Factor sys.A with the chosen backend; on a matrix that is not positive
- * definite fall back to UMFPACK. Returns PS_OK, PS_SINGULAR (message in
- * ctx names the particle), or fatal. */
 /* the arms' tangent-changing state (yielding, broken) */
 static inline unsigned char arm_state(const ps_arm_state *st, ps_int i) {
   return (unsigned char)(st->yielding[i] | (st->broken[i] << 1));
 }
 
-static void snapshot_arm_state(ps_solver *s) {
+/* the changed-arm count is needed only by solver.cg_skip_arms and the
+ * verbose log */
+static int tracks_arm_state(const ps_solver *s, const ps_ctx *ctx) {
+  return s->opts.pcg_skip_arms > 0 || ctx->verbosity >= 2;
+}
+
+static void snapshot_arm_state(ps_solver *s, const ps_ctx *ctx) {
+  if (!tracks_arm_state(s, ctx)) return;
   for (ps_int i = 0; i < s->net->n_arm; i++) s->arm_state_at_factor[i] = arm_state(&s->st, i);
 }
 
@@ -80,9 +87,12 @@ static ps_int arms_changed(const ps_solver *s, ps_int limit) {
   return n;
 }
 
+/* Factor sys.A with the chosen backend; on a matrix that is not positive
+ * definite fall back to UMFPACK. Returns PS_OK, PS_SINGULAR (message in
+ * ctx names the particle), or fatal. */
 static int factor_tangent(ps_solver *s, ps_ctx *ctx) {
   ps_int bad = -1;
-  snapshot_arm_state(s);
+  snapshot_arm_state(s, ctx);
   char name[256] = "unknown dof";
   int status = ps_linsolve_factor(&s->ls, &s->sys.A, &bad, ctx);
   if (status < 0) return status;
@@ -138,6 +148,10 @@ int ps_solver_create(ps_solver *s, const ps_particles *P,
   PS_CHECK_GOTO(ps_arm_state_alloc(&s->st_saved, net->n_arm, ctx));
   PS_CHECK_GOTO(ps_linsolve_create(&s->ls, opts->linear, ctx));
   s->ls.reanalyze = opts->reanalyze;
+  if (opts->majorant && type->family_coupling && opts->reuse_factor) {
+    PS_CHECK_GOTO(ps_system_create_pattern(&s->sys_pre, net, fixed, 0, ctx));
+    PS_CHECK_GOTO(ps_linsolve_create(&s->ls_pre, ps_linsolve_cholmod, ctx));
+  }
   ps_int nf = s->sys.n_free;
   s->u = ps_calloc((size_t)nd, sizeof *s->u, ctx);
   s->u_saved = ps_calloc((size_t)nd, sizeof *s->u, ctx);
@@ -180,6 +194,41 @@ cleanup:
   return status;
 }
 
+/* du = K_ff^-1 rhs by CG preconditioned with a fresh factor of the
+ * one-horizon majorant of the tangent (opts.majorant), capped at
+ * pcg_max_iterations. Returns PS_OK (the majorant's factor becomes the
+ * one CG reuses), PS_DIVERGED when the majorant is not positive
+ * definite or CG does not converge (the caller factors K), or fatal. */
+static int solve_by_majorant(ps_solver *s, ps_ctx *ctx) {
+  ps_int bad = -1;
+  PS_CHECK(ps_system_assemble_majorant(&s->sys_pre, &s->sys, &s->st, ctx));
+  int status = ps_linsolve_factor(&s->ls_pre, &s->sys_pre.A, &bad, ctx);
+  if (status < 0) return status;
+  if (status != PS_OK) {
+    ps_log(ctx, 2, "    majorant not positive definite: factoring the tangent\n");
+    return PS_DIVERGED;
+  }
+  int its = 0;
+  double t0 = ps_wtime();
+  status = ps_linsolve_pcg(&s->ls_pre, &s->sys.A, s->rhs, s->du, s->opts.pcg_rtol,
+                           s->opts.pcg_max_iterations, s->pcg_work, &its, ctx);
+  s->t_pcg += ps_wtime() - t0;
+  if (status < 0) return status;
+  s->pcg_iterations += its;
+  s->pre_solves++;
+  if (status == PS_OK) {
+    ps_log(ctx, 2, "    CG with a fresh majorant factor: %d iterations\n", its);
+    s->ls_last = &s->ls_pre;
+    s->have_factor = 1;
+    snapshot_arm_state(s, ctx);
+    return PS_OK;
+  }
+  s->pre_failures++;
+  ps_log(ctx, 2, "    CG with a fresh majorant factor did not converge in %d iterations: "
+                 "factoring the tangent\n", its);
+  return PS_DIVERGED;
+}
+
 /* du = K_ff^-1 rhs for the tangent just assembled: CG preconditioned by
  * the last factor when allowed, else (or when CG fails) a fresh factor.
  * Returns PS_OK, PS_SINGULAR, or fatal. */
@@ -196,10 +245,12 @@ static int solve_tangent(ps_solver *s, ps_ctx *ctx) {
       if (cap < maxit) maxit = cap < 2 ? 2 : (int)cap;
     }
     /* each arm that yielded, unloaded or broke since the factorisation
-     * changes the tangent by a rank-one term, and CG preconditioned by the
-     * old factor needs about one iteration per such term: with more
-     * changed arms than the cap it cannot converge, so do not try */
-    ps_int limit = s->opts.pcg_skip_arms, changed = arms_changed(s, limit > 0 ? limit : 1000000);
+     * changes the tangent by a rank-one term; with solver.cg_skip_arms > 0
+     * CG is not tried when that many changed (in exact arithmetic CG may
+     * need one iteration per term; in practice it often needs far fewer,
+     * doc/performance.md, hence off by default) */
+    ps_int limit = s->opts.pcg_skip_arms, changed = -1;
+    if (tracks_arm_state(s, ctx)) changed = arms_changed(s, limit > 0 ? limit : s->net->n_arm);
     if (limit > 0 && changed >= limit) {
       s->pcg_skipped++;
       ps_log(ctx, 2, "    %lld+ arms changed state since the last factorisation: "
@@ -222,6 +273,10 @@ static int solve_tangent(ps_solver *s, ps_ctx *ctx) {
     s->pcg_failures++;
     ps_log(ctx, 2, "    CG with the old factor did not converge in %d iterations (%lld "
                    "arms changed state): refactoring\n", its, (long long)changed);
+    if (s->sys_pre.net && s->ls_last != &s->ls_pre) {
+      int status = solve_by_majorant(s, ctx);
+      if (status <= 0) return status;
+    }
   }
 refactor:;
   int status = factor_tangent(s, ctx);
@@ -255,7 +310,7 @@ static int shifted_direction(ps_solver *s, ps_ctx *ctx) {
   s->ls_last = &s->ls;
   s->have_factor = 1;
   s->n_shifted++;
-  snapshot_arm_state(s);
+  snapshot_arm_state(s, ctx);
   return ps_linsolve_solve(&s->ls, s->rhs, s->du, ctx);
 }
 

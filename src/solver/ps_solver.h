@@ -43,6 +43,12 @@ typedef struct ps_solver_opts {
                              factorisation; 0: never skip (default 0) */
   int reanalyze;          /* 1: symbolic analysis before every
                              factorisation (benchmark comparison; 0) */
+  int majorant;           /* 1: for models with family terms, when CG with
+                             the old factor fails, factor the one-horizon
+                             majorant of the tangent
+                             (ps_system_assemble_majorant, ~3x cheaper)
+                             and run CG with it before factoring the
+                             two-horizon tangent itself (default 0) */
 } ps_solver_opts;
 
 typedef struct ps_solver {
@@ -54,6 +60,8 @@ typedef struct ps_solver {
   ps_linsolve ls;           /* the chosen backend */
   ps_linsolve ls_fallback;  /* UMFPACK, created on first need */
   const ps_linsolve *ls_last; /* which one holds the current factor */
+  ps_system sys_pre;        /* one-horizon majorant (opts.majorant) */
+  ps_linsolve ls_pre;       /* its CHOLMOD factor */
   int have_factor;          /* a factor of a recent tangent is available */
   ps_solver_opts opts;
 
@@ -81,6 +89,7 @@ typedef struct ps_solver {
   ps_int n_shifted;         /* Newton directions from a shifted tangent */
   ps_int pcg_iterations, pcg_solves, pcg_failures;
   ps_int pcg_skipped;       /* CG not tried: too many arms changed state */
+  ps_int pre_solves, pre_failures; /* CG with a fresh majorant factor */
   unsigned char *arm_state_at_factor; /* [n_arm] yielding | 2 broken, when the
                                last factor was computed */
   double t_pcg;             /* wall seconds spent in CG */

@@ -99,6 +99,16 @@ if $P griffith -q -o "$T/stallsweep" "$D/stall_sweep.yaml" &&
 else
   ko "griffith with stalled runs"
 fi
+# a re-equilibration that fails with the load still at its peak is no
+# fracture: exit 2 for `run`, stalled rows in a sweep
+expect 2 "not below its peak (the crack had not run" -- run -q -o "$T/refail" "$D/refail_sweep.yaml"
+if $P griffith -q -o "$T/refailsweep" "$D/refail_sweep.yaml" &&
+   [ "$(grep -c ',stalled,' "$T/refailsweep/griffith.csv")" -eq 2 ] &&
+   grep -q "^stop_reason: .*load not below its peak" "$T/refailsweep/delta_c1000/summary.txt"; then
+  ok "griffith: failed re-equilibration at a rising load is a stalled row, not a fracture"
+else
+  ko "griffith with failed re-equilibration at a rising load"
+fi
 # a Griffith sweep writes its table, fit and plot
 if $P griffith -q -o "$T/sweep" "$D/tiny_sweep.yaml" && [ "$(wc -l < "$T/sweep/griffith.csv")" -eq 3 ] &&
    grep -q "^r2: " "$T/sweep/griffith_fit.txt" && ! grep -qi nan "$T/sweep/griffith.csv"; then

@@ -122,6 +122,13 @@ static void solver_opts_from_case(const ps_case *cs, ps_solver_opts *o) {
   if (t) o->linear = t;
 }
 
+/* A re-equilibration that failed after arms broke counts as the crack
+ * running only when arms broke and the failed attempt's boundary stress
+ * fell below the peak of the settled states. */
+static int failed_attempt_is_fracture(ps_int broken_total, double sig, double peak) {
+  return broken_total > 0 && isfinite(peak) && sig < peak;
+}
+
 int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
                 ps_run_result *res, ps_solver *keep, ps_ctx *ctx) {
   const ps_case *cs = &pb->cs;
@@ -287,11 +294,29 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
       PS_CHECK_GOTO(write_state(pb, &s, staging, step, 0, ctx));
     if (converged) res->crack_tip = tip;
     if (!converged) {
-      res->fractured = broken_total > 0;
-      snprintf(res->stop_reason, sizeof res->stop_reason,
-               "re-equilibration after breaking arms did not converge at load factor "
-               "%.5g: the crack ran unstably (outputs show the last attempt)",
-               s.lambda);
+      /* a crack that runs at fixed displacement sheds load; a failed attempt
+       * carrying at least the peak stress shows no fracture, only a solve
+       * that failed (counted like a Newton stall: sigma_failure is then a
+       * lower bound). The same rule reclassifies older runs (reuse_run). */
+      if (failed_attempt_is_fracture(broken_total, sig, peak)) {
+        res->fractured = 1;
+        snprintf(res->stop_reason, sizeof res->stop_reason,
+                 "re-equilibration after breaking arms did not converge at load factor "
+                 "%.5g: the crack ran unstably (outputs show the last attempt)",
+                 s.lambda);
+      } else {
+        res->stalled = 1;
+        snprintf(stall_msg, sizeof stall_msg,
+                 "%s: re-equilibration after breaking arms did not converge at load "
+                 "factor %.6g with the boundary stress not below its peak (the crack had "
+                 "not run; last relative residual %.3e). Try a smaller "
+                 "path.load_step_after_break",
+                 cs->path, s.lambda, s.last_residual);
+        snprintf(res->stop_reason, sizeof res->stop_reason,
+                 "re-equilibration after breaking arms did not converge at load factor "
+                 "%.5g with the load not below its peak: stalled before the crack ran",
+                 s.lambda);
+      }
       break;
     }
     if (converged && pb->c > 0 && cs->stop_tip_advance > 0 &&
@@ -475,11 +500,30 @@ static double summary_value(const char *path, const char *key, char *text, size_
   return v;
 }
 
+/* Did the run in dir end on an unconverged state (last row of
+ * history.csv with converged = 0)? Then *sig = its boundary stress, Pa. */
+static int last_attempt_failed(const char *dir, double *sig) {
+  char path[1400], line[512], last[512] = "";
+  snprintf(path, sizeof path, "%s/history.csv", dir);
+  FILE *f = fopen(path, "r");
+  if (!f) return 0;
+  while (fgets(line, sizeof line, f)) snprintf(last, sizeof last, "%s", line);
+  fclose(f);
+  int step, its, converged;
+  double lambda, stress, ratio, res;
+  if (sscanf(last, "%d,%lf,%lf,%lf,%d,%lf,%d", &step, &lambda, &stress, &ratio, &its, &res,
+             &converged) != 7)
+    return 0;
+  *sig = stress;
+  return converged == 0;
+}
+
 /* A finished run of this sweep in dir (same particles, arms and delta)?
  * Then fill *r from its summary.txt. */
 static int reuse_run(const ps_problem *pb, const char *dir, double delta,
                      ps_run_result *r) {
   char path[1400], yes[16] = "", fp[32] = "", want[32];
+  double sig_last = NAN;
   snprintf(path, sizeof path, "%s/summary.txt", dir);
   snprintf(want, sizeof want, "%016llx", (unsigned long long)ps_case_fingerprint(&pb->cs));
   summary_value(path, "case_fingerprint", fp, sizeof fp);
@@ -495,6 +539,11 @@ static int reuse_run(const ps_problem *pb, const char *dir, double delta,
   r->fractured = !strcmp(yes, "yes");
   summary_value(path, "stalled", yes, sizeof yes); /* absent in older runs */
   r->stalled = !strcmp(yes, "yes");
+  if (r->fractured && last_attempt_failed(dir, &sig_last) &&
+      !failed_attempt_is_fracture(1, sig_last, r->sigma_peak)) {
+    r->fractured = 0; /* an older run labelled by the former rule */
+    r->stalled = 1;
+  }
   r->increments = (ps_int)summary_value(path, "increments", NULL, 0);
   r->newton_iterations = (ps_int)summary_value(path, "newton_iterations", NULL, 0);
   r->arms_broken = (ps_int)summary_value(path, "arms_broken", NULL, 0);

@@ -57,6 +57,7 @@ void ps_case_defaults(ps_case *cs) {
   cs->reuse_factor = 1;
   cs->cg_tolerance = 1e-6;
   cs->cg_max_iterations = 25;
+  cs->majorant = 1;
   cs->load_step = 0.02;
   cs->load_step_after_break = 0.005;
   cs->max_load = 5.0;

@@ -97,7 +97,7 @@ typedef struct ps_case {
   int reanalyze;       /* symbolic analysis before every factorisation
                           (benchmark comparison), default 0 */
   int majorant;        /* CG with a factor of the one-horizon majorant
-                          before refactoring the tangent, default 0 */
+                          before refactoring the tangent, default 1 */
 
   /* path following */
   double load_step;    /* load factor increment, default 0.02 */

@@ -17,7 +17,7 @@ void ps_solver_opts_default(ps_solver_opts *o) {
   o->pcg_max_iterations = 25;
   o->pcg_skip_arms = 0;
   o->reanalyze = 0;
-  o->majorant = 0;
+  o->majorant = 1;
 }
 
 void ps_solver_free(ps_solver *s) {
@@ -273,7 +273,7 @@ static int solve_tangent(ps_solver *s, ps_ctx *ctx) {
     s->pcg_failures++;
     ps_log(ctx, 2, "    CG with the old factor did not converge in %d iterations (%lld "
                    "arms changed state): refactoring\n", its, (long long)changed);
-    if (s->sys_pre.net && s->ls_last != &s->ls_pre) {
+    if (s->sys_pre.net) { /* a fresh majorant, also when the old factor was one */
       int status = solve_by_majorant(s, ctx);
       if (status <= 0) return status;
     }

@@ -48,7 +48,8 @@ typedef struct ps_solver_opts {
                              majorant of the tangent
                              (ps_system_assemble_majorant, ~3x cheaper)
                              and run CG with it before factoring the
-                             two-horizon tangent itself (default 0) */
+                             two-horizon tangent itself (default 1:
+                             1.5x faster at 20k, doc/performance.md) */
 } ps_solver_opts;
 
 typedef struct ps_solver {

@@ -49,6 +49,7 @@ typedef struct ps_run_result {
   ps_int gentle_rounds;     /* breaking rounds retried with fewer arms */
   ps_int pcg_iterations, pcg_failures, pcg_skipped, solves;
   ps_int majorant_factorisations, majorant_failures; /* solver.majorant */
+  ps_int shifted_steps;     /* Newton directions from a shifted tangent */
   double t_majorant_factor;
   double nnz_tangent;       /* nonzeros of the free tangent (upper) */
   double nnz_factor, flops_factor; /* of the last factorisation */

@@ -69,6 +69,16 @@ static void teardown(fixture *F) {
   ps_particles_free(&F->P);
 }
 
+/* dense copy of the upper-triangle CSC tangent */
+static void dense(const ps_csc *A, ps_int nd, double *Kd) {
+  memset(Kd, 0, (size_t)(nd * nd) * sizeof *Kd);
+  for (ps_int j = 0; j < nd; j++)
+    for (ps_int k = A->p[j]; k < A->p[j + 1]; k++) {
+      Kd[A->i[k] * nd + j] = A->x[k];
+      Kd[j * nd + A->i[k]] = A->x[k];
+    }
+}
+
 /* P = the majorant of the tangent last assembled in F->sys (at the same
  * state), dense [nd x nd]; returns the smallest eigenvalue of P - Kd
  * relative to max |P|, and P in Pd */
@@ -79,15 +89,10 @@ static double majorant_gap(fixture *F, const double *Kd, double *Pd, ps_ctx *ctx
   if (ps_system_create_pattern(&pre, &F->net, fixed, 0, ctx)) abort();
   free(fixed);
   if (ps_system_assemble_majorant(&pre, &F->sys, &F->st, ctx)) abort();
-  memset(Pd, 0, (size_t)(nd * nd) * sizeof *Pd);
-  double pmax = 0;
-  for (ps_int j = 0; j < nd; j++)
-    for (ps_int k = pre.A.p[j]; k < pre.A.p[j + 1]; k++) {
-      Pd[pre.A.i[k] * nd + j] = pre.A.x[k];
-      Pd[j * nd + pre.A.i[k]] = pre.A.x[k];
-      pmax = fmax(pmax, fabs(pre.A.x[k]));
-    }
+  dense(&pre.A, nd, Pd);
   ps_system_free(&pre);
+  double pmax = 0;
+  for (ps_int k = 0; k < nd * nd; k++) pmax = fmax(pmax, fabs(Pd[k]));
   gsl_matrix *M = gsl_matrix_alloc((size_t)nd, (size_t)nd);
   for (ps_int r = 0; r < nd; r++)
     for (ps_int c = 0; c < nd; c++) gsl_matrix_set(M, r, c, Pd[r * nd + c] - Kd[r * nd + c]);
@@ -99,16 +104,6 @@ static double majorant_gap(fixture *F, const double *Kd, double *Pd, ps_ctx *ctx
   gsl_vector_free(ev);
   gsl_matrix_free(M);
   return lmin / pmax;
-}
-
-/* dense copy of the upper-triangle CSC tangent */
-static void dense(const ps_csc *A, ps_int nd, double *Kd) {
-  memset(Kd, 0, (size_t)(nd * nd) * sizeof *Kd);
-  for (ps_int j = 0; j < nd; j++)
-    for (ps_int k = A->p[j]; k < A->p[j + 1]; k++) {
-      Kd[A->i[k] * nd + j] = A->x[k];
-      Kd[j * nd + A->i[k]] = A->x[k];
-    }
 }
 
 static void run_case(const ps_model_type *type, int rule, int dim, int plane, double nu,

@@ -88,9 +88,10 @@ static const char *HELP_GRIFFITH =
     "DIR/job-K.log: on N cores the sweep takes about 1/N of the time and N times\n"
     "the memory of one run.\n"
     "\n"
-    "A run whose Newton solve stalls (increment below path.min_step) before the\n"
-    "crack runs is a row marked 'stalled' (no fracture, left out of the fit),\n"
-    "not an error: at large delta the whole plate yields first.\n";
+    "A run whose solve fails before the crack runs (Newton increment below\n"
+    "path.min_step, or a re-equilibration that fails without the load falling\n"
+    "below its peak) is a row marked 'stalled' (no fracture, left out of the\n"
+    "fit), not an error: at large delta the whole plate yields first.\n";
 
 static const char *HELP_INFO =
     "peristatic info CASE.yaml\n"

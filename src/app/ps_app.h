@@ -23,10 +23,10 @@ typedef struct ps_problem {
                              per unit thickness in 2D), or NULL if none */
   double measure_length;  /* m (2D) or m^2 (3D) */
   double t_network;       /* wall seconds of geometry + network */
-  int stall_is_result;    /* set by the Griffith sweep: a run whose Newton
-                             solve stalls (increment below path.min_step)
-                             ends as a result, "stalled", no fracture,
-                             instead of an error (doc/griffith.md) */
+  int stall_is_result;    /* set by the Griffith sweep: a stalled run
+                             (ps_run_result.stalled) ends as a result, no
+                             fracture, instead of an error
+                             (doc/griffith.md) */
 } ps_problem;
 
 /* Build the particle cloud, sizes, network and boundary conditions of a
@@ -41,8 +41,10 @@ typedef struct ps_run_result {
   double lambda_peak;       /* load factor at the peak */
   double sigma_y;           /* E eps_y, Pa */
   int fractured;            /* 1: the crack ran (tip or load-drop stop) */
-  int stalled;              /* 1: Newton stalled below path.min_step before
-                               the crack ran (fractured = 0) */
+  int stalled;              /* 1: the solve failed before the crack ran
+                               (fractured = 0): Newton below path.min_step,
+                               or a re-equilibration that failed without
+                               the load falling below its peak */
   char stop_reason[160];
   ps_int increments, newton_iterations, factorisations, arms_broken;
   ps_int n_fallback, step_cuts;
@@ -83,11 +85,12 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
 int ps_griffith(ps_problem *pb, const char *out_dir, int resume, double *slope,
                 double *intercept, double *r2, int *n_fractured, ps_ctx *ctx);
 
-/* The same with the runs shared among `jobs` worker processes (fork; run i
- * goes to worker i mod jobs; each worker logs to DIR/job-N.log), after
- * which the sweep's tables, fit and plot are written from the finished
- * runs as above. jobs <= 1 is ps_griffith. Returns PS_OK, PS_ERR_SOLVER
- * when a worker failed (its log names the run), or a fatal status. */
+/* The same with the runs shared among `jobs` worker processes (fork; each
+ * takes the next unclaimed run, largest delta first, and logs to
+ * DIR/job-N.log), after which the sweep's tables, fit and plot are written
+ * from the finished runs as above. jobs <= 1 is ps_griffith. Returns
+ * PS_OK, PS_ERR_SOLVER when a worker failed (its log names the run) or a
+ * run is held by another process, or a fatal status. */
 int ps_griffith_jobs(ps_problem *pb, const char *out_dir, int resume, int jobs,
                      double *slope, double *intercept, double *r2, int *n_fractured,
                      ps_ctx *ctx);

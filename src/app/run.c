@@ -554,10 +554,12 @@ static int reuse_run(const ps_problem *pb, const char *dir, double delta,
 }
 
 /* Run i of the sweep in staging/delta_cNNNN, or reuse it there when
- * try_reuse and it matches (reuse_run). job > 0 labels a worker's log.
- * Returns ps_run's status. */
-static int sweep_run(ps_problem *pb, const char *staging, int i, int try_reuse, int job,
-                     ps_run_result *res, ps_ctx *ctx) {
+ * try_reuse and it matches (reuse_run). With may_run = 0 (another process
+ * holds the run) only a finished run will do. job > 0 labels a worker's
+ * log. Returns ps_run's status, or PS_ERR_SOLVER when the run may not be
+ * run here and is not finished. */
+static int sweep_run(ps_problem *pb, const char *staging, int i, int try_reuse, int may_run,
+                     int job, ps_run_result *res, ps_ctx *ctx) {
   const ps_case *cs = &pb->cs;
   double dc = cs->sweep_delta_over_c[i];
   char path[1300], label[32] = "";
@@ -568,6 +570,10 @@ static int sweep_run(ps_problem *pb, const char *staging, int i, int try_reuse, 
            cs->n_sweep, label, 1.0 / dc, path);
     return PS_OK;
   }
+  if (!may_run)
+    return ps_error(ctx, PS_ERR_SOLVER,
+                    "%s is being run by another peristatic process (pid in %s.claim)", path,
+                    path);
   ps_log(ctx, 1, "## griffith run %d/%d%s: delta = c/%.6g\n", i + 1, cs->n_sweep, label,
          1.0 / dc);
   return ps_run(pb, dc * pb->c, path, res, ctx);
@@ -645,7 +651,7 @@ static int run_workers(ps_problem *pb, const char *staging, int jobs, ps_ctx *ct
       for (int k = 0; k < n; k++) { /* after a failed run, go on with the others */
         ps_run_result r;
         if (!claim_run(pb, staging, order[k])) continue;
-        if (sweep_run(pb, staging, order[k], 1, w + 1, &r, ctx) < 0) {
+        if (sweep_run(pb, staging, order[k], 1, 1, w + 1, &r, ctx) < 0) {
           if (log) fprintf(log, "peristatic: %s\n", ctx->msg);
           bad = 1;
         }
@@ -720,19 +726,10 @@ static int griffith_sweep(ps_problem *pb, const char *out_dir, int resume, int j
   if (jobs > 1) PS_CHECK(run_workers(pb, staging, jobs, ctx)); /* then all reused */
   for (int i = 0; i < n; i++) {
     double dc = cs->sweep_delta_over_c[i];
-    int try_reuse = resume || jobs > 1;
-    if (claim_run(pb, staging, i)) {
-      status = sweep_run(pb, staging, i, try_reuse, 0, &res[i], ctx);
-      release_run(pb, staging, i);
-    } else { /* another sweep in this folder holds it: only its result will do */
-      snprintf(path, sizeof path, "%s/delta_c%.6g", staging, 1.0 / dc);
-      status = try_reuse && reuse_run(pb, path, dc * pb->c, &res[i])
-                   ? PS_OK
-                   : ps_error(ctx, PS_ERR_SOLVER,
-                              "%s is being run by another peristatic process (pid in "
-                              "%s.claim)",
-                              path, path);
-    }
+    /* a run another sweep in this folder holds: only its result will do */
+    int mine = claim_run(pb, staging, i);
+    status = sweep_run(pb, staging, i, resume || jobs > 1, mine, 0, &res[i], ctx);
+    if (mine) release_run(pb, staging, i);
     if (status < 0) {
       size_t l = strlen(ctx->msg);
       snprintf(ctx->msg + l, sizeof ctx->msg - l,
@@ -789,7 +786,7 @@ static int griffith_sweep(ps_problem *pb, const char *out_dir, int resume, int j
           "     'griffith.csv' every ::1 using (strcol(4) eq \"no\" ? $2 : 1/0):3 with points "
           "pt 6 ps 1.5 title 'no fracture (peak load)', \\\n"
           "     'griffith.csv' every ::1 using (strcol(4) eq \"stalled\" ? $2 : 1/0):3 with "
-          "points pt 4 ps 1.5 title 'no fracture: Newton stalled (last settled load)', \\\n"
+          "points pt 4 ps 1.5 title 'no fracture: solve stalled (last settled load)', \\\n"
           "     %.10g + %.10g*x title 'least-squares fit' lw 2, \\\n"
           "     %.10g*x title 'nominal Griffith sqrt(2/(pi eps_y)) x' dt 2\n",
           cs->name, fmt_or_na(*slope, b1, sizeof b1), fmt_or_na(*intercept, b2, sizeof b2),

@@ -250,10 +250,9 @@ static inline void add_block(ps_system *s, ps_int Q, ps_int blk, const double *k
 }
 
 /* Zero dst's Kfull and add the arm terms D q q^T + (T/l)(I - q q^T) of
- * the intact arms, with the geometry (q, T, l) of src and stiffnesses D.
- * Returns PS_OK. */
-static int assemble_arms(ps_system *dst, const ps_system *src, const ps_arm_state *st,
-                         const double *D) {
+ * the intact arms, with the geometry (q, T, l) of src and stiffnesses D. */
+static void assemble_arms(ps_system *dst, const ps_system *src, const ps_arm_state *st,
+                          const double *D) {
   const ps_network *net = dst->net;
   int d = dst->dim;
   ps_int nblk = dst->bptr[net->n_particle];
@@ -272,13 +271,13 @@ static int assemble_arms(ps_system *dst, const ps_system *src, const ps_arm_stat
     add_block(dst, b, dst->slot_ab[i], kmat, -1.0);
     add_block(dst, a, dst->slot_ba[i], kmat, -1.0);
   }
-  return PS_OK;
 }
 
-/* A particle whose arms have all broken is a free body: hold it with a
- * spring as stiff as the stiffest dof (it carries no force, so it stays
- * where it is) to keep the tangent nonsingular. */
-static void hold_free_bodies(ps_system *s, const ps_arm_state *st) {
+/* Finish Kfull and gather the free upper triangle into s->A. A particle
+ * whose arms have all broken is a free body: hold it with a spring as
+ * stiff as the stiffest dof (it carries no force, so it stays where it
+ * is) to keep the tangent nonsingular. */
+static void finish_tangent(ps_system *s, const ps_arm_state *st) {
   const ps_network *net = s->net;
   int d = s->dim;
   double kmax = 0.0;
@@ -300,6 +299,7 @@ static void hold_free_bodies(ps_system *s, const ps_arm_state *st) {
       s->Kfull[(ps_int)d * d * s->bptr[a] + (ps_int)k * d * len +
                (s->slot_diag[a] - s->bptr[a]) * d + k] += kmax;
   }
+  for (ps_int k = 0; k < s->A.p[s->n_free]; k++) s->A.x[k] = s->Kfull[s->A_src[k]];
 }
 
 /* add cc g g^T for particle c's family, g = the gradient of
@@ -389,7 +389,7 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
   }
   if (!want_tangent) return PS_OK;
 
-  PS_CHECK(assemble_arms(s, s, st, s->tan.D));
+  assemble_arms(s, s, st, s->tan.D);
   /* rank-one family terms c_a g_a g_a^T (and a second one, c2 w2) */
   for (ps_int c = 0; c < net->n_particle; c++)
     for (int term = 0; term < 2; term++) {
@@ -401,8 +401,7 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
                         "(ps_system_create_pattern with family_coupling 0)");
       add_family_term(s, c, cc, term == 0 ? s->tan.w : s->tan.w2);
     }
-  hold_free_bodies(s, st);
-  for (ps_int k = 0; k < s->A.p[s->n_free]; k++) s->A.x[k] = s->Kfull[s->A_src[k]];
+  finish_tangent(s, st);
   return PS_OK;
 }
 
@@ -429,9 +428,8 @@ int ps_system_assemble_majorant(ps_system *pre, const ps_system *K, const ps_arm
         D[i] += cc * S * fabs(w[k]) / net->r0[i];
       }
     }
-  PS_CHECK(assemble_arms(pre, K, st, D));
-  hold_free_bodies(pre, st);
-  for (ps_int k = 0; k < pre->A.p[pre->n_free]; k++) pre->A.x[k] = pre->Kfull[pre->A_src[k]];
+  assemble_arms(pre, K, st, D);
+  finish_tangent(pre, st);
   return PS_OK;
 }
 

@@ -81,8 +81,9 @@ int ps_system_eval(ps_system *sys, const ps_model *model, ps_arm_state *st,
  * and negative family terms dropped, so that x^T K x <= x^T pre x for all
  * x: the eigenvalues of pre^-1 K lie in (0, 1] when K is positive
  * definite, and for the elastic fibre model in [min(r, 1/r), 1] with
- * r = G(N+2)/(NK) (0.8 for nu = 0.3 in plane strain; doc/performance.md). Needs K evaluated with the tangent. Returns PS_OK,
- * PS_ERR_INPUT when the systems do not match. */
+ * r = G(N+2)/(NK) (0.8 for nu = 0.3 in plane strain; doc/performance.md).
+ * Needs K evaluated with the tangent. Returns PS_OK, PS_ERR_INPUT when the
+ * systems do not match. */
 int ps_system_assemble_majorant(ps_system *pre, const ps_system *K, const ps_arm_state *st,
                                 ps_ctx *ctx);
 

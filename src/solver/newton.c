@@ -194,6 +194,19 @@ cleanup:
   return status;
 }
 
+/* du = K_ff^-1 rhs by CG with the factor held by ls as preconditioner, at
+ * most maxit iterations, counted into the run's CG statistics. Returns
+ * PS_OK, PS_DIVERGED (not converged, or non-positive curvature), or fatal. */
+static int pcg(ps_solver *s, ps_linsolve *ls, int maxit, int *its, ps_ctx *ctx) {
+  double t0 = ps_wtime();
+  *its = 0;
+  int status = ps_linsolve_pcg(ls, &s->sys.A, s->rhs, s->du, s->opts.pcg_rtol, maxit,
+                               s->pcg_work, its, ctx);
+  s->t_pcg += ps_wtime() - t0;
+  s->pcg_iterations += *its;
+  return status;
+}
+
 /* du = K_ff^-1 rhs by CG preconditioned with a fresh factor of the
  * one-horizon majorant of the tangent (opts.majorant), capped at
  * pcg_max_iterations. Returns PS_OK (the majorant's factor becomes the
@@ -208,14 +221,9 @@ static int solve_by_majorant(ps_solver *s, ps_ctx *ctx) {
     ps_log(ctx, 2, "    majorant not positive definite: factoring the tangent\n");
     return PS_DIVERGED;
   }
-  int its = 0;
-  double t0 = ps_wtime();
-  status = ps_linsolve_pcg(&s->ls_pre, &s->sys.A, s->rhs, s->du, s->opts.pcg_rtol,
-                           s->opts.pcg_max_iterations, s->pcg_work, &its, ctx);
-  s->t_pcg += ps_wtime() - t0;
+  int its;
+  status = pcg(s, &s->ls_pre, s->opts.pcg_max_iterations, &its, ctx);
   if (status < 0) return status;
-  s->pcg_iterations += its;
-  s->pre_solves++;
   if (status == PS_OK) {
     ps_log(ctx, 2, "    CG with a fresh majorant factor: %d iterations\n", its);
     s->ls_last = &s->ls_pre;
@@ -257,13 +265,9 @@ static int solve_tangent(ps_solver *s, ps_ctx *ctx) {
                      "refactoring\n", (long long)changed);
       goto refactor;
     }
-    int its = 0;
-    double t0 = ps_wtime();
-    int status = ps_linsolve_pcg((ps_linsolve *)s->ls_last, &s->sys.A, s->rhs, s->du,
-                                 s->opts.pcg_rtol, maxit, s->pcg_work, &its, ctx);
-    s->t_pcg += ps_wtime() - t0;
+    int its;
+    int status = pcg(s, (ps_linsolve *)s->ls_last, maxit, &its, ctx);
     if (status < 0) return status;
-    s->pcg_iterations += its;
     s->pcg_solves++;
     if (status == PS_OK) {
       ps_log(ctx, 2, "    CG with the old factor: %d iterations (%lld arms changed state)\n",

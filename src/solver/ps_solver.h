@@ -90,7 +90,7 @@ typedef struct ps_solver {
   ps_int n_shifted;         /* Newton directions from a shifted tangent */
   ps_int pcg_iterations, pcg_solves, pcg_failures;
   ps_int pcg_skipped;       /* CG not tried: too many arms changed state */
-  ps_int pre_solves, pre_failures; /* CG with a fresh majorant factor */
+  ps_int pre_failures;      /* CG with a fresh majorant factor that failed */
   unsigned char *arm_state_at_factor; /* [n_arm] yielding | 2 broken, when the
                                last factor was computed */
   double t_pcg;             /* wall seconds spent in CG */

@@ -56,6 +56,7 @@ void ps_case_defaults(ps_case *cs) {
   cs->line_search = 1;
   cs->reuse_factor = 1;
   cs->cg_tolerance = 1e-6;
+  cs->cg_forcing = 100.0;
   cs->cg_max_iterations = 25;
   cs->majorant = 1;
   cs->load_step = 0.02;
@@ -671,7 +672,7 @@ static int on_loading(loader *L, void *arg, const char *key, const char *name,
 
 static const char *const solver_keys[] = {"linear", "tolerance", "max_iterations",
                                           "line_search", "reuse_factor",
-                                          "cg_tolerance", "cg_max_iterations",
+                                          "cg_tolerance", "cg_forcing", "cg_max_iterations",
                                           "cg_skip_arms", "reanalyze", "majorant", NULL};
 
 static int on_solver(loader *L, void *arg, const char *key, const char *name,
@@ -692,6 +693,7 @@ static int on_solver(loader *L, void *arg, const char *key, const char *name,
   if (IS("reanalyze")) return get_bool(L, v, name, &cs->reanalyze);
   if (IS("majorant")) return get_bool(L, v, name, &cs->majorant);
   if (IS("cg_tolerance")) return get_real(L, v, name, 0.0, 1, 1.0, 1, &cs->cg_tolerance);
+  if (IS("cg_forcing")) return get_real(L, v, name, 0.0, 0, INFINITY, 0, &cs->cg_forcing);
   if (IS("cg_max_iterations"))
     return get_int(L, v, name, 1, INT_MAX, &cs->cg_max_iterations);
   if (IS("cg_skip_arms")) return get_int(L, v, name, 0, INT_MAX, &cs->cg_skip_arms);

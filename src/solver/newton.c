@@ -18,6 +18,7 @@ void ps_solver_opts_default(ps_solver_opts *o) {
   o->pcg_skip_arms = 0;
   o->reanalyze = 0;
   o->majorant = 1;
+  o->cg_forcing = 100.0;
 }
 
 void ps_solver_free(ps_solver *s) {
@@ -200,7 +201,7 @@ cleanup:
 static int pcg(ps_solver *s, ps_linsolve *ls, int maxit, int *its, ps_ctx *ctx) {
   double t0 = ps_wtime();
   *its = 0;
-  int status = ps_linsolve_pcg(ls, &s->sys.A, s->rhs, s->du, s->opts.pcg_rtol, maxit,
+  int status = ps_linsolve_pcg(ls, &s->sys.A, s->rhs, s->du, s->cg_rtol, maxit,
                                s->pcg_work, its, ctx);
   s->t_pcg += ps_wtime() - t0;
   s->pcg_iterations += *its;
@@ -358,6 +359,10 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
     }
     PS_CHECK(eval(s, s->u, s->f, &s->energy, 1, ctx));
     for (ps_int k = 0; k < nf; k++) s->rhs[k] = -s->f[sys->dof_of_free[k]];
+    /* inexact Newton: far from the solution a rough direction does as
+     * well (the line search guards it), so CG stops at
+     * max(cg_tolerance, min(1e-2, cg_forcing x rel)) */
+    s->cg_rtol = fmax(s->opts.pcg_rtol, fmin(PS_CG_FORCING_MAX, s->opts.cg_forcing * rel));
     int status = solve_tangent(s, ctx);
     if (status < 0) return status;
     if (status > 0) {

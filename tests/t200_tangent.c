@@ -11,7 +11,12 @@
  * bounds the tangent: P - K is positive semidefinite (smallest eigenvalue
  * >= -1e-12 ||P||, round-off), and for the elastic fibre model at rest the
  * Rayleigh quotients x^T K x / x^T P x of random x lie in
- * [min(G(N+2)/(NK), NK/(G(N+2))), 1] (the bound in ps_assembly.h). */
+ * [min(G(N+2)/(NK), NK/(G(N+2))), 1] (the bound in ps_assembly.h).
+ * The matrix-free product (ps_system_apply, what CG uses) equals the
+ * assembled matrix's product to 1e-13 (round-off of sums in another
+ * order), with prescribed dofs and a free body (a particle whose arms
+ * all broke, held by a spring), and so does the coupling K_fp du_p of the
+ * predictor; evaluations of forces alone in between do not change it. */
 #include <gsl/gsl_eigen.h>
 #include <gsl/gsl_rng.h>
 #include <math.h>
@@ -88,7 +93,7 @@ static double majorant_gap(fixture *F, const double *Kd, double *Pd, ps_ctx *ctx
   ps_system pre;
   if (ps_system_create_pattern(&pre, &F->net, fixed, 0, ctx)) abort();
   free(fixed);
-  if (ps_system_assemble_majorant(&pre, &F->sys, &F->st, ctx)) abort();
+  if (ps_system_assemble_majorant(&pre, &F->sys, ctx)) abort();
   dense(&pre.A, nd, Pd);
   ps_system_free(&pre);
   double pmax = 0;
@@ -104,6 +109,89 @@ static double majorant_gap(fixture *F, const double *Kd, double *Pd, ps_ctx *ctx
   gsl_vector_free(ev);
   gsl_matrix_free(M);
   return lmin / pmax;
+}
+
+/* y[n_dof] = Kfull x[n_dof], straight from the block layout */
+static void kfull_product(const ps_system *S, const double *x, double *y) {
+  int d = S->dim;
+  memset(y, 0, (size_t)S->n_dof * sizeof *y);
+  for (ps_int Q = 0; Q < S->net->n_particle; Q++) {
+    ps_int len = S->bptr[Q + 1] - S->bptr[Q];
+    for (ps_int blk = S->bptr[Q]; blk < S->bptr[Q + 1]; blk++)
+      for (int be = 0; be < d; be++)
+        for (int al = 0; al < d; al++)
+          y[S->bidx[blk] * d + al] +=
+              S->Kfull[d * d * S->bptr[Q] + be * d * len + (blk - S->bptr[Q]) * d + al] *
+              x[Q * d + be];
+  }
+}
+
+static double rel_diff(ps_int n, const double *a, const double *b) {
+  double num = 0, den = 0;
+  for (ps_int k = 0; k < n; k++) {
+    num += (a[k] - b[k]) * (a[k] - b[k]);
+    den += b[k] * b[k];
+  }
+  return den > 0 ? sqrt(num / den) : sqrt(num);
+}
+
+/* The matrix-free tangent against the assembled one at the state (u, F->st),
+ * on a system with the particles at x < 2 mm prescribed and particle 1 a
+ * free body */
+static void check_matrix_free(fixture *F, double *u, const char *label, ps_ctx *ctx) {
+  int d = F->net.dim;
+  ps_int nd = F->sys.n_dof;
+  unsigned char *fixed = calloc((size_t)nd, 1);
+  for (ps_int a = 0; a < F->P.n; a++)
+    for (int k = 0; k < d; k++) fixed[a * d + k] = F->P.x[a * d] < 2.0e-3;
+  for (ps_int k = F->net.fam_ptr[1]; k < F->net.fam_ptr[2]; k++)
+    F->st.broken[F->net.fam_arm[k]] = 1;
+  ps_system S;
+  if (ps_system_create(&S, &F->net, fixed, ctx)) abort();
+  double *f = calloc((size_t)nd, sizeof *f), *x = calloc((size_t)nd, sizeof *x);
+  double *y = calloc((size_t)nd, sizeof *y), *yref = calloc((size_t)nd, sizeof *y);
+  double *u2 = calloc((size_t)nd, sizeof *u2), E;
+  ps_int nf = S.n_free;
+  double *xf = calloc((size_t)nf, sizeof *xf), *yf = calloc((size_t)nf, sizeof *yf);
+  double *yf_ref = calloc((size_t)nf, sizeof *yf);
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 11);
+  for (ps_int j = 0; j < nd; j++) {
+    x[j] = gsl_rng_uniform(rng) - 0.5;
+    u2[j] = u[j] * (1.0 + 0.2 * gsl_rng_uniform(rng));
+  }
+  for (ps_int k = 0; k < nf; k++) xf[k] = x[S.dof_of_free[k]];
+  gsl_rng_free(rng);
+  /* the operator's data, then forces elsewhere, then the matrix */
+  if (ps_system_eval(&S, &F->model, &F->st, F->P.x, u, f, &E, PS_EVAL_OPERATOR, ctx)) abort();
+  if (ps_system_eval(&S, &F->model, &F->st, F->P.x, u2, f, &E, PS_EVAL_FORCES, ctx)) abort();
+  ps_system_apply(&S, x, y);
+  ps_system_apply_free(&S, xf, yf);
+  if (ps_system_assemble(&S, ctx)) abort();
+  kfull_product(&S, x, yref);
+  ps_csc_symv(&S.A, xf, yf_ref);
+  double e_full = rel_diff(nd, y, yref), e_free = rel_diff(nf, yf, yf_ref);
+  /* the coupling of prescribed increments */
+  for (ps_int j = 0; j < nd; j++) x[j] = fixed[j] ? x[j] : 0.0;
+  kfull_product(&S, x, yref);
+  for (ps_int k = 0; k < nf; k++) yf_ref[k] = yref[S.dof_of_free[k]];
+  ps_system_coupling(&S, x, yf);
+  double e_coupling = rel_diff(nf, yf, yf_ref);
+  ps_check(S.spring > 0 && nf < nd && e_full <= 1e-13 && e_free <= 1e-13 &&
+               e_coupling <= 1e-13,
+           "%s: matrix-free K x = assembled K x (all dofs %.1e, free %.1e, coupling "
+           "%.1e; free body spring %.3g N/m)",
+           label, e_full, e_free, e_coupling, S.spring);
+  ps_system_free(&S);
+  free(fixed);
+  free(f);
+  free(x);
+  free(y);
+  free(yref);
+  free(u2);
+  free(xf);
+  free(yf);
+  free(yf_ref);
 }
 
 static void run_case(const ps_model_type *type, int rule, int dim, int plane, double nu,
@@ -214,6 +302,9 @@ static void run_case(const ps_model_type *type, int rule, int dim, int plane, do
     }
   }
   ps_check_le(sqrt(num / den), 1e-6, "tangent vs central differences (rel. Frobenius)");
+  check_matrix_free(&F, u, label, &ctx);
+  ps_system_eval(&F.sys, &F.model, &F.st, F.P.x, u, f, &E0, 1, &ctx); /* free body too */
+  dense(&F.sys.A, nd, Kd);
   if (type->family_coupling) { /* the majorant preconditioner */
     double *Pd = calloc((size_t)(nd * nd), sizeof *Pd);
     ps_system_eval(&F.sys, &F.model, &F.st, F.P.x, u, f, &E0, 1, &ctx);

@@ -79,8 +79,9 @@ int main(void) {
   /* CG with the exact factor: one iteration; with a perturbed matrix's
    * factor (diagonal scaled by 1.05): a few */
   int its;
+  ps_operator op = ps_csc_operator(A);
   double *y = calloc((size_t)n, sizeof *y);
-  int s = ps_linsolve_pcg(&ls[0], A, b, y, 1e-8, 25, work, &its, &ctx);
+  int s = ps_linsolve_pcg(&ls[0], &op, b, y, 1e-8, 25, work, &its, &ctx);
   ps_check(s == PS_OK && its <= 2, "CG preconditioned by the exact factor: %d iteration(s)",
            its);
   double *x_save = malloc((size_t)A->p[n] * sizeof *x_save);
@@ -89,7 +90,7 @@ int main(void) {
   ps_int bad;
   ps_linsolve_factor(&ls[0], A, &bad, &ctx);
   memcpy(A->x, x_save, (size_t)A->p[n] * sizeof *x_save);
-  s = ps_linsolve_pcg(&ls[0], A, b, y, 1e-8, 25, work, &its, &ctx);
+  s = ps_linsolve_pcg(&ls[0], &op, b, y, 1e-8, 25, work, &its, &ctx);
   ps_check(s == PS_OK && its > 1 && its <= 20 && rel_residual(A, y, b) <= 1e-8,
            "CG preconditioned by a nearby factor: %d iterations", its);
   /* indefinite: a large negative diagonal at a known free dof */

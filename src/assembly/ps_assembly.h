@@ -9,6 +9,7 @@
 #ifndef PS_ASSEMBLY_H
 #define PS_ASSEMBLY_H
 
+#include "../linsolve/ps_linsolve.h"
 #include "../model/ps_model.h"
 
 /* dof of particle a, direction k: a * dim + k. */
@@ -43,8 +44,22 @@ typedef struct ps_system {
   /* per-arm work: current length l, elongation dl = l - r0, direction q
    * (from a to b), tension T */
   double *l, *dl, *q, *T;
+  /* the tangent of the last evaluation with one (PS_EVAL_OPERATOR or
+   * PS_EVAL_TANGENT), kept through later evaluations of forces alone:
+   * the model's stiffnesses tan, and the arm geometry tq (directions,
+   * [dim n_arm]) and tTl (T/l, N/m^2 per unit thickness in 2D; 0 for a
+   * broken arm), the free bodies (particles whose arms have all broken)
+   * and their spring (N/m); the family gradients are in G */
   ps_arm_tangent tan;
-  double *g;                /* workspace dim * max |M| */
+  double *tq, *tTl;
+  unsigned char *free_body; /* [n_particle] */
+  double spring;
+  int assembled;            /* Kfull and A hold that tangent */
+  double *xw, *yw;          /* [n_dof] work of the matrix-free product */
+  double *G[2];             /* the family gradients g_a of the tangent
+                               (both rank-one terms), [dim x |M_a|] at
+                               dim * fam_members_ptr[a]; G[1] allocated
+                               when a model has a second term */
   int family_coupling;      /* 1: two-horizon pattern with the family
                                terms; 0: arms only (one horizon) */
 } ps_system;
@@ -63,14 +78,42 @@ int ps_system_create_pattern(ps_system *sys, const ps_network *net,
                              ps_ctx *ctx);
 void ps_system_free(ps_system *sys);
 
+/* What ps_system_eval computes besides the forces and the energy. */
+enum ps_eval_want {
+  PS_EVAL_FORCES = 0,   /* nothing else */
+  PS_EVAL_TANGENT = 1,  /* the tangent, assembled into Kfull and A */
+  PS_EVAL_OPERATOR = 2  /* the tangent's data only: ps_system_apply uses it
+                           matrix-free, ps_system_assemble assembles it
+                           when a factorisation needs the matrix */
+};
+
 /* Evaluate at displacements u[n_dof] (positions y = X + u): arm lengths,
  * tensions (model), internal forces f[n_dof] = dPsi/dy (at free dofs the
- * residual, at prescribed dofs the reactions), *energy; when want_tangent,
- * also Kfull and sys->A. Returns PS_OK, PS_ERR_INPUT if an arm has zero
- * length (two particles moved onto each other: names them). */
+ * residual, at prescribed dofs the reactions), *energy; and the tangent as
+ * `want` (enum ps_eval_want) says. Returns PS_OK, PS_ERR_SOLVER if an arm
+ * has zero length (two particles moved onto each other: names them),
+ * PS_ERR_INPUT if the model has family terms and the pattern none. */
 int ps_system_eval(ps_system *sys, const ps_model *model, ps_arm_state *st,
                    const double *X, const double *u, double *f,
-                   double *energy, int want_tangent, ps_ctx *ctx);
+                   double *energy, int want, ps_ctx *ctx);
+
+/* Assemble the tangent of the last evaluation with one into Kfull and A
+ * (nothing to do after PS_EVAL_TANGENT). Returns PS_OK, or PS_ERR_INPUT
+ * when the model has family terms and the pattern none. */
+int ps_system_assemble(ps_system *sys, ps_ctx *ctx);
+
+/* y[n_dof] = K x[n_dof] with the tangent K of the last evaluation with one
+ * (all dofs, the free bodies' springs included), matrix-free: arm terms
+ * and rank-one family terms, O(arms + family members), without the
+ * two-horizon matrix (doc/performance.md). */
+void ps_system_apply(const ps_system *sys, const double *x, double *y);
+
+/* y[n_free] = K_ff x[n_free], matrix-free (as ps_system_apply); equals
+ * A x with A assembled from the same tangent. Uses sys->xw, sys->yw. */
+void ps_system_apply_free(ps_system *sys, const double *x, double *y);
+
+/* ps_system_apply_free as an operator for ps_linsolve_pcg. */
+ps_operator ps_system_operator(ps_system *sys);
 
 /* A one-horizon majorant of the last tangent of K, for preconditioning:
  * into pre (a system on the same network and dofs, created with
@@ -82,14 +125,15 @@ int ps_system_eval(ps_system *sys, const ps_model *model, ps_arm_state *st,
  * x: the eigenvalues of pre^-1 K lie in (0, 1] when K is positive
  * definite, and for the elastic fibre model in [min(r, 1/r), 1] with
  * r = G(N+2)/(NK) (0.8 for nu = 0.3 in plane strain; doc/performance.md).
- * Needs K evaluated with the tangent. Returns PS_OK, PS_ERR_INPUT when the
+ * Needs K evaluated with the tangent (either want; K need not be
+ * assembled). Returns PS_OK, PS_ERR_INPUT when the
  * systems do not match. */
-int ps_system_assemble_majorant(ps_system *pre, const ps_system *K, const ps_arm_state *st,
-                                ps_ctx *ctx);
+int ps_system_assemble_majorant(ps_system *pre, const ps_system *K, ps_ctx *ctx);
 
 /* out[n_free] = K_fp du_p: the coupling of prescribed increments du[n_dof]
- * (free entries ignored) into the free rows, from the last Kfull. */
-void ps_system_coupling(const ps_system *sys, const double *du, double *out);
+ * (free entries ignored) into the free rows, with the tangent of the last
+ * evaluation with one (matrix-free). Uses sys->xw, sys->yw. */
+void ps_system_coupling(ps_system *sys, const double *du, double *out);
 
 /* Name of a dof for messages: "particle 1234 (x = .., y = ..), dof y". */
 void ps_system_dof_name(const ps_system *sys, const double *X, ps_int dof,

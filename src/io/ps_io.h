@@ -98,6 +98,7 @@ typedef struct ps_case {
                           the last factorisation; 0 (default): never */
   int reanalyze;       /* symbolic analysis before every factorisation
                           (benchmark comparison), default 0 */
+  int matrix_free;     /* CG applies the tangent matrix-free, default 1 */
   int majorant;        /* CG with a factor of the one-horizon majorant
                           before refactoring the tangent, default 1 */
 

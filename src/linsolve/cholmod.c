@@ -14,7 +14,9 @@ typedef struct {
   cholmod_common c;
   cholmod_factor *L;
   cholmod_sparse Ah; /* header over the caller's arrays (no copy) */
-  cholmod_dense *X, *B;
+  cholmod_dense *X, *Y, *E; /* cholmod_l_solve2's solution and workspace,
+                               kept between solves (CG solves thousands of
+                               times: no allocation per solve) */
   ps_int n;
 } chol_state;
 
@@ -140,15 +142,12 @@ static int chol_solve(void *state, const double *b, double *x,
   B.x = (void *)b;
   B.xtype = CHOLMOD_REAL;
   B.dtype = CHOLMOD_DOUBLE;
-  cholmod_dense *X = cholmod_l_solve(CHOLMOD_A, s->L, &B, &s->c);
-  if (!X || s->c.status < CHOLMOD_OK) {
-    if (X) cholmod_l_free_dense(&X, &s->c);
+  int ok = cholmod_l_solve2(CHOLMOD_A, s->L, &B, NULL, &s->X, NULL, &s->Y, &s->E, &s->c);
+  if (!ok || !s->X || s->c.status < CHOLMOD_OK)
     return ps_error(ctx, PS_ERR_SOLVER, "CHOLMOD solve failed (status %d)",
                     s->c.status);
-  }
-  const double *xx = X->x;
+  const double *xx = s->X->x;
   for (ps_int k = 0; k < s->n; k++) x[k] = xx[k];
-  cholmod_l_free_dense(&X, &s->c);
   st->t_solve += ps_wtime() - t;
   st->n_solve++;
   return PS_OK;
@@ -158,6 +157,9 @@ static void chol_destroy(void **state) {
   chol_state *s = *state;
   if (!s) return;
   if (s->L) cholmod_l_free_factor(&s->L, &s->c);
+  cholmod_l_free_dense(&s->X, &s->c);
+  cholmod_l_free_dense(&s->Y, &s->c);
+  cholmod_l_free_dense(&s->E, &s->c);
   cholmod_l_finish(&s->c);
   free(s);
   *state = NULL;

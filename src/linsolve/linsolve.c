@@ -52,13 +52,22 @@ void ps_csc_symv(const ps_csc *A, const double *x, double *y) {
   }
 }
 
+static void csc_apply(void *A, const double *x, double *y) {
+  ps_csc_symv((const ps_csc *)A, x, y);
+}
+
+ps_operator ps_csc_operator(const ps_csc *A) {
+  ps_operator op = {A->n, csc_apply, (void *)A};
+  return op;
+}
+
 static double dot(ps_int n, const double *a, const double *b) {
   double s = 0.0;
   for (ps_int k = 0; k < n; k++) s += a[k] * b[k];
   return s;
 }
 
-int ps_linsolve_pcg(ps_linsolve *M, const ps_csc *A, const double *b,
+int ps_linsolve_pcg(ps_linsolve *M, const ps_operator *A, const double *b,
                     double *x, double rtol, int maxit, double *work, int *its,
                     ps_ctx *ctx) {
   ps_int n = A->n;
@@ -72,7 +81,7 @@ int ps_linsolve_pcg(ps_linsolve *M, const ps_csc *A, const double *b,
   memcpy(p, z, (size_t)n * sizeof *p);
   double rz = dot(n, r, z);
   for (int it = 1; it <= maxit; it++) {
-    ps_csc_symv(A, p, Ap);
+    A->apply(A->data, p, Ap);
     double pAp = dot(n, p, Ap);
     if (!(pAp > 0) || !(rz > 0)) return PS_DIVERGED; /* not SPD */
     double alpha = rz / pAp;

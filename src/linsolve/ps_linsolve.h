@@ -66,14 +66,25 @@ int ps_linsolve_solve(ps_linsolve *ls, const double *b, double *x,
 /* y = A x for a symmetric A stored as one triangle (upper or lower). */
 void ps_csc_symv(const ps_csc *A, const double *x, double *y);
 
-/* Conjugate gradients on A x = b (A symmetric, upper triangle), started
+/* A symmetric linear operator on n unknowns: y = A x (x, y do not alias),
+ * an assembled matrix or a matrix-free product (ps_system_operator). */
+typedef struct ps_operator {
+  ps_int n;
+  void (*apply)(void *data, const double *x, double *y);
+  void *data;
+} ps_operator;
+
+/* The operator of a symmetric CSC matrix (one triangle; ps_csc_symv). */
+ps_operator ps_csc_operator(const ps_csc *A);
+
+/* Conjugate gradients on A x = b (A a symmetric operator), started
  * from x = 0 and preconditioned by the last factor held by M (a factor of
  * a nearby matrix: an earlier tangent). Stops when ||b - A x|| <= rtol
  * ||b||. work: 4 n doubles. *its gets the iterations. Returns PS_OK,
  * PS_DIVERGED (not converged within maxit, or a direction of non-positive
  * curvature: A or the preconditioner is not positive definite; x is then
  * garbage), or a fatal status from the solve. */
-int ps_linsolve_pcg(ps_linsolve *M, const ps_csc *A, const double *b,
+int ps_linsolve_pcg(ps_linsolve *M, const ps_operator *A, const double *b,
                     double *x, double rtol, int maxit, double *work, int *its,
                     ps_ctx *ctx);
 

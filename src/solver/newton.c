@@ -19,6 +19,7 @@ void ps_solver_opts_default(ps_solver_opts *o) {
   o->reanalyze = 0;
   o->majorant = 1;
   o->cg_forcing = 100.0;
+  o->matrix_free = 1;
 }
 
 void ps_solver_free(ps_solver *s) {
@@ -47,12 +48,16 @@ void ps_solver_free(ps_solver *s) {
   memset(s, 0, sizeof *s);
 }
 
-/* evaluate at u into f/energy (and the tangent) */
+/* evaluate at u into f/energy (and, with tangent, the tangent: its data
+ * only when CG applies it matrix-free; factor_tangent assembles it) */
 static int eval(ps_solver *s, const double *u, double *f, double *energy,
                 int tangent, ps_ctx *ctx) {
   double t = ps_wtime();
+  int want = !tangent ? PS_EVAL_FORCES
+             : s->opts.reuse_factor && s->opts.matrix_free ? PS_EVAL_OPERATOR
+                                                            : PS_EVAL_TANGENT;
   int status = ps_system_eval(&s->sys, &s->model, &s->st, s->P->x, u, f,
-                              energy, tangent, ctx);
+                              energy, want, ctx);
   if (s->fext && status == PS_OK)
     for (ps_int j = 0; j < s->sys.n_dof; j++) {
       f[j] -= s->lambda * s->fext[j];
@@ -88,11 +93,22 @@ static ps_int arms_changed(const ps_solver *s, ps_int limit) {
   return n;
 }
 
+/* assemble the tangent of the last evaluation into sys.A (timed as
+ * assembly) */
+static int assemble(ps_solver *s, ps_ctx *ctx) {
+  if (s->sys.assembled) return PS_OK;
+  double t = ps_wtime();
+  int status = ps_system_assemble(&s->sys, ctx);
+  s->t_assembly += ps_wtime() - t;
+  return status;
+}
+
 /* Factor sys.A with the chosen backend; on a matrix that is not positive
  * definite fall back to UMFPACK. Returns PS_OK, PS_SINGULAR (message in
  * ctx names the particle), or fatal. */
 static int factor_tangent(ps_solver *s, ps_ctx *ctx) {
   ps_int bad = -1;
+  PS_CHECK(assemble(s, ctx));
   snapshot_arm_state(s, ctx);
   char name[256] = "unknown dof";
   int status = ps_linsolve_factor(&s->ls, &s->sys.A, &bad, ctx);
@@ -201,7 +217,8 @@ cleanup:
 static int pcg(ps_solver *s, ps_linsolve *ls, int maxit, int *its, ps_ctx *ctx) {
   double t0 = ps_wtime();
   *its = 0;
-  int status = ps_linsolve_pcg(ls, &s->sys.A, s->rhs, s->du, s->cg_rtol, maxit,
+  ps_operator K = s->opts.matrix_free ? ps_system_operator(&s->sys) : ps_csc_operator(&s->sys.A);
+  int status = ps_linsolve_pcg(ls, &K, s->rhs, s->du, s->cg_rtol, maxit,
                                s->pcg_work, its, ctx);
   s->t_pcg += ps_wtime() - t0;
   s->pcg_iterations += *its;
@@ -215,7 +232,7 @@ static int pcg(ps_solver *s, ps_linsolve *ls, int maxit, int *its, ps_ctx *ctx) 
  * definite or CG does not converge (the caller factors K), or fatal. */
 static int solve_by_majorant(ps_solver *s, ps_ctx *ctx) {
   ps_int bad = -1;
-  PS_CHECK(ps_system_assemble_majorant(&s->sys_pre, &s->sys, &s->st, ctx));
+  PS_CHECK(ps_system_assemble_majorant(&s->sys_pre, &s->sys, ctx));
   int status = ps_linsolve_factor(&s->ls_pre, &s->sys_pre.A, &bad, ctx);
   if (status < 0) return status;
   if (status != PS_OK) {
@@ -297,6 +314,7 @@ refactor:;
 static int shifted_direction(ps_solver *s, ps_ctx *ctx) {
   ps_csc *A = &s->sys.A;
   ps_int n = A->n, bad;
+  PS_CHECK(assemble(s, ctx));
   for (ps_int k = 0; k < n; k++) s->diag_saved[k] = A->x[A->p[k + 1] - 1];
   int status = PS_SINGULAR;
   for (double mu = 1e-4; mu <= 10.0 && status != PS_OK; mu *= 10.0) {
@@ -451,7 +469,7 @@ int ps_solver_step(ps_solver *s, double lambda, ps_ctx *ctx) {
   } else if (s->have_factor) {
     /* predictor: K_ff du_f = -(r_f + K_fp du_p) with the last factor */
     for (ps_int j = 0; j < nd; j++) s->work_dof[j] = sys->fixed[j] ? dl * s->ubar[j] : 0.0;
-    ps_system_coupling(sys, s->work_dof, s->work);
+    ps_system_coupling(&s->sys, s->work_dof, s->work);
     for (ps_int k = 0; k < nf; k++) {
       ps_int j = sys->dof_of_free[k];
       s->rhs[k] = -(s->f[j] + s->work[k]) + (s->fext ? dl * s->fext[j] : 0.0);

@@ -51,6 +51,11 @@ typedef struct ps_solver_opts {
   int pcg_skip_arms;      /* skip CG when at least this many arms changed
                              state (yield, break) since the last
                              factorisation; 0: never skip (default 0) */
+  int matrix_free;        /* 1: CG applies the tangent matrix-free
+                             (ps_system_apply: arm and rank-one family
+                             terms) and the two-horizon matrix is
+                             assembled only to be factored (default 1;
+                             doc/performance.md) */
   int reanalyze;          /* 1: symbolic analysis before every
                              factorisation (benchmark comparison; 0) */
   int majorant;           /* 1: for models with family terms, when CG with

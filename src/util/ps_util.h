@@ -106,4 +106,12 @@ typedef struct ps_csc {
   double *x;   /* [p[n]] values */
 } ps_csc;
 
+/* force inlining (GCC, Clang), so that a dimension passed as a constant
+ * unrolls the inner loops */
+#if defined(__GNUC__)
+#define PS_ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define PS_ALWAYS_INLINE inline
+#endif
+
 #endif

@@ -52,7 +52,9 @@ typedef struct ps_run_result {
   ps_int pcg_iterations, pcg_failures, pcg_skipped, solves;
   ps_int majorant_factorisations, majorant_failures; /* solver.majorant */
   ps_int shifted_steps;     /* Newton directions from a shifted tangent */
-  double t_majorant_factor;
+  double t_majorant_factor, nnz_majorant_factor;
+  double t_cg;              /* wall seconds in CG (products and
+                               preconditioner solves) */
   double nnz_tangent;       /* nonzeros of the free tangent (upper) */
   double nnz_factor, flops_factor; /* of the last factorisation */
   double crack_tip;         /* in units of c (disk) */

@@ -362,6 +362,8 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
   res->majorant_failures = s.pre_failures;
   res->shifted_steps = s.n_shifted;
   res->t_majorant_factor = s.ls_pre.stats.t_factor;
+  res->nnz_majorant_factor = s.ls_pre.stats.nnz_factor;
+  res->t_cg = s.t_pcg;
   res->solves = s.ls.stats.n_solve + s.ls_fallback.stats.n_solve;
   res->nnz_tangent = (double)s.sys.A.p[s.sys.n_free];
   res->nnz_factor = s.ls.stats.nnz_factor;
@@ -405,7 +407,8 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
             "factor_s: %.3f\nsolve_s: %.3f\nnetwork_s: %.3f\npeak_memory_MiB: %.1f\n"
             "cg_iterations: %lld\ncg_failures: %lld\ncg_skipped: %lld\nsolves: %lld\nnnz_tangent_upper: %.0f\n"
             "nnz_factor: %.0f\nflops_factor: %.4g\nmajorant_factorisations: %lld\n"
-            "majorant_cg_failures: %lld\nmajorant_factor_s: %.3f\nshifted_steps: %lld\n"
+            "majorant_cg_failures: %lld\nmajorant_factor_s: %.3f\nmajorant_nnz_factor: %.0f\n"
+            "cg_s: %.3f\nshifted_steps: %lld\n"
             "case_fingerprint: %016llx\n",
             cs->name, (long long)pb->P.n, (long long)pb->net.n_arm,
             (long long)s.sys.n_free, delta, mat.sigma_y, peak, peak / mat.sigma_y,
@@ -420,6 +423,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
             (long long)res->pcg_failures, (long long)res->pcg_skipped, (long long)res->solves, res->nnz_tangent,
             res->nnz_factor, res->flops_factor, (long long)res->majorant_factorisations,
             (long long)res->majorant_failures, res->t_majorant_factor,
+            res->nnz_majorant_factor, res->t_cg,
             (long long)res->shifted_steps, (unsigned long long)ps_case_fingerprint(cs));
     if (cs->n_j_rings > 0 && pb->P.dim == 2) { /* J of the final state, Eq. 39 */
       double *sig = malloc(4 * (size_t)pb->P.n * sizeof *sig);

@@ -18,9 +18,10 @@ export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
 [ -x "$bin" ] || { echo "bench: build peristatic first (make)" >&2; exit 1; }
 
 csv="$out/results.csv.tmp"
-echo "case,kind,particles,arms,free_dofs,linear,reuse_factor,repeat,network_s,assembly_s,analyze_s,factor_s,solve_s,increments,newton_iterations,factorisations,cg_iterations,nnz_tangent_upper,nnz_factor,flops_factor,sigma_failure_over_sigma_y,wall_s,peak_memory_MiB" > "$csv"
+echo "case,kind,particles,arms,free_dofs,linear,reuse_factor,repeat,network_s,assembly_s,analyze_s,factor_s,solve_s,increments,newton_iterations,factorisations,cg_iterations,nnz_tangent_upper,nnz_factor,flops_factor,sigma_failure_over_sigma_y,wall_s,peak_memory_MiB,cg_s" > "$csv"
 
 # disk CASE-FILE: n_eta n_xi kind(elastic|fracture) linear reuse
+# (SOLVER_EXTRA: more solver keys, e.g. "cg_forcing: 0")
 make_case() {
   f="$work/$1.yaml"
   if [ "$4" = elastic ]; then
@@ -33,7 +34,7 @@ name: $1
 geometry: {type: disk, n_eta: $2, n_xi: $3, per_zone: 5, jitter: 0.1, seed: 11}
 material: {E: 210.0e9, nu: 0.3, plane: strain, yield_strain: 0.002, plastic: $plastic, delta_over_c: 0.001}
 loading: {type: eq116}
-solver: {linear: $5, reuse_factor: $6, reanalyze: ${REANALYZE:-false}}
+solver: {linear: $5, reuse_factor: $6, reanalyze: ${REANALYZE:-false}${SOLVER_EXTRA:+, $SOLVER_EXTRA}}
 path: {load_step: $step, load_step_after_break: 0.01, max_load: $maxload}
 output: {vtk_every: 0}
 EOC
@@ -52,7 +53,7 @@ run_file() {
       "$(val "$s" free_dofs)" "$4" "$5" "$r" >> "$csv"
     for k in network_s assembly_s analyze_s factor_s solve_s increments newton_iterations \
              factorisations cg_iterations nnz_tangent_upper nnz_factor flops_factor \
-             sigma_failure_over_sigma_y wall_s peak_memory_MiB; do
+             sigma_failure_over_sigma_y wall_s peak_memory_MiB cg_s; do
       printf ',%s' "$(val "$s" $k)" >> "$csv"
     done
     printf '\n' >> "$csv"
@@ -128,9 +129,22 @@ done
 set -- $small_fracture
 run_case disk-small-fracture "$1" "$2" fracture cholmod true "$reps"
 run_case disk-small-fracture "$1" "$2" fracture cholmod false 1
-[ "${BENCH_QUICK:-0}" = 1 ] || run_case disk-5k-fracture 10 20 fracture cholmod true 1
+if [ "${BENCH_QUICK:-0}" != 1 ]; then
+  run_case disk-5k-fracture 10 20 fracture cholmod true "$reps"
+  # what the inexact Newton and the matrix-free product (session 4) save:
+  # the same run with an exact CG tolerance and the assembled tangent
+  SOLVER_EXTRA="cg_forcing: 0, matrix_free: false" \
+    run_case disk-5k-fracture-cg-exact 10 20 fracture cholmod true 1
+fi
 if [ "${BENCH_LARGE:-0}" = 1 ]; then
   run_case disk-20k-fracture 20 40 fracture cholmod true 1
+  # the paper's disk at its size (20k particles, data/cases/paper-griffith.yaml)
+  # run to fracture at delta = c/3250, the sweep's first run
+  f="$work/paper-c3250.yaml"
+  sed 's/^  delta_over_c: 0.001$/  delta_over_c: 0.0003076923077/' \
+    "$top/data/cases/paper-griffith.yaml" > "$f"
+  grep -q '^  delta_over_c: 0.0003076923077$' "$f" || { echo "bench: cannot set delta" >&2; exit 1; }
+  run_file "$f" paper-griffith-c3250 fracture cholmod true "$reps"
 fi
 mv "$csv" "$out/results.csv"
 
@@ -138,7 +152,7 @@ mv "$csv" "$out/results.csv"
 # solve (wall and factorisation time against free dofs)
 awk -F, 'NR > 1 {
     key = $1 "," $6 "," $7; if (!(key in n)) keys[++nk] = key
-    n[key]++; w[key, n[key]] = $22; fa[key, n[key]] = $12
+    n[key]++; w[key, n[key]] = $22; fa[key, n[key]] = $12; cgs[key, n[key]] = $24
     size[key] = $5; its[key] = $15; fac[key] = $16; cg[key] = $17; nnz[key] = $18
     nl[key] = $19; fl[key] = $20; mem[key] = $23; sf[key] = $21; kind[key] = $2
   }
@@ -148,14 +162,15 @@ awk -F, 'NR > 1 {
     return (m % 2) ? v[(m + 1) / 2] : (v[m / 2] + v[m / 2 + 1]) / 2
   }
   END {
-    printf "%-32s %-18s %5s %7s %9s %9s %10s %9s %9s %6s %6s %6s %8s %9s\n", "case", "linear", "reuse",
-      "runs", "free_dofs", "nnz(A)", "nnz(L)", "flops", "wall_s", "newton", "factor", "cg", "factor_s", "peak_MiB"
+    printf "%-32s %-18s %5s %7s %9s %9s %10s %9s %9s %6s %6s %6s %8s %8s %9s\n", "case", "linear", "reuse",
+      "runs", "free_dofs", "nnz(A)", "nnz(L)", "flops", "wall_s", "newton", "factor", "cg", "factor_s",
+      "cg_s", "peak_MiB"
     for (ik = 1; ik <= nk; ik++) {
       k = keys[ik]
       split(k, p, ",")
-      mw = median(w, k, n[k]); mf = median(fa, k, n[k])
-      printf "%-32s %-18s %5s %7d %9d %9.3g %10.3g %9.3g %9.3f %6d %6d %6d %8.3f %9.1f\n", p[1], p[2], p[3],
-        n[k], size[k], nnz[k], nl[k], fl[k], mw, its[k], fac[k], cg[k], mf, mem[k]
+      mw = median(w, k, n[k]); mf = median(fa, k, n[k]); mc = median(cgs, k, n[k])
+      printf "%-32s %-18s %5s %7d %9d %9.3g %10.3g %9.3g %9.3f %6d %6d %6d %8.3f %8.3f %9.1f\n", p[1], p[2], p[3],
+        n[k], size[k], nnz[k], nl[k], fl[k], mw, its[k], fac[k], cg[k], mf, mc, mem[k]
       if (kind[k] == "elastic" && p[1] ~ /^disk-[0-9.]+k-elastic$/ && p[2] == "cholmod" && p[3] == "true") {
         m++; lx[m] = log(size[k]); ly[m] = log(mw); lf[m] = log(mf / (fac[k] > 0 ? fac[k] : 1))
       }

@@ -408,15 +408,33 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
       status = eval(s, s->u_trial, s->f_trial, &E1, 0, ctx);
       if (status < 0 && status != PS_ERR_SOLVER) return status;
       int finite = status == PS_OK && isfinite(E1);
-      if (finite && (!s->opts.line_search ||
-                     E1 <= E0 + 1e-4 * step * g0 + 1e-11 * fabs(E0))) {
+      if (finite && !s->opts.line_search) {
         accepted = 1;
         break;
       }
-      /* backtrack: minimiser of the quadratic through E0, g0, E1 */
+      /* the energy change. Within PS_ENERGY_RESOLUTION |E0| it is below
+       * the round-off of the energy (a sum over all arms) and its sign
+       * means nothing: near a plastic limit, where a Newton step changes
+       * the energy by ~1e-11 |E0| already at residuals ~1e-5, the line
+       * search then cut steps at random and Newton stalled. There the
+       * trapezoid rule on the directional derivatives g = f . du, exact
+       * for a quadratic along du and free of cancellation, stands in. */
+      double dE = E1 - E0;
+      if (finite && fabs(dE) <= PS_ENERGY_RESOLUTION * fabs(E0)) {
+        double g1 = 0;
+        for (ps_int k = 0; k < nf; k++) g1 += s->f_trial[sys->dof_of_free[k]] * s->du[k];
+        dE = 0.5 * step * (g0 + g1);
+        s->n_slope_steps++;
+      }
+      if (finite && dE <= 1e-4 * step * g0) { /* Armijo */
+        accepted = 1;
+        break;
+      }
+      /* backtrack: minimiser of the quadratic through E0, g0 and dE (with
+       * the trapezoid: the zero of the secant of g) */
       double next = 0.5 * step;
       if (finite) {
-        double denom = 2.0 * (E1 - E0 - g0 * step);
+        double denom = 2.0 * (dE - g0 * step);
         if (denom > 0) next = -g0 * step * step / denom;
         if (next < 0.1 * step) next = 0.1 * step;
         if (next > 0.5 * step) next = 0.5 * step;

@@ -26,6 +26,10 @@ enum ps_newton_reason {
   PS_NEWTON_SINGULAR = 4       /* tangent singular, also for UMFPACK */
 };
 
+/* relative round-off of the stored energy below which the line search
+ * judges a step by the directional derivatives instead (newton.c) */
+#define PS_ENERGY_RESOLUTION 1e-10
+
 /* the loosest CG tolerance of the inexact Newton iteration */
 #define PS_CG_FORCING_MAX 1e-2
 
@@ -103,6 +107,8 @@ typedef struct ps_solver {
   /* statistics of the run */
   ps_int newton_iterations, n_fallback, n_line_search_cuts;
   ps_int n_shifted;         /* Newton directions from a shifted tangent */
+  ps_int n_slope_steps;     /* line-search trials judged by the slopes (the
+                               energy change below its round-off) */
   ps_int pcg_iterations, pcg_solves, pcg_failures;
   ps_int pcg_skipped;       /* CG not tried: too many arms changed state */
   ps_int pre_failures;      /* CG with a fresh majorant factor that failed */

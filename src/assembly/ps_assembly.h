@@ -5,7 +5,11 @@
  *     + sum_a c_a g_a g_a^T,   g_a = sum_{i in family a} w_{a,i} dl_i/dy
  * on a fixed sparsity pattern (two horizons wide: every pair of particles
  * that share a family), computed once per network, so the symbolic
- * factorisation runs once. Broken arms stay in the pattern as zeros. */
+ * factorisation runs once. Broken arms stay in the pattern as zeros.
+ * The same K is also applied without assembling it (ps_system_apply: arm
+ * terms plus the rank-one family terms, O(arms + family members) per
+ * product), which is what CG uses; the matrix is assembled only to be
+ * factored (ps_system_assemble). */
 #ifndef PS_ASSEMBLY_H
 #define PS_ASSEMBLY_H
 

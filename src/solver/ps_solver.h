@@ -7,7 +7,11 @@
  * factor). Each increment: a predictor (secant extrapolation of the last
  * two converged states when no arm broke between them, else a solve with
  * the last factor), Newton to ||r_free|| <= tol ||reactions|| with an
- * energy line search, commit of the plastic state (Eq. 111), then rounds
+ * energy line search (judged by the directional derivatives where the
+ * energy change is below its round-off), each Newton system solved by CG
+ * on the matrix-free tangent, preconditioned by the last factor, to a
+ * tolerance from the Newton residual (inexact Newton); commit of the
+ * plastic state (Eq. 111), then rounds
  * of arm breaking (Eq. 118) and re-equilibration at the same load, driven
  * by the caller. Newton failure cuts the increment (restoring the last
  * converged state). */

@@ -522,12 +522,12 @@ static void tangent_diagonal(ps_system *s, double *diag) {
   const ps_network *net = s->net;
   int d = s->dim;
   memset(diag, 0, (size_t)s->n_dof * sizeof *diag);
+  double kmat[9];
   for (ps_int i = 0; i < net->n_arm; i++) {
-    const double *q = &s->tq[i * d];
+    arm_block(d, &s->tq[i * d], s->tan.D[i], s->tTl[i], kmat);
     for (int k = 0; k < d; k++) {
-      double v = s->tan.D[i] * q[k] * q[k] + s->tTl[i] * (1.0 - q[k] * q[k]);
-      diag[net->a[i] * d + k] += v;
-      diag[net->b[i] * d + k] += v;
+      diag[net->a[i] * d + k] += kmat[k * d + k];
+      diag[net->b[i] * d + k] += kmat[k * d + k];
     }
   }
   for (ps_int c = 0; c < net->n_particle; c++)
@@ -551,11 +551,16 @@ void ps_system_apply(const ps_system *s, const double *x, double *y) {
         for (int k = 0; k < d; k++) y[a * d + k] += s->spring * x[a * d + k];
 }
 
+/* y[n_free] = the free rows of K s->xw (through s->yw) */
+static void apply_free_rows(ps_system *s, double *y) {
+  ps_system_apply(s, s->xw, s->yw);
+  for (ps_int k = 0; k < s->n_free; k++) y[k] = s->yw[s->dof_of_free[k]];
+}
+
 void ps_system_apply_free(ps_system *s, const double *x, double *y) {
   memset(s->xw, 0, (size_t)s->n_dof * sizeof *s->xw);
   for (ps_int k = 0; k < s->n_free; k++) s->xw[s->dof_of_free[k]] = x[k];
-  ps_system_apply(s, s->xw, s->yw);
-  for (ps_int k = 0; k < s->n_free; k++) y[k] = s->yw[s->dof_of_free[k]];
+  apply_free_rows(s, y);
 }
 
 static void system_apply(void *sys, const double *x, double *y) {
@@ -597,6 +602,5 @@ int ps_system_assemble_majorant(ps_system *pre, const ps_system *K, ps_ctx *ctx)
 
 void ps_system_coupling(ps_system *s, const double *du, double *out) {
   for (ps_int j = 0; j < s->n_dof; j++) s->xw[j] = s->fixed[j] ? du[j] : 0.0;
-  ps_system_apply(s, s->xw, s->yw);
-  for (ps_int k = 0; k < s->n_free; k++) out[k] = s->yw[s->dof_of_free[k]];
+  apply_free_rows(s, out);
 }

@@ -102,8 +102,8 @@ int ps_system_eval(ps_system *sys, const ps_model *model, ps_arm_state *st,
                    double *energy, int want, ps_ctx *ctx);
 
 /* Assemble the tangent of the last evaluation with one into Kfull and A
- * (nothing to do after PS_EVAL_TANGENT). Returns PS_OK, or PS_ERR_INPUT
- * when the model has family terms and the pattern none. */
+ * (nothing to do after PS_EVAL_TANGENT). Returns PS_OK (a model with
+ * family terms on a pattern without them is caught by ps_system_eval). */
 int ps_system_assemble(ps_system *sys, ps_ctx *ctx);
 
 /* y[n_dof] = K x[n_dof] with the tangent K of the last evaluation with one

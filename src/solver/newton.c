@@ -424,7 +424,6 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
         double g1 = 0;
         for (ps_int k = 0; k < nf; k++) g1 += s->f_trial[sys->dof_of_free[k]] * s->du[k];
         dE = 0.5 * step * (g0 + g1);
-        s->n_slope_steps++;
       }
       if (finite && dE <= 1e-4 * step * g0) { /* Armijo */
         accepted = 1;

@@ -111,8 +111,6 @@ typedef struct ps_solver {
   /* statistics of the run */
   ps_int newton_iterations, n_fallback, n_line_search_cuts;
   ps_int n_shifted;         /* Newton directions from a shifted tangent */
-  ps_int n_slope_steps;     /* line-search trials judged by the slopes (the
-                               energy change below its round-off) */
   ps_int pcg_iterations, pcg_solves, pcg_failures;
   ps_int pcg_skipped;       /* CG not tried: too many arms changed state */
   ps_int pre_failures;      /* CG with a fresh majorant factor that failed */

@@ -381,6 +381,12 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
      * well (the line search guards it), so CG stops at
      * max(cg_tolerance, min(1e-2, cg_forcing x rel)) */
     s->cg_rtol = fmax(s->opts.pcg_rtol, fmin(PS_CG_FORCING_MAX, s->opts.cg_forcing * rel));
+    /* and never tighter than the Newton tolerance asks for: a full step
+     * leaves the linear residual cg_rtol x rel (plus a quadratic term), so
+     * cg_rtol = PS_CG_OVERSOLVE x tolerance / rel already converges
+     * (Kelley's safeguard against oversolving the last iteration) */
+    if (s->opts.cg_forcing > 0)
+      s->cg_rtol = fmax(s->cg_rtol, PS_CG_OVERSOLVE * s->opts.tolerance / rel);
     int status = solve_tangent(s, ctx);
     if (status < 0) return status;
     if (status > 0) {

@@ -37,6 +37,11 @@ enum ps_newton_reason {
 /* the loosest CG tolerance of the inexact Newton iteration */
 #define PS_CG_FORCING_MAX 1e-2
 
+/* the share of the Newton tolerance that the last CG solve of a Newton
+ * solve leaves as linear residual (newton.c: CG does not solve tighter
+ * than PS_CG_OVERSOLVE x tolerance / the relative Newton residual) */
+#define PS_CG_OVERSOLVE 0.1
+
 /* Settings of the nonlinear solve and the path. */
 typedef struct ps_solver_opts {
   double tolerance;       /* relative residual (default 1e-8) */

@@ -119,6 +119,7 @@ static void solver_opts_from_case(const ps_case *cs, ps_solver_opts *o) {
   o->pcg_skip_arms = cs->cg_skip_arms;
   o->majorant = cs->majorant;
   o->matrix_free = cs->matrix_free;
+  o->cg_single_precision = cs->cg_single_precision;
   o->reanalyze = cs->reanalyze;
   const ps_linsolve_type *t = ps_linsolve_type_find(cs->linear);
   if (t) o->linear = t;

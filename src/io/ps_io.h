@@ -99,6 +99,8 @@ typedef struct ps_case {
   int reanalyze;       /* symbolic analysis before every factorisation
                           (benchmark comparison), default 0 */
   int matrix_free;     /* CG applies the tangent matrix-free, default 1 */
+  int cg_single_precision; /* CG preconditions with a single-precision
+                              copy of the factor, default 1 */
   int majorant;        /* CG with a factor of the one-horizon majorant
                           before refactoring the tangent, default 1 */
 

@@ -32,6 +32,11 @@ typedef struct ps_linsolve_type {
   /* x = A \ b with the last factor (x and b may not alias). */
   int (*solve)(void *state, const double *b, double *x, ps_linsolve_stats *st,
                ps_ctx *ctx);
+  /* x ~= A \ b with the last factor for preconditioning: a symmetric
+   * positive definite approximation cheaper than solve (CHOLMOD: the
+   * factor's values in single precision). NULL: solve is used. */
+  int (*precondition)(void *state, const double *b, double *x, ps_linsolve_stats *st,
+                      ps_ctx *ctx);
   void (*destroy)(void **state);
 } ps_linsolve_type;
 
@@ -49,6 +54,8 @@ typedef struct ps_linsolve {
   int analysed;
   int reanalyze;            /* 1: symbolic analysis before every factor
                                (for comparison only; default 0) */
+  int single_precision;     /* 1: ps_linsolve_pcg preconditions with the
+                               backend's precondition (default 0) */
   ps_linsolve_stats stats;
 } ps_linsolve;
 
@@ -79,7 +86,8 @@ ps_operator ps_csc_operator(const ps_csc *A);
 
 /* Conjugate gradients on A x = b (A a symmetric operator), started
  * from x = 0 and preconditioned by the last factor held by M (a factor of
- * a nearby matrix: an earlier tangent). Stops when ||b - A x|| <= rtol
+ * a nearby matrix: an earlier tangent; in single precision when
+ * M->single_precision and the backend has one). Stops when ||b - A x|| <= rtol
  * ||b||. work: 4 n doubles. *its gets the iterations. Returns PS_OK,
  * PS_DIVERGED (not converged within maxit, or a direction of non-positive
  * curvature: A or the preconditioner is not positive definite; x is then

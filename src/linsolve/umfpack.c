@@ -134,5 +134,5 @@ static void umf_destroy(void **state) {
 }
 
 static const ps_linsolve_type umf_type = {"umfpack", umf_create, umf_analyze,
-                                          umf_factor, umf_solve, umf_destroy};
+                                          umf_factor, umf_solve, NULL, umf_destroy};
 const ps_linsolve_type *const ps_linsolve_umfpack = &umf_type;

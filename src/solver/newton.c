@@ -20,6 +20,7 @@ void ps_solver_opts_default(ps_solver_opts *o) {
   o->majorant = 1;
   o->cg_forcing = 100.0;
   o->matrix_free = 1;
+  o->cg_single_precision = 1;
 }
 
 void ps_solver_free(ps_solver *s) {
@@ -165,9 +166,11 @@ int ps_solver_create(ps_solver *s, const ps_particles *P,
   PS_CHECK_GOTO(ps_arm_state_alloc(&s->st_saved, net->n_arm, ctx));
   PS_CHECK_GOTO(ps_linsolve_create(&s->ls, opts->linear, ctx));
   s->ls.reanalyze = opts->reanalyze;
+  s->ls.single_precision = opts->cg_single_precision;
   if (opts->majorant && type->family_coupling && opts->reuse_factor) {
     PS_CHECK_GOTO(ps_system_create_pattern(&s->sys_pre, net, fixed, 0, ctx));
     PS_CHECK_GOTO(ps_linsolve_create(&s->ls_pre, ps_linsolve_cholmod, ctx));
+    s->ls_pre.single_precision = opts->cg_single_precision;
   }
   ps_int nf = s->sys.n_free;
   s->u = ps_calloc((size_t)nd, sizeof *s->u, ctx);

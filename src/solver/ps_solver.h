@@ -69,6 +69,10 @@ typedef struct ps_solver_opts {
                              terms) and the two-horizon matrix is
                              assembled only to be factored (default 1;
                              doc/performance.md) */
+  int cg_single_precision; /* 1: CG's preconditioner uses the factor's
+                             values rounded to single precision (half the
+                             memory traffic of its triangular solves;
+                             default 1, doc/performance.md) */
   int reanalyze;          /* 1: symbolic analysis before every
                              factorisation (benchmark comparison; 0) */
   int majorant;           /* 1: for models with family terms, when CG with

@@ -52,6 +52,7 @@ typedef struct ps_run_result {
   ps_int pcg_iterations, pcg_failures, pcg_skipped, solves;
   ps_int majorant_factorisations, majorant_failures; /* solver.majorant */
   ps_int shifted_steps;     /* Newton directions from a shifted tangent */
+  ps_int cg_truncated;      /* from CG truncated at negative curvature */
   double t_majorant_factor, nnz_majorant_factor;
   double t_cg;              /* wall seconds in CG (products and
                                preconditioner solves) */

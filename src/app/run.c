@@ -120,6 +120,7 @@ static void solver_opts_from_case(const ps_case *cs, ps_solver_opts *o) {
   o->majorant = cs->majorant;
   o->matrix_free = cs->matrix_free;
   o->cg_single_precision = cs->cg_single_precision;
+  o->cg_truncate = cs->cg_truncate;
   o->reanalyze = cs->reanalyze;
   const ps_linsolve_type *t = ps_linsolve_type_find(cs->linear);
   if (t) o->linear = t;
@@ -362,6 +363,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
   res->majorant_factorisations = s.ls_pre.stats.n_factor;
   res->majorant_failures = s.pre_failures;
   res->shifted_steps = s.n_shifted;
+  res->cg_truncated = s.pcg_truncated;
   res->t_majorant_factor = s.ls_pre.stats.t_factor;
   res->nnz_majorant_factor = s.ls_pre.stats.nnz_factor;
   res->t_cg = s.t_pcg;
@@ -409,7 +411,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
             "cg_iterations: %lld\ncg_failures: %lld\ncg_skipped: %lld\nsolves: %lld\nnnz_tangent_upper: %.0f\n"
             "nnz_factor: %.0f\nflops_factor: %.4g\nmajorant_factorisations: %lld\n"
             "majorant_cg_failures: %lld\nmajorant_factor_s: %.3f\nmajorant_nnz_factor: %.0f\n"
-            "cg_s: %.3f\nshifted_steps: %lld\n"
+            "cg_s: %.3f\nshifted_steps: %lld\ncg_truncated: %lld\n"
             "case_fingerprint: %016llx\n",
             cs->name, (long long)pb->P.n, (long long)pb->net.n_arm,
             (long long)s.sys.n_free, delta, mat.sigma_y, peak, peak / mat.sigma_y,
@@ -425,7 +427,8 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
             res->nnz_factor, res->flops_factor, (long long)res->majorant_factorisations,
             (long long)res->majorant_failures, res->t_majorant_factor,
             res->nnz_majorant_factor, res->t_cg,
-            (long long)res->shifted_steps, (unsigned long long)ps_case_fingerprint(cs));
+            (long long)res->shifted_steps, (long long)res->cg_truncated,
+            (unsigned long long)ps_case_fingerprint(cs));
     if (cs->n_j_rings > 0 && pb->P.dim == 2) { /* J of the final state, Eq. 39 */
       double *sig = malloc(4 * (size_t)pb->P.n * sizeof *sig);
       double *H = malloc(4 * (size_t)pb->P.n * sizeof *H);

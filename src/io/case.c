@@ -61,6 +61,7 @@ void ps_case_defaults(ps_case *cs) {
   cs->majorant = 1;
   cs->matrix_free = 1;
   cs->cg_single_precision = 1;
+  cs->cg_truncate = 1;
   cs->load_step = 0.02;
   cs->load_step_after_break = 0.005;
   cs->max_load = 5.0;
@@ -676,7 +677,7 @@ static const char *const solver_keys[] = {"linear", "tolerance", "max_iterations
                                           "line_search", "reuse_factor",
                                           "cg_tolerance", "cg_forcing", "cg_max_iterations",
                                           "cg_skip_arms", "reanalyze", "majorant", "matrix_free",
-                                          "cg_single_precision", NULL};
+                                          "cg_single_precision", "cg_truncate", NULL};
 
 static int on_solver(loader *L, void *arg, const char *key, const char *name,
                      yaml_node_t *v) {
@@ -697,6 +698,7 @@ static int on_solver(loader *L, void *arg, const char *key, const char *name,
   if (IS("majorant")) return get_bool(L, v, name, &cs->majorant);
   if (IS("matrix_free")) return get_bool(L, v, name, &cs->matrix_free);
   if (IS("cg_single_precision")) return get_bool(L, v, name, &cs->cg_single_precision);
+  if (IS("cg_truncate")) return get_bool(L, v, name, &cs->cg_truncate);
   if (IS("cg_tolerance")) return get_real(L, v, name, 0.0, 1, 1.0, 1, &cs->cg_tolerance);
   if (IS("cg_forcing")) return get_real(L, v, name, 0.0, 0, INFINITY, 0, &cs->cg_forcing);
   if (IS("cg_max_iterations"))

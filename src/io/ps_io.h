@@ -101,6 +101,8 @@ typedef struct ps_case {
   int matrix_free;     /* CG applies the tangent matrix-free, default 1 */
   int cg_single_precision; /* CG preconditions with a single-precision
                               copy of the factor, default 1 */
+  int cg_truncate;     /* CG's iterate at negative curvature is the Newton
+                          direction, default 1 */
   int majorant;        /* CG with a factor of the one-horizon majorant
                           before refactoring the tangent, default 1 */
 

@@ -90,7 +90,11 @@ int ps_linsolve_pcg(ps_linsolve *M, const ps_operator *A, const double *b,
   for (int it = 1; it <= maxit; it++) {
     A->apply(A->data, p, Ap);
     double pAp = dot(n, p, Ap);
-    if (!(pAp > 0) || !(rz > 0)) return PS_DIVERGED; /* not SPD */
+    if (!(rz > 0)) return PS_DIVERGED; /* the preconditioner is not SPD */
+    if (!(pAp > 0)) { /* A is not positive definite along p */
+      if (it == 1) memcpy(x, p, (size_t)n * sizeof *x); /* p = M^-1 b */
+      return PS_NOT_POSDEF;
+    }
     double alpha = rz / pAp;
     for (ps_int k = 0; k < n; k++) {
       x[k] += alpha * p[k];

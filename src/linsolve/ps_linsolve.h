@@ -88,10 +88,13 @@ ps_operator ps_csc_operator(const ps_csc *A);
  * from x = 0 and preconditioned by the last factor held by M (a factor of
  * a nearby matrix: an earlier tangent; in single precision when
  * M->single_precision and the backend has one). Stops when ||b - A x|| <= rtol
- * ||b||. work: 4 n doubles. *its gets the iterations. Returns PS_OK,
- * PS_DIVERGED (not converged within maxit, or a direction of non-positive
- * curvature: A or the preconditioner is not positive definite; x is then
- * garbage), or a fatal status from the solve. */
+ * ||b||. work: 4 n doubles. *its gets the iterations. Returns PS_OK;
+ * PS_NOT_POSDEF when a CG direction p has p.A p <= 0 (A is indefinite):
+ * x is then the last iterate before it, or M^-1 b if that was the first
+ * direction, so that b.x > 0 (Steihaug's truncated CG: a descent
+ * direction for the energy whose gradient is -b); PS_DIVERGED (not
+ * converged within maxit, or the preconditioner not positive definite;
+ * x is then garbage); or a fatal status from the solve. */
 int ps_linsolve_pcg(ps_linsolve *M, const ps_operator *A, const double *b,
                     double *x, double rtol, int maxit, double *work, int *its,
                     ps_ctx *ctx);

@@ -21,6 +21,7 @@ void ps_solver_opts_default(ps_solver_opts *o) {
   o->cg_forcing = 100.0;
   o->matrix_free = 1;
   o->cg_single_precision = 1;
+  o->cg_truncate = 1;
 }
 
 void ps_solver_free(ps_solver *s) {
@@ -216,7 +217,8 @@ cleanup:
 
 /* du = K_ff^-1 rhs by CG with the factor held by ls as preconditioner, at
  * most maxit iterations, counted into the run's CG statistics. Returns
- * PS_OK, PS_DIVERGED (not converged, or non-positive curvature), or fatal. */
+ * PS_OK, PS_NOT_POSDEF (negative curvature: du is CG's truncated
+ * iterate), PS_DIVERGED (not converged), or fatal. */
 static int pcg(ps_solver *s, ps_linsolve *ls, int maxit, int *its, ps_ctx *ctx) {
   double t0 = ps_wtime();
   *its = 0;
@@ -226,6 +228,20 @@ static int pcg(ps_solver *s, ps_linsolve *ls, int maxit, int *its, ps_ctx *ctx) 
   s->t_pcg += ps_wtime() - t0;
   s->pcg_iterations += *its;
   return status;
+}
+
+/* 1 when CG's status says it met negative curvature and opts.cg_truncate
+ * takes its iterate as the direction (counted and logged), else 0. Near a
+ * running crack tip the tangent can be indefinite; Steihaug's truncated CG
+ * then still gives a descent direction for the line search, where a fresh
+ * factorisation would fail in CHOLMOD and cost an UMFPACK LU (and often a
+ * shifted factorisation after it, as UMFPACK's step points uphill). */
+static int truncated(ps_solver *s, int status, int its, const char *with, ps_ctx *ctx) {
+  if (status != PS_NOT_POSDEF || !s->opts.cg_truncate) return 0;
+  s->pcg_truncated++;
+  ps_log(ctx, 2, "    CG with %s met negative curvature at iteration %d: truncated "
+                 "direction\n", with, its + 1);
+  return 1;
 }
 
 /* du = K_ff^-1 rhs by CG preconditioned with a fresh factor of the
@@ -245,6 +261,7 @@ static int solve_by_majorant(ps_solver *s, ps_ctx *ctx) {
   int its;
   status = pcg(s, &s->ls_pre, s->opts.pcg_max_iterations, &its, ctx);
   if (status < 0) return status;
+  if (truncated(s, status, its, "a fresh majorant factor", ctx)) status = PS_OK;
   if (status == PS_OK) {
     ps_log(ctx, 2, "    CG with a fresh majorant factor: %d iterations\n", its);
     s->ls_last = &s->ls_pre;
@@ -290,6 +307,7 @@ static int solve_tangent(ps_solver *s, ps_ctx *ctx) {
     int status = pcg(s, (ps_linsolve *)s->ls_last, maxit, &its, ctx);
     if (status < 0) return status;
     s->pcg_solves++;
+    if (truncated(s, status, its, "the old factor", ctx)) return PS_OK;
     if (status == PS_OK) {
       ps_log(ctx, 2, "    CG with the old factor: %d iterations (%lld arms changed state)\n",
              its, (long long)changed);

@@ -69,6 +69,12 @@ typedef struct ps_solver_opts {
                              terms) and the two-horizon matrix is
                              assembled only to be factored (default 1;
                              doc/performance.md) */
+  int cg_truncate;        /* 1: when CG meets a direction of negative
+                             curvature (an indefinite tangent), its last
+                             iterate is the Newton direction (truncated CG,
+                             a descent direction) instead of a fresh
+                             factorisation and UMFPACK (default 1,
+                             doc/performance.md) */
   int cg_single_precision; /* 1: CG's preconditioner uses the factor's
                              values rounded to single precision (half the
                              memory traffic of its triangular solves;
@@ -123,6 +129,8 @@ typedef struct ps_solver {
   ps_int pcg_iterations, pcg_solves, pcg_failures;
   ps_int pcg_skipped;       /* CG not tried: too many arms changed state */
   ps_int pre_failures;      /* CG with a fresh majorant factor that failed */
+  ps_int pcg_truncated;     /* Newton directions from CG truncated at
+                               negative curvature (opts.cg_truncate) */
   unsigned char *arm_state_at_factor; /* [n_arm] yielding | 2 broken, when the
                                last factor was computed */
   double cg_rtol;           /* CG tolerance of the current Newton iteration */

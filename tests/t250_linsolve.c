@@ -27,6 +27,12 @@ static double rel_residual(const ps_csc *A, const double *x, const double *b) {
   return sqrt(num / den);
 }
 
+static double dot_n(ps_int n, const double *a, const double *b) {
+  double s = 0;
+  for (ps_int k = 0; k < n; k++) s += a[k] * b[k];
+  return s;
+}
+
 int main(void) {
   ps_ctx ctx;
   ps_ctx_init(&ctx);
@@ -130,9 +136,50 @@ int main(void) {
   s = ps_linsolve_pcg(&ls[0], &op, b, y, 1e-8, 25, work, &its, &ctx);
   ps_check(s == PS_OK && its > 1 && its <= 20 && rel_residual(A, y, b) <= 1e-8,
            "CG preconditioned by a nearby factor: %d iterations", its);
+  /* mildly indefinite, A - 1.5 lambda_min I (lambda_min by inverse
+   * iteration with the exact factor): CG with the nearby factor first
+   * makes progress along the positive directions, then meets the one
+   * negative direction; the iterate it returns is still a descent
+   * direction, b.x > 0 */
+  {
+    double *v = calloc((size_t)n, sizeof *v), *w = calloc((size_t)n, sizeof *w), lmin = 0;
+    for (ps_int k = 0; k < n; k++) v[k] = 1.0 + 0.1 * sin(0.9 * k);
+    for (int i = 0; i < 60; i++) { /* v <- A^-1 v / |.| */
+      ps_linsolve_solve(&ls[1], v, w, &ctx);
+      double nw = sqrt(dot_n(n, w, w));
+      for (ps_int k = 0; k < n; k++) v[k] = w[k] / nw;
+    }
+    ps_csc_symv(A, v, w);
+    lmin = dot_n(n, v, w); /* Rayleigh quotient, |v| = 1 */
+    for (ps_int j = 0; j < n; j++) A->x[A->p[j + 1] - 1] -= 1.5 * lmin;
+    double bx = 0;
+    s = ps_linsolve_pcg(&ls[0], &op, b, y, 1e-8, 50, work, &its, &ctx);
+    for (ps_int k = 0; k < n; k++) bx += b[k] * y[k];
+    ps_check(s == PS_NOT_POSDEF && its >= 1 && bx > 0,
+             "CG on A - 1.5 lambda_min I (lambda_min %.3g): negative curvature after %d "
+             "iteration(s), descent b.x = %.3g > 0", lmin, its, bx);
+    memcpy(A->x, x_save, (size_t)A->p[n] * sizeof *x_save);
+    free(v);
+    free(w);
+  }
   /* indefinite: a large negative diagonal at a known free dof */
   ps_int jbad = n / 3;
   A->x[A->p[jbad + 1] - 1] = -1e3 * fabs(A->x[A->p[jbad + 1] - 1]);
+  /* CG on it with a positive definite preconditioner (the nearby
+   * factor) meets negative curvature: PS_NOT_POSDEF, and the truncated
+   * iterate is a descent direction (b.x > 0: the energy, whose gradient
+   * is -b, decreases along x), for a load at the bad dof and a smooth one */
+  for (int rhs = 0; rhs < 2; rhs++) {
+    double *bb = calloc((size_t)n, sizeof *bb), bx = 0;
+    for (ps_int k = 0; k < n; k++) bb[k] = rhs ? b[k] * (k != jbad) : (k == jbad);
+    s = ps_linsolve_pcg(&ls[0], &op, bb, y, 1e-8, 25, work, &its, &ctx);
+    for (ps_int k = 0; k < n; k++) bx += bb[k] * y[k];
+    ps_check(s == PS_NOT_POSDEF && bx > 0,
+             "CG on an indefinite matrix (%s load): negative curvature after %d "
+             "iteration(s), status %d, descent b.x = %.3g > 0",
+             rhs ? "smooth" : "point", its, s, bx);
+    free(bb);
+  }
   s = ps_linsolve_factor(&ls[0], A, &bad, &ctx);
   ps_check(s == PS_NOT_POSDEF, "cholmod reports an indefinite matrix (status %d)", s);
   /* columns eliminated before the bad dof do not see its value, so the

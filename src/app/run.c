@@ -111,6 +111,7 @@ static void solver_opts_from_case(const ps_case *cs, ps_solver_opts *o) {
   ps_solver_opts_default(o);
   o->tolerance = cs->tolerance;
   o->max_iterations = cs->max_iterations;
+  o->max_small_steps = cs->max_small_steps;
   o->line_search = cs->line_search;
   o->reuse_factor = cs->reuse_factor;
   o->pcg_rtol = cs->cg_tolerance;
@@ -185,7 +186,9 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
     double target = s.lambda + dl;
     static const char *const why[] = {"converged", "no convergence within "
                                       "solver.max_iterations", "line search failed",
-                                      "residual not finite", "singular tangent"};
+                                      "residual not finite", "singular tangent",
+                                      "stagnated: solver.max_small_steps tiny line-search "
+                                      "steps in a row"};
     if (target > cs->max_load - 1e-9 * dl) target = cs->max_load; /* no sliver */
     ps_int its0 = s.newton_iterations;
     status = ps_solver_step(&s, target, ctx);

@@ -53,6 +53,7 @@ void ps_case_defaults(ps_case *cs) {
   strcpy(cs->linear, "cholmod");
   cs->tolerance = 1e-8;
   cs->max_iterations = 30;
+  cs->max_small_steps = 5;
   cs->line_search = 1;
   cs->reuse_factor = 1;
   cs->cg_tolerance = 1e-6;
@@ -674,6 +675,7 @@ static int on_loading(loader *L, void *arg, const char *key, const char *name,
 /* ---- solver, path, output ---- */
 
 static const char *const solver_keys[] = {"linear", "tolerance", "max_iterations",
+                                          "max_small_steps",
                                           "line_search", "reuse_factor",
                                           "cg_tolerance", "cg_forcing", "cg_max_iterations",
                                           "cg_skip_arms", "reanalyze", "majorant", "matrix_free",
@@ -693,6 +695,7 @@ static int on_solver(loader *L, void *arg, const char *key, const char *name,
   }
   if (IS("tolerance")) return get_real(L, v, name, 0.0, 1, 1.0, 1, &cs->tolerance);
   if (IS("max_iterations")) return get_int(L, v, name, 1, INT_MAX, &cs->max_iterations);
+  if (IS("max_small_steps")) return get_int(L, v, name, 0, INT_MAX, &cs->max_small_steps);
   if (IS("reuse_factor")) return get_bool(L, v, name, &cs->reuse_factor);
   if (IS("reanalyze")) return get_bool(L, v, name, &cs->reanalyze);
   if (IS("majorant")) return get_bool(L, v, name, &cs->majorant);
@@ -1047,9 +1050,13 @@ static void fnv(uint64_t *h, const char *s) {
  * that fail to re-equilibrate are retried with fewer arms. 3: Newton
  * steps that point uphill (indefinite tangent) are replaced by a shifted
  * Cholesky step. 4: only settled states (no arm left past delta) set the
- * peak; path.stop_tip_advance. (CG settings, e.g. solver.cg_skip_arms, do
- * not change results beyond the Newton tolerance and are not counted.) */
-#define PS_ALGORITHM_VERSION 4
+ * peak; path.stop_tip_advance. 5: CG truncated at negative curvature
+ * (solver.cg_truncate) and Newton solves that stagnate
+ * (solver.max_small_steps) change which solves near the plastic limit
+ * load converge: in the paper's sweep c/1250 now fractures where version
+ * 4 stalled. (CG settings, e.g. solver.cg_skip_arms, do not change
+ * results beyond the Newton tolerance and are not counted.) */
+#define PS_ALGORITHM_VERSION 5
 
 uint64_t ps_case_fingerprint(const ps_case *cs) {
   uint64_t h = 1469598103934665603ULL;
@@ -1113,6 +1120,11 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
            cs->load_step_after_break, cs->max_load, cs->max_increments, cs->min_step,
            cs->stop_crack_tip, cs->stop_load_drop, cs->max_break_rounds);
   fnv(&h, b);
+  if (cs->max_small_steps != 5) { /* newer keys: only when not the default */
+    snprintf(b, sizeof b, "small steps %d", cs->max_small_steps);
+    fnv(&h, b);
+  }
+  if (!cs->cg_truncate) fnv(&h, "cg not truncated");
   if (cs->stop_tip_advance > 0) { /* newer key: only when set */
     snprintf(b, sizeof b, "tip advance %.17g", cs->stop_tip_advance);
     fnv(&h, b);

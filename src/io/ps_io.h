@@ -88,6 +88,8 @@ typedef struct ps_case {
                           "cholmod-simplicial" | "umfpack" */
   double tolerance;    /* relative residual, default 1e-8 */
   int max_iterations;  /* Newton iterations per solve, default 30 */
+  int max_small_steps; /* tiny line-search steps before a solve fails as
+                          stagnated, default 5 (0: never) */
   int line_search;     /* default 1 */
   int reuse_factor;    /* CG preconditioned by the last factor, default 1 */
   double cg_tolerance; /* its relative tolerance, default 1e-6 */

@@ -10,6 +10,7 @@
 void ps_solver_opts_default(ps_solver_opts *o) {
   o->tolerance = 1e-8;
   o->max_iterations = 30;
+  o->max_small_steps = 5;
   o->line_search = 1;
   o->linear = ps_linsolve_cholmod;
   o->reuse_factor = 1;
@@ -378,6 +379,8 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
   const ps_system *sys = &s->sys;
   ps_int nf = sys->n_free, nd = sys->n_dof;
   PS_CHECK(eval(s, s->u, s->f, &s->energy, 0, ctx));
+  int small_steps = 0;     /* line-search steps < PS_SMALL_STEP in a row */
+  double rel_before = 0.0; /* the residual before the first of them */
   for (int it = 0;; it++) {
     double rn = norm_free(sys, s->f), ref = norm_fixed(sys, s->f);
     double rel = ref > 0 ? rn / ref : rn;
@@ -394,6 +397,17 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
     }
     if (it >= s->opts.max_iterations) {
       s->last_reason = PS_NEWTON_MAX_ITER;
+      return PS_DIVERGED;
+    }
+    /* stagnation: near a plastic limit load the line search finds only
+     * steps of 1e-3..1e-9 along Newton directions (arms at the kink of the
+     * perfectly plastic law), and the residual creeps (1.04e-5 ->
+     * 1.03e-5 over 20 iterations at 20k, c/1000); such a solve never
+     * converged in the runs we logged, so it fails now, not at
+     * max_iterations, and the path cuts its increment sooner */
+    if (s->opts.max_small_steps > 0 && small_steps >= s->opts.max_small_steps &&
+        rel > 0.9 * rel_before) {
+      s->last_reason = PS_NEWTON_STAGNATED;
       return PS_DIVERGED;
     }
     PS_CHECK(eval(s, s->u, s->f, &s->energy, 1, ctx));
@@ -474,6 +488,11 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
       return PS_DIVERGED;
     }
     if (step < 1.0) ps_log(ctx, 2, "    line search step %.3g\n", step);
+    if (step < PS_SMALL_STEP) {
+      if (small_steps++ == 0) rel_before = rel;
+    } else {
+      small_steps = 0;
+    }
     double *t = s->u;
     s->u = s->u_trial;
     s->u_trial = t;

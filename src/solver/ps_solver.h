@@ -27,12 +27,18 @@ enum ps_newton_reason {
   PS_NEWTON_MAX_ITER = 1,      /* not converged within max_iterations */
   PS_NEWTON_LINE_SEARCH = 2,   /* no acceptable step along the direction */
   PS_NEWTON_NOT_FINITE = 3,    /* NaN or inf in the residual */
-  PS_NEWTON_SINGULAR = 4       /* tangent singular, also for UMFPACK */
+  PS_NEWTON_SINGULAR = 4,      /* tangent singular, also for UMFPACK */
+  PS_NEWTON_STAGNATED = 5      /* line-search steps below PS_SMALL_STEP that
+                                  together cut the residual by < 10%, for
+                                  opts.max_small_steps iterations in a row */
 };
 
 /* relative round-off of the stored energy below which the line search
  * judges a step by the directional derivatives instead (newton.c) */
 #define PS_ENERGY_RESOLUTION 1e-10
+
+/* a line-search step below this counts towards stagnation (newton.c) */
+#define PS_SMALL_STEP 1e-2
 
 /* the loosest CG tolerance of the inexact Newton iteration */
 #define PS_CG_FORCING_MAX 1e-2
@@ -46,6 +52,10 @@ enum ps_newton_reason {
 typedef struct ps_solver_opts {
   double tolerance;       /* relative residual (default 1e-8) */
   int max_iterations;     /* per Newton solve (default 30) */
+  int max_small_steps;    /* a Newton solve fails as stagnated after this
+                             many line-search steps in a row below
+                             PS_SMALL_STEP that cut the residual by less
+                             than 10% together (0: never; default 5) */
   int line_search;        /* energy backtracking (default 1) */
   const ps_linsolve_type *linear; /* default CHOLMOD, UMFPACK as fallback */
   int reuse_factor;       /* 1 (default): solve each Newton system by CG

@@ -240,6 +240,8 @@ static void test_bad_cases(void) {
            (const char *const[]){"geometry.holes", "[cx, cy, R]", NULL});
   bad_case("bad_j.yaml", PS_ERR_INPUT, 3,
            (const char *const[]){"output.j_integral needs both tip", NULL});
+  bad_case("bad_small_steps.yaml", PS_ERR_INPUT, 3,
+           (const char *const[]){"solver.max_small_steps", NULL});
   bad_case("bad_griffith.yaml", PS_ERR_INPUT, 2,
            (const char *const[]){"griffith.denominators", "step", NULL});
 }

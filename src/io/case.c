@@ -1052,9 +1052,9 @@ static void fnv(uint64_t *h, const char *s) {
  * Cholesky step. 4: only settled states (no arm left past delta) set the
  * peak; path.stop_tip_advance. 5: CG truncated at negative curvature
  * (solver.cg_truncate) and Newton solves that stagnate
- * (solver.max_small_steps) change which solves near the plastic limit
- * load converge: in the paper's sweep c/1250 now fractures where version
- * 4 stalled. (CG settings, e.g. solver.cg_skip_arms, do not change
+ * (solver.max_small_steps) can change which solves near the plastic
+ * limit load converge (the paper's sweep, rerun: 11 of 12 sigma_f as in
+ * version 4, and c/1250 fractures where version 4 stalled). (CG settings, e.g. solver.cg_skip_arms, do not change
  * results beyond the Newton tolerance and are not counted.) */
 #define PS_ALGORITHM_VERSION 5
 

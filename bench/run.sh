@@ -132,9 +132,10 @@ run_case disk-small-fracture "$1" "$2" fracture cholmod true "$reps"
 run_case disk-small-fracture "$1" "$2" fracture cholmod false 1
 if [ "${BENCH_QUICK:-0}" != 1 ]; then
   run_case disk-5k-fracture 10 20 fracture cholmod true "$reps"
-  # what the inexact Newton and the matrix-free product (session 4) save:
-  # the same run with an exact CG tolerance and the assembled tangent
-  SOLVER_EXTRA="cg_forcing: 0, matrix_free: false" \
+  # what sessions 4-5 save in the linear solves: the same run with an
+  # exact CG tolerance, the assembled tangent, a double-precision
+  # preconditioner and no truncation of CG at negative curvature
+  SOLVER_EXTRA="cg_forcing: 0, matrix_free: false, cg_single_precision: false, cg_truncate: false" \
     run_case disk-5k-fracture-cg-exact 10 20 fracture cholmod true 1
 fi
 if [ "${BENCH_LARGE:-0}" = 1 ]; then

@@ -100,6 +100,14 @@ int main(void) {
          *zq = calloc((size_t)n, sizeof *zq);
   ps_check(ls[0].type->precondition != NULL, "cholmod has a single-precision preconditioner");
   if (ls[0].type->precondition) {
+    /* the first PS_SINGLE_AFTER calls after a factorisation solve in
+     * double: exactly the double solve */
+    double d0 = 0;
+    for (int i = 0; i < PS_SINGLE_AFTER; i++)
+      ls[0].type->precondition(ls[0].state, b, z, &ls[0].stats, &ctx);
+    for (ps_int k = 0; k < n; k++) d0 = fmax(d0, fabs(z[k] - x[0][k]));
+    ps_check(d0 == 0.0, "the first %d preconditioner solves are the double solve",
+             PS_SINGLE_AFTER);
     ls[0].type->precondition(ls[0].state, b, z, &ls[0].stats, &ctx);
     double num = 0, den = 0;
     for (ps_int k = 0; k < n; k++) {

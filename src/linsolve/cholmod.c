@@ -19,10 +19,14 @@ typedef struct {
                                times: no allocation per solve) */
   ps_int n;
   /* the supernodal factor's values rounded to single precision, for
-   * chol_precondition: made on its first use after each factorisation */
+   * chol_precondition: made once a factor has served PS_SINGLE_AFTER
+   * preconditioner solves (copying a factor costs a few of its solves,
+   * which a short CG, e.g. an elastic solve's 3 iterations, never earns
+   * back: at 80k particles 2.5 s against 0.5 s of CG) */
   float *Lf;
   size_t Lf_size;
   int Lf_current;
+  int n_precond; /* preconditioner solves with the current factor */
   double *y; /* the permuted vector (n) */
   float *t;  /* one supernode's rows of it (<= n) */
 } chol_state;
@@ -87,6 +91,7 @@ static int chol_factor(void *state, const ps_csc *A, ps_int *bad_col,
   *bad_col = -1;
   int ok = cholmod_l_factorize(&s->Ah, s->L, &s->c);
   s->Lf_current = 0;
+  s->n_precond = 0;
   st->t_factor += ps_wtime() - t;
   st->n_factor++;
   st->flops_factor = s->c.fl;
@@ -200,12 +205,14 @@ void sgemv_(const char *trans, const int *m, const int *n, const float *alpha,
  * iteration), so halving the bytes read is what makes them faster. The
  * preconditioner stays symmetric positive definite up to float round-off
  * (the same rounded L forward and backward), which CG tolerates.
- * Simplicial factors use chol_solve. */
+ * Simplicial factors, and the first PS_SINGLE_AFTER solves with a factor,
+ * use chol_solve. */
 static int chol_precondition(void *state, const double *b, double *x,
                              ps_linsolve_stats *st, ps_ctx *ctx) {
   chol_state *s = state;
   const cholmod_factor *L = s->L;
-  if (!L->is_super) return chol_solve(state, b, x, st, ctx);
+  if (!L->is_super || (!s->Lf_current && ++s->n_precond <= PS_SINGLE_AFTER))
+    return chol_solve(state, b, x, st, ctx);
   double t0 = ps_wtime();
   if (!s->Lf_current) PS_CHECK(make_single(s, ctx));
   const ps_int *super = L->super, *pi = L->pi, *px = L->px, *Ls = L->s, *perm = L->Perm;

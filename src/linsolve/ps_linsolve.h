@@ -16,6 +16,11 @@ typedef struct ps_linsolve_stats {
   double flops_factor;                 /* of the last factorisation */
 } ps_linsolve_stats;
 
+/* preconditioner solves with a factor before CHOLMOD's precondition
+ * switches to single precision (the copy of the factor is not worth it
+ * for fewer) */
+#define PS_SINGLE_AFTER 16
+
 typedef struct ps_linsolve_type {
   const char *name;
   int (*create)(void **state, ps_ctx *ctx);
@@ -34,7 +39,8 @@ typedef struct ps_linsolve_type {
                ps_ctx *ctx);
   /* x ~= A \ b with the last factor for preconditioning: a symmetric
    * positive definite approximation cheaper than solve (CHOLMOD: the
-   * factor's values in single precision). NULL: solve is used. */
+   * factor's values in single precision, from the (PS_SINGLE_AFTER+1)-th
+   * call after a factorisation on). NULL: solve is used. */
   int (*precondition)(void *state, const double *b, double *x, ps_linsolve_stats *st,
                       ps_ctx *ctx);
   void (*destroy)(void **state);

@@ -408,6 +408,7 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
     if (s->opts.max_small_steps > 0 && small_steps >= s->opts.max_small_steps &&
         rel > 0.9 * rel_before) {
       s->last_reason = PS_NEWTON_STAGNATED;
+      s->n_stagnated++;
       return PS_DIVERGED;
     }
     PS_CHECK(eval(s, s->u, s->f, &s->energy, 1, ctx));

@@ -141,6 +141,8 @@ typedef struct ps_solver {
   ps_int pre_failures;      /* CG with a fresh majorant factor that failed */
   ps_int pcg_truncated;     /* Newton directions from CG truncated at
                                negative curvature (opts.cg_truncate) */
+  ps_int n_stagnated;       /* Newton solves ended as stagnated
+                               (opts.max_small_steps) */
   unsigned char *arm_state_at_factor; /* [n_arm] yielding | 2 broken, when the
                                last factor was computed */
   double cg_rtol;           /* CG tolerance of the current Newton iteration */

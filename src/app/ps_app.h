@@ -54,6 +54,7 @@ typedef struct ps_run_result {
   ps_int shifted_steps;     /* Newton directions from a shifted tangent */
   ps_int cg_truncated;      /* from CG truncated at negative curvature */
   ps_int stagnated;         /* Newton solves ended as stagnated */
+  ps_int line_search_cuts;  /* backtracking steps of the line search */
   double t_majorant_factor, nnz_majorant_factor;
   double t_cg;              /* wall seconds in CG (products and
                                preconditioner solves) */

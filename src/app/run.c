@@ -368,6 +368,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
   res->shifted_steps = s.n_shifted;
   res->cg_truncated = s.pcg_truncated;
   res->stagnated = s.n_stagnated;
+  res->line_search_cuts = s.n_line_search_cuts;
   res->t_majorant_factor = s.ls_pre.stats.t_factor;
   res->nnz_majorant_factor = s.ls_pre.stats.nnz_factor;
   res->t_cg = s.t_pcg;
@@ -415,7 +416,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
             "cg_iterations: %lld\ncg_failures: %lld\ncg_skipped: %lld\nsolves: %lld\nnnz_tangent_upper: %.0f\n"
             "nnz_factor: %.0f\nflops_factor: %.4g\nmajorant_factorisations: %lld\n"
             "majorant_cg_failures: %lld\nmajorant_factor_s: %.3f\nmajorant_nnz_factor: %.0f\n"
-            "cg_s: %.3f\nshifted_steps: %lld\ncg_truncated: %lld\nnewton_stagnated: %lld\n"
+            "cg_s: %.3f\nshifted_steps: %lld\ncg_truncated: %lld\nnewton_stagnated: %lld\nline_search_cuts: %lld\n"
             "case_fingerprint: %016llx\n",
             cs->name, (long long)pb->P.n, (long long)pb->net.n_arm,
             (long long)s.sys.n_free, delta, mat.sigma_y, peak, peak / mat.sigma_y,
@@ -432,7 +433,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
             (long long)res->majorant_failures, res->t_majorant_factor,
             res->nnz_majorant_factor, res->t_cg,
             (long long)res->shifted_steps, (long long)res->cg_truncated,
-            (long long)res->stagnated,
+            (long long)res->stagnated, (long long)res->line_search_cuts,
             (unsigned long long)ps_case_fingerprint(cs));
     if (cs->n_j_rings > 0 && pb->P.dim == 2) { /* J of the final state, Eq. 39 */
       double *sig = malloc(4 * (size_t)pb->P.n * sizeof *sig);

@@ -33,6 +33,16 @@ static double dot_n(ps_int n, const double *a, const double *b) {
   return s;
 }
 
+/* |x - ref| / |ref| */
+static double rel_diff(ps_int n, const double *x, const double *ref) {
+  double num = 0, den = 0;
+  for (ps_int k = 0; k < n; k++) {
+    num += (x[k] - ref[k]) * (x[k] - ref[k]);
+    den += ref[k] * ref[k];
+  }
+  return sqrt(num / den);
+}
+
 int main(void) {
   ps_ctx ctx;
   ps_ctx_init(&ctx);
@@ -73,14 +83,9 @@ int main(void) {
     ps_check_le(rel_residual(A, x[t], b), 1e-10, types[t]->name);
   }
   for (int t = 1; t < 3; t++) {
-    double num = 0, den = 0;
-    for (ps_int k = 0; k < n; k++) {
-      num += (x[t][k] - x[0][k]) * (x[t][k] - x[0][k]);
-      den += x[0][k] * x[0][k];
-    }
     char what[96];
     snprintf(what, sizeof what, "%s agrees with cholmod (rel. difference)", types[t]->name);
-    ps_check_le(sqrt(num / den), 1e-9, what);
+    ps_check_le(rel_diff(n, x[t], x[0]), 1e-9, what);
   }
   /* CG with the exact factor: one iteration; with a perturbed matrix's
    * factor (diagonal scaled by 1.05): a few */
@@ -109,21 +114,13 @@ int main(void) {
     ps_check(d0 == 0.0, "the first %d preconditioner solves are the double solve",
              PS_SINGLE_AFTER);
     ls[0].type->precondition(ls[0].state, b, z, &ls[0].stats, &ctx);
-    double num = 0, den = 0;
-    for (ps_int k = 0; k < n; k++) {
-      num += (z[k] - x[0][k]) * (z[k] - x[0][k]);
-      den += x[0][k] * x[0][k];
-    }
-    ps_check(sqrt(num / den) > 1e-12 && sqrt(num / den) <= 1e-5,
+    double dz = rel_diff(n, z, x[0]);
+    ps_check(dz > 1e-12 && dz <= 1e-5,
              "single-precision preconditioner vs the double solve: rel. difference %.2e "
-             "in (1e-12, 1e-5]", sqrt(num / den));
+             "in (1e-12, 1e-5]", dz);
     for (ps_int k = 0; k < n; k++) q[k] = cos(1.3 * k);
     ls[0].type->precondition(ls[0].state, q, zq, &ls[0].stats, &ctx);
-    double bMq = 0, qMb = 0;
-    for (ps_int k = 0; k < n; k++) {
-      bMq += b[k] * zq[k];
-      qMb += q[k] * z[k];
-    }
+    double bMq = dot_n(n, b, zq), qMb = dot_n(n, q, z);
     ps_check_le(fabs(bMq - qMb) / fabs(bMq), 1e-5,
                 "single-precision preconditioner symmetric: |b.M^-1 q - q.M^-1 b| / |b.M^-1 q|");
     ls[0].single_precision = 1;
@@ -160,9 +157,8 @@ int main(void) {
     ps_csc_symv(A, v, w);
     lmin = dot_n(n, v, w); /* Rayleigh quotient, |v| = 1 */
     for (ps_int j = 0; j < n; j++) A->x[A->p[j + 1] - 1] -= 1.5 * lmin;
-    double bx = 0;
     s = ps_linsolve_pcg(&ls[0], &op, b, y, 1e-8, 50, work, &its, &ctx);
-    for (ps_int k = 0; k < n; k++) bx += b[k] * y[k];
+    double bx = dot_n(n, b, y);
     ps_check(s == PS_NOT_POSDEF && its >= 1 && bx > 0,
              "CG on A - 1.5 lambda_min I (lambda_min %.3g): negative curvature after %d "
              "iteration(s), descent b.x = %.3g > 0", lmin, its, bx);
@@ -178,10 +174,10 @@ int main(void) {
    * iterate is a descent direction (b.x > 0: the energy, whose gradient
    * is -b, decreases along x), for a load at the bad dof and a smooth one */
   for (int rhs = 0; rhs < 2; rhs++) {
-    double *bb = calloc((size_t)n, sizeof *bb), bx = 0;
+    double *bb = calloc((size_t)n, sizeof *bb);
     for (ps_int k = 0; k < n; k++) bb[k] = rhs ? b[k] * (k != jbad) : (k == jbad);
     s = ps_linsolve_pcg(&ls[0], &op, bb, y, 1e-8, 25, work, &its, &ctx);
-    for (ps_int k = 0; k < n; k++) bx += bb[k] * y[k];
+    double bx = dot_n(n, bb, y);
     ps_check(s == PS_NOT_POSDEF && bx > 0,
              "CG on an indefinite matrix (%s load): negative curvature after %d "
              "iteration(s), status %d, descent b.x = %.3g > 0",

@@ -17,6 +17,10 @@
 #include <sys/stat.h>
 #include <yaml.h>
 
+/* solver.max_small_steps by default; a case that sets another value gets
+ * another fingerprint (ps_case_fingerprint) */
+#define PS_CASE_MAX_SMALL_STEPS 5
+
 void ps_case_defaults(ps_case *cs) {
   memset(cs, 0, sizeof *cs);
   strcpy(cs->name, "case");
@@ -53,7 +57,7 @@ void ps_case_defaults(ps_case *cs) {
   strcpy(cs->linear, "cholmod");
   cs->tolerance = 1e-8;
   cs->max_iterations = 30;
-  cs->max_small_steps = 5;
+  cs->max_small_steps = PS_CASE_MAX_SMALL_STEPS;
   cs->line_search = 1;
   cs->reuse_factor = 1;
   cs->cg_tolerance = 1e-6;
@@ -1054,8 +1058,10 @@ static void fnv(uint64_t *h, const char *s) {
  * (solver.cg_truncate) and Newton solves that stagnate
  * (solver.max_small_steps) can change which solves near the plastic
  * limit load converge (the paper's sweep, rerun: 11 of 12 sigma_f as in
- * version 4, and c/1250 fractures where version 4 stalled). (CG settings, e.g. solver.cg_skip_arms, do not change
- * results beyond the Newton tolerance and are not counted.) */
+ * version 4, and c/1250 fractures where version 4 stalled). Other CG
+ * settings, e.g. solver.cg_skip_arms or cg_single_precision, do not change
+ * results beyond the Newton tolerance and are not counted; turning
+ * cg_truncate off is (it brings back version 4's route through UMFPACK). */
 #define PS_ALGORITHM_VERSION 5
 
 uint64_t ps_case_fingerprint(const ps_case *cs) {
@@ -1120,7 +1126,8 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
            cs->load_step_after_break, cs->max_load, cs->max_increments, cs->min_step,
            cs->stop_crack_tip, cs->stop_load_drop, cs->max_break_rounds);
   fnv(&h, b);
-  if (cs->max_small_steps != 5) { /* newer keys: only when not the default */
+  if (cs->max_small_steps != PS_CASE_MAX_SMALL_STEPS) { /* newer keys: only when not
+                                                         the default */
     snprintf(b, sizeof b, "small steps %d", cs->max_small_steps);
     fnv(&h, b);
   }

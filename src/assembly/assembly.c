@@ -494,20 +494,39 @@ static PS_ALWAYS_INLINE void apply_terms_dim(const ps_system *s, const double *x
       ya[k] -= kv;
     }
   }
-  for (ps_int c = 0; c < net->n_particle; c++)
-    for (int term = 0; term < 2; term++) {
-      ps_int m;
-      const ps_int *M;
-      const double *g;
-      double cc = family_term(s, c, term, &m, &M, &g);
-      if (cc == 0.0) continue;
-      double gx = 0.0;
+  for (ps_int c = 0; c < net->n_particle; c++) {
+    ps_int m;
+    const ps_int *M;
+    const double *g = NULL, *h = NULL;
+    double cc = family_term(s, c, 0, &m, &M, &g), ch = family_term(s, c, 1, &m, &M, &h);
+    if (cc != 0.0 && ch != 0.0) {
+      /* both terms in one pass over the members: x and y are read and
+       * written once (the family terms are most of the product) */
+      double gx = 0.0, hx = 0.0;
       for (ps_int p = 0; p < m; p++)
-        for (int k = 0; k < d; k++) gx += g[p * d + k] * x[M[p] * d + k];
+        for (int k = 0; k < d; k++) {
+          double xv = x[M[p] * d + k];
+          gx += g[p * d + k] * xv;
+          hx += h[p * d + k] * xv;
+        }
       gx *= cc;
+      hx *= ch;
       for (ps_int p = 0; p < m; p++)
-        for (int k = 0; k < d; k++) y[M[p] * d + k] += gx * g[p * d + k];
+        for (int k = 0; k < d; k++) y[M[p] * d + k] += gx * g[p * d + k] + hx * h[p * d + k];
+      continue;
     }
+    if (ch != 0.0) {
+      cc = ch;
+      g = h;
+    }
+    if (cc == 0.0) continue;
+    double gx = 0.0;
+    for (ps_int p = 0; p < m; p++)
+      for (int k = 0; k < d; k++) gx += g[p * d + k] * x[M[p] * d + k];
+    gx *= cc;
+    for (ps_int p = 0; p < m; p++)
+      for (int k = 0; k < d; k++) y[M[p] * d + k] += gx * g[p * d + k];
+  }
 }
 
 static void apply_terms(const ps_system *s, const double *x, double *y) {

@@ -9,6 +9,7 @@
 #include <cholmod.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 typedef struct {
   cholmod_common c;
@@ -18,17 +19,21 @@ typedef struct {
                                kept between solves (CG solves thousands of
                                times: no allocation per solve) */
   ps_int n;
-  /* the supernodal factor's values rounded to single precision, for
-   * chol_precondition: made once a factor has served PS_SINGLE_AFTER
-   * preconditioner solves (copying a factor costs a few of its solves,
+  /* the supernodal factor's blocks with their diagonal blocks inverted
+   * (make_single), in single precision, for chol_precondition: made once
+   * a factor has served PS_SINGLE_AFTER preconditioner solves (making
+   * them costs a few of the factor's solves,
    * which a short CG, e.g. an elastic solve's 3 iterations, never earns
    * back: at 80k particles 2.5 s against 0.5 s of CG) */
   float *Lf;
   size_t Lf_size;
-  int Lf_current;
+  int Lf_current; /* 1: Lf is of the current factor; 0: not made yet; -1:
+                    not usable (make_single) */
   int n_precond; /* preconditioner solves with the current factor */
   double *y; /* the permuted vector (n) */
-  float *t;  /* one supernode's rows of it (<= n) */
+  float *t, *u; /* one supernode's rows of it and its columns (<= n) */
+  double *w; /* one supernode's block while make_single inverts it */
+  size_t w_size;
 } chol_state;
 
 static int create(void **state, int supernodal, ps_ctx *ctx) {
@@ -166,83 +171,119 @@ static int chol_solve(void *state, const double *b, double *x,
   return PS_OK;
 }
 
-/* Makes s->Lf, s->y, s->t for the current supernodal factor. PS_OK or
- * PS_ERR_NOMEM. */
+/* BLAS and LAPACK (OpenBLAS; 32-bit integers, as CHOLMOD's own calls) */
+void sgemv_(const char *trans, const int *m, const int *n, const float *alpha,
+            const float *a, const int *lda, const float *x, const int *incx,
+            const float *beta, float *y, const int *incy);
+void dtrsm_(const char *side, const char *uplo, const char *transa, const char *diag,
+            const int *m, const int *n, const double *alpha, const double *a,
+            const int *lda, double *b, const int *ldb);
+void dtrtri_(const char *uplo, const char *diag, const int *n, double *a, const int *lda,
+             int *info);
+
+/* Makes s->Lf, s->y, s->t, s->u for the current supernodal factor: each
+ * supernode's block [L_d; L_b] (nr x nc, column-major, its diagonal block
+ * L_d first) becomes W = [L_d^-1; L_b L_d^-1] (computed in double, the
+ * upper triangle of the top block zero), rounded to float. PS_OK,
+ * PS_ERR_NOMEM, or PS_SINGULAR (a diagonal block is singular: the
+ * factor's solves stay in double). */
 static int make_single(chol_state *s, ps_ctx *ctx) {
   const cholmod_factor *L = s->L;
-  if (L->xsize > s->Lf_size || !s->y) {
+  const ps_int *super = L->super, *pi = L->pi, *px = L->px;
+  size_t wmax = 0; /* the largest supernode block */
+  for (size_t sn = 0; sn < L->nsuper; sn++)
+    if ((size_t)(px[sn + 1] - px[sn]) > wmax) wmax = (size_t)(px[sn + 1] - px[sn]);
+  if (L->xsize > s->Lf_size || wmax > s->w_size || !s->y) {
     free(s->Lf);
     free(s->y);
     free(s->t);
-    s->Lf_size = 0;
+    free(s->u);
+    free(s->w);
+    s->Lf_size = s->w_size = 0;
     s->Lf = ps_calloc(L->xsize, sizeof *s->Lf, ctx);
     s->y = ps_calloc((size_t)s->n, sizeof *s->y, ctx);
     s->t = ps_calloc((size_t)s->n, sizeof *s->t, ctx); /* >= any supernode's rows */
-    if (!s->Lf || !s->y || !s->t) return PS_ERR_NOMEM;
+    s->u = ps_calloc((size_t)s->n, sizeof *s->u, ctx);
+    s->w = ps_calloc(wmax, sizeof *s->w, ctx);
+    if (!s->Lf || !s->y || !s->t || !s->u || !s->w) return PS_ERR_NOMEM;
     s->Lf_size = L->xsize;
+    s->w_size = wmax;
   }
   const double *Lx = L->x;
-  for (size_t k = 0; k < L->xsize; k++) s->Lf[k] = (float)Lx[k];
+  const double d_one = 1.0;
+  for (size_t sn = 0; sn < L->nsuper; sn++) {
+    int nc = (int)(super[sn + 1] - super[sn]), nr = (int)(pi[sn + 1] - pi[sn]), m = nr - nc;
+    double *w = s->w;
+    memcpy(w, Lx + px[sn], (size_t)nr * (size_t)nc * sizeof *w);
+    for (int j = 1; j < nc; j++) /* CHOLMOD leaves the upper triangle unused */
+      for (int i = 0; i < j; i++) w[(size_t)j * nr + i] = 0.0;
+    /* W_b = L_b L_d^-1 first (it needs L_d), then L_d^-1 in place */
+    if (m > 0) dtrsm_("R", "L", "N", "N", &m, &nc, &d_one, w, &nr, w + nc, &nr);
+    int info = 0;
+    dtrtri_("L", "N", &nc, w, &nr, &info);
+    if (info != 0) { /* not after a successful factorisation (L_jj > 0) */
+      s->Lf_current = -1;
+      return PS_SINGULAR;
+    }
+    float *f = s->Lf + px[sn];
+    for (size_t k = 0; k < (size_t)nr * (size_t)nc; k++) f[k] = (float)w[k];
+  }
   s->Lf_current = 1;
   return PS_OK;
 }
 
-/* Fortran BLAS in single precision (OpenBLAS; 32-bit integers, as
- * CHOLMOD's own calls) */
-void strsv_(const char *uplo, const char *trans, const char *diag, const int *n,
-            const float *a, const int *lda, float *x, const int *incx);
-void sgemv_(const char *trans, const int *m, const int *n, const float *alpha,
-            const float *a, const int *lda, const float *x, const int *incx,
-            const float *beta, float *y, const int *incy);
-
 /* x ~= A \ b in single precision: x = P^T L^-T L^-1 P b, supernode by
  * supernode as CHOLMOD's own solve (each supernode a dense column-major
- * block of nr rows, its nc columns first: a triangular solve with the
- * diagonal block and a product with the rows below), with the factor's
- * values and each supernode's part of the vector rounded to float; the
+ * block of nr rows, its nc columns first), with the blocks of make_single,
+ * W = [L_d^-1; L_b L_d^-1] in float, so that each supernode is one matrix-
+ * vector product forward (t = W y_c: the solved y_c and the update of the
+ * rows below) and one backward (x_c = W^T [y_c; -x_below]) instead of a
+ * triangular solve and a product (OpenBLAS's strsv works column by column
+ * in BLAS-1 calls: slower than the product with the whole block). The
  * permuted vector itself is kept in double. The triangular solves of a CG
  * preconditioner are bound by memory bandwidth (L is read twice per
  * iteration), so halving the bytes read is what makes them faster. The
- * preconditioner stays symmetric positive definite up to float round-off
- * (the same rounded L forward and backward), which CG tolerates.
+ * preconditioner is symmetric positive definite up to float round-off
+ * (the same W forward and, transposed, backward), which CG tolerates.
  * Simplicial factors, and the first PS_SINGLE_AFTER solves with a factor,
  * use chol_solve. */
 static int chol_precondition(void *state, const double *b, double *x,
                              ps_linsolve_stats *st, ps_ctx *ctx) {
   chol_state *s = state;
   const cholmod_factor *L = s->L;
-  if (!L->is_super || (!s->Lf_current && ++s->n_precond <= PS_SINGLE_AFTER))
+  if (!L->is_super || s->Lf_current < 0 ||
+      (!s->Lf_current && ++s->n_precond <= PS_SINGLE_AFTER))
     return chol_solve(state, b, x, st, ctx);
   double t0 = ps_wtime();
-  if (!s->Lf_current) PS_CHECK(make_single(s, ctx));
+  if (!s->Lf_current) {
+    int status = make_single(s, ctx);
+    if (status < 0) return status;
+    if (status > 0) return chol_solve(state, b, x, st, ctx);
+  }
   const ps_int *super = L->super, *pi = L->pi, *px = L->px, *Ls = L->s, *perm = L->Perm;
   ps_int nsuper = (ps_int)L->nsuper, n = s->n;
   double *y = s->y;
-  float *t = s->t;
+  float *t = s->t, *u = s->u;
   const int one = 1;
-  const float f_one = 1.0f, f_zero = 0.0f, f_minus_one = -1.0f;
+  const float f_one = 1.0f, f_zero = 0.0f;
   for (ps_int k = 0; k < n; k++) y[k] = b[perm ? perm[k] : k];
   for (ps_int sn = 0; sn < nsuper; sn++) { /* L y = P b */
     ps_int k1 = super[sn];
-    int nc = (int)(super[sn + 1] - k1), nr = (int)(pi[sn + 1] - pi[sn]), m = nr - nc;
-    const float *Lx = s->Lf + px[sn];
+    int nc = (int)(super[sn + 1] - k1), nr = (int)(pi[sn + 1] - pi[sn]);
     const ps_int *rows = Ls + pi[sn];
-    for (int i = 0; i < nc; i++) t[i] = (float)y[k1 + i];
-    strsv_("L", "N", "N", &nc, Lx, &nr, t, &one);
-    if (m > 0) sgemv_("N", &m, &nc, &f_minus_one, Lx + nc, &nr, t, &one, &f_zero, t + nc, &one);
+    for (int i = 0; i < nc; i++) u[i] = (float)y[k1 + i];
+    sgemv_("N", &nr, &nc, &f_one, s->Lf + px[sn], &nr, u, &one, &f_zero, t, &one);
     for (int i = 0; i < nc; i++) y[k1 + i] = t[i];
-    for (int i = nc; i < nr; i++) y[rows[i]] += t[i];
+    for (int i = nc; i < nr; i++) y[rows[i]] -= t[i];
   }
   for (ps_int sn = nsuper - 1; sn >= 0; sn--) { /* L^T x = y */
     ps_int k1 = super[sn];
-    int nc = (int)(super[sn + 1] - k1), nr = (int)(pi[sn + 1] - pi[sn]), m = nr - nc;
-    const float *Lx = s->Lf + px[sn];
+    int nc = (int)(super[sn + 1] - k1), nr = (int)(pi[sn + 1] - pi[sn]);
     const ps_int *rows = Ls + pi[sn];
     for (int i = 0; i < nc; i++) t[i] = (float)y[k1 + i];
-    for (int i = nc; i < nr; i++) t[i] = (float)y[rows[i]];
-    if (m > 0) sgemv_("T", &m, &nc, &f_minus_one, Lx + nc, &nr, t + nc, &one, &f_one, t, &one);
-    strsv_("L", "T", "N", &nc, Lx, &nr, t, &one);
-    for (int i = 0; i < nc; i++) y[k1 + i] = t[i];
+    for (int i = nc; i < nr; i++) t[i] = -(float)y[rows[i]];
+    sgemv_("T", &nr, &nc, &f_one, s->Lf + px[sn], &nr, t, &one, &f_zero, u, &one);
+    for (int i = 0; i < nc; i++) y[k1 + i] = u[i];
   }
   for (ps_int k = 0; k < n; k++) x[perm ? perm[k] : k] = y[k];
   st->t_solve += ps_wtime() - t0;
@@ -261,6 +302,8 @@ static void chol_destroy(void **state) {
   free(s->Lf);
   free(s->y);
   free(s->t);
+  free(s->u);
+  free(s->w);
   free(s);
   *state = NULL;
 }

@@ -20,16 +20,16 @@ typedef struct {
                                times: no allocation per solve) */
   ps_int n;
   /* the supernodal factor's blocks with their diagonal blocks inverted
-   * (make_single), in single precision, for chol_precondition: made once
-   * a factor has served PS_SINGLE_AFTER preconditioner solves (making
-   * them costs a few of the factor's solves,
+   * (make_single), in single precision, for chol_precondition: made on its
+   * first call after a factorisation (ps_linsolve_precondition calls it
+   * once the factor has served ps_linsolve.single_after solves: making
+   * the copy costs a few of the factor's solves,
    * which a short CG, e.g. an elastic solve's 3 iterations, never earns
    * back: at 80k particles 2.5 s against 0.5 s of CG) */
   float *Lf;
   size_t Lf_size;
   int Lf_current; /* 1: Lf is of the current factor; 0: not made yet; -1:
                     not usable (make_single) */
-  int n_precond; /* preconditioner solves with the current factor */
   double *y; /* the permuted vector (n) */
   float *t, *u; /* one supernode's rows of it and its columns (<= n) */
   double *w; /* one supernode's block while make_single inverts it */
@@ -96,7 +96,6 @@ static int chol_factor(void *state, const ps_csc *A, ps_int *bad_col,
   *bad_col = -1;
   int ok = cholmod_l_factorize(&s->Ah, s->L, &s->c);
   s->Lf_current = 0;
-  s->n_precond = 0;
   st->t_factor += ps_wtime() - t;
   st->n_factor++;
   st->flops_factor = s->c.fl;
@@ -171,20 +170,30 @@ static int chol_solve(void *state, const double *b, double *x,
   return PS_OK;
 }
 
+/* supernodes of at most this many columns have their diagonal block
+ * inverted for the single-precision solve (make_single); wider ones, few
+ * and large, keep L: strsv is blocked and efficient there, and inverting
+ * them doubled the cost of making the float copy of the two-horizon factor
+ * at 20k (0.38 -> 0.76 s) for no faster CG */
+#define PS_INVERT_MAX_COLUMNS 64
+
 /* BLAS and LAPACK (OpenBLAS; 32-bit integers, as CHOLMOD's own calls) */
 void sgemv_(const char *trans, const int *m, const int *n, const float *alpha,
             const float *a, const int *lda, const float *x, const int *incx,
             const float *beta, float *y, const int *incy);
+void strsv_(const char *uplo, const char *trans, const char *diag, const int *n,
+            const float *a, const int *lda, float *x, const int *incx);
 void dtrsm_(const char *side, const char *uplo, const char *transa, const char *diag,
             const int *m, const int *n, const double *alpha, const double *a,
             const int *lda, double *b, const int *ldb);
 void dtrtri_(const char *uplo, const char *diag, const int *n, double *a, const int *lda,
              int *info);
 
-/* Makes s->Lf, s->y, s->t, s->u for the current supernodal factor: each
- * supernode's block [L_d; L_b] (nr x nc, column-major, its diagonal block
- * L_d first) becomes W = [L_d^-1; L_b L_d^-1] (computed in double, the
- * upper triangle of the top block zero), rounded to float. PS_OK,
+/* Makes s->Lf, s->y, s->t, s->u for the current supernodal factor: the
+ * block [L_d; L_b] of each supernode of at most PS_INVERT_MAX_COLUMNS
+ * columns (nr x nc, column-major, its diagonal block L_d first) becomes
+ * W = [L_d^-1; L_b L_d^-1] (computed in double, the upper triangle of the
+ * top block zero), rounded to float; wider blocks are L rounded. PS_OK,
  * PS_ERR_NOMEM, or PS_SINGULAR (a diagonal block is singular: the
  * factor's solves stay in double). */
 static int make_single(chol_state *s, ps_ctx *ctx) {
@@ -213,6 +222,12 @@ static int make_single(chol_state *s, ps_ctx *ctx) {
   const double d_one = 1.0;
   for (size_t sn = 0; sn < L->nsuper; sn++) {
     int nc = (int)(super[sn + 1] - super[sn]), nr = (int)(pi[sn + 1] - pi[sn]), m = nr - nc;
+    float *f = s->Lf + px[sn];
+    if (nc > PS_INVERT_MAX_COLUMNS) { /* wide: kept as L, solved by strsv */
+      const double *l = Lx + px[sn];
+      for (size_t k = 0; k < (size_t)nr * (size_t)nc; k++) f[k] = (float)l[k];
+      continue;
+    }
     double *w = s->w;
     memcpy(w, Lx + px[sn], (size_t)nr * (size_t)nc * sizeof *w);
     for (int j = 1; j < nc; j++) /* CHOLMOD leaves the upper triangle unused */
@@ -225,7 +240,6 @@ static int make_single(chol_state *s, ps_ctx *ctx) {
       s->Lf_current = -1;
       return PS_SINGULAR;
     }
-    float *f = s->Lf + px[sn];
     for (size_t k = 0; k < (size_t)nr * (size_t)nc; k++) f[k] = (float)w[k];
   }
   s->Lf_current = 1;
@@ -235,25 +249,23 @@ static int make_single(chol_state *s, ps_ctx *ctx) {
 /* x ~= A \ b in single precision: x = P^T L^-T L^-1 P b, supernode by
  * supernode as CHOLMOD's own solve (each supernode a dense column-major
  * block of nr rows, its nc columns first), with the blocks of make_single,
- * W = [L_d^-1; L_b L_d^-1] in float, so that each supernode is one matrix-
- * vector product forward (t = W y_c: the solved y_c and the update of the
- * rows below) and one backward (x_c = W^T [y_c; -x_below]) instead of a
- * triangular solve and a product (OpenBLAS's strsv works column by column
- * in BLAS-1 calls: slower than the product with the whole block). The
+ * W = [L_d^-1; L_b L_d^-1] in float, so that each narrow supernode is one
+ * matrix-vector product forward (t = W y_c: the solved y_c and the update
+ * of the rows below) and one backward (x_c = W^T [y_c; -x_below]) instead
+ * of a triangular solve and a product (OpenBLAS's strsv of a few columns
+ * goes column by column in BLAS-1 calls: slower than the product with the
+ * whole block); wide supernodes use strsv and sgemv with L. The
  * permuted vector itself is kept in double. The triangular solves of a CG
  * preconditioner are bound by memory bandwidth (L is read twice per
  * iteration), so halving the bytes read is what makes them faster. The
  * preconditioner is symmetric positive definite up to float round-off
  * (the same W forward and, transposed, backward), which CG tolerates.
- * Simplicial factors, and the first PS_SINGLE_AFTER solves with a factor,
- * use chol_solve. */
+ * Simplicial factors use chol_solve. */
 static int chol_precondition(void *state, const double *b, double *x,
                              ps_linsolve_stats *st, ps_ctx *ctx) {
   chol_state *s = state;
   const cholmod_factor *L = s->L;
-  if (!L->is_super || s->Lf_current < 0 ||
-      (!s->Lf_current && ++s->n_precond <= PS_SINGLE_AFTER))
-    return chol_solve(state, b, x, st, ctx);
+  if (!L->is_super || s->Lf_current < 0) return chol_solve(state, b, x, st, ctx);
   double t0 = ps_wtime();
   if (!s->Lf_current) {
     int status = make_single(s, ctx);
@@ -271,8 +283,16 @@ static int chol_precondition(void *state, const double *b, double *x,
     ps_int k1 = super[sn];
     int nc = (int)(super[sn + 1] - k1), nr = (int)(pi[sn + 1] - pi[sn]);
     const ps_int *rows = Ls + pi[sn];
-    for (int i = 0; i < nc; i++) u[i] = (float)y[k1 + i];
-    sgemv_("N", &nr, &nc, &f_one, s->Lf + px[sn], &nr, u, &one, &f_zero, t, &one);
+    const float *W = s->Lf + px[sn];
+    if (nc > PS_INVERT_MAX_COLUMNS) { /* L_d y_c = ..., t_b = L_b y_c */
+      int m = nr - nc;
+      for (int i = 0; i < nc; i++) t[i] = (float)y[k1 + i];
+      strsv_("L", "N", "N", &nc, W, &nr, t, &one);
+      if (m > 0) sgemv_("N", &m, &nc, &f_one, W + nc, &nr, t, &one, &f_zero, t + nc, &one);
+    } else { /* t = W y_c */
+      for (int i = 0; i < nc; i++) u[i] = (float)y[k1 + i];
+      sgemv_("N", &nr, &nc, &f_one, W, &nr, u, &one, &f_zero, t, &one);
+    }
     for (int i = 0; i < nc; i++) y[k1 + i] = t[i];
     for (int i = nc; i < nr; i++) y[rows[i]] -= t[i];
   }
@@ -280,10 +300,18 @@ static int chol_precondition(void *state, const double *b, double *x,
     ps_int k1 = super[sn];
     int nc = (int)(super[sn + 1] - k1), nr = (int)(pi[sn + 1] - pi[sn]);
     const ps_int *rows = Ls + pi[sn];
+    const float *W = s->Lf + px[sn];
     for (int i = 0; i < nc; i++) t[i] = (float)y[k1 + i];
     for (int i = nc; i < nr; i++) t[i] = -(float)y[rows[i]];
-    sgemv_("T", &nr, &nc, &f_one, s->Lf + px[sn], &nr, t, &one, &f_zero, u, &one);
-    for (int i = 0; i < nc; i++) y[k1 + i] = u[i];
+    if (nc > PS_INVERT_MAX_COLUMNS) { /* L_d^T x_c = y_c - L_b^T x_b */
+      int m = nr - nc;
+      if (m > 0) sgemv_("T", &m, &nc, &f_one, W + nc, &nr, t + nc, &one, &f_one, t, &one);
+      strsv_("L", "T", "N", &nc, W, &nr, t, &one);
+      for (int i = 0; i < nc; i++) y[k1 + i] = t[i];
+    } else { /* x_c = W^T [y_c; -x_b] */
+      sgemv_("T", &nr, &nc, &f_one, W, &nr, t, &one, &f_zero, u, &one);
+      for (int i = 0; i < nc; i++) y[k1 + i] = u[i];
+    }
   }
   for (ps_int k = 0; k < n; k++) x[perm ? perm[k] : k] = y[k];
   st->t_solve += ps_wtime() - t0;

@@ -16,6 +16,7 @@ int ps_linsolve_create(ps_linsolve *ls, const ps_linsolve_type *type,
                        ps_ctx *ctx) {
   memset(ls, 0, sizeof *ls);
   ls->type = type;
+  ls->single_after = PS_SINGLE_AFTER;
   return type->create(&ls->state, ctx);
 }
 
@@ -30,6 +31,7 @@ int ps_linsolve_factor(ps_linsolve *ls, const ps_csc *A, ps_int *bad_col,
     PS_CHECK(ls->type->analyze(ls->state, A, &ls->stats, ctx));
     ls->analysed = 1;
   }
+  ls->n_since_factor = 0;
   return ls->type->factor(ls->state, A, bad_col, &ls->stats, ctx);
 }
 
@@ -61,9 +63,8 @@ ps_operator ps_csc_operator(const ps_csc *A) {
   return op;
 }
 
-/* z = M^-1 r for CG: the backend's cheaper precondition when asked for */
-static int precondition(ps_linsolve *M, const double *r, double *z, ps_ctx *ctx) {
-  if (M->single_precision && M->type->precondition)
+int ps_linsolve_precondition(ps_linsolve *M, const double *r, double *z, ps_ctx *ctx) {
+  if (M->single_precision && M->type->precondition && ++M->n_since_factor > M->single_after)
     return M->type->precondition(M->state, r, z, &M->stats, ctx);
   return ps_linsolve_solve(M, r, z, ctx);
 }
@@ -84,7 +85,7 @@ int ps_linsolve_pcg(ps_linsolve *M, const ps_operator *A, const double *b,
   memset(x, 0, (size_t)n * sizeof *x);
   if (bnorm == 0.0) return PS_OK;
   memcpy(r, b, (size_t)n * sizeof *r);
-  PS_CHECK(precondition(M, r, z, ctx)); /* z = M^-1 r */
+  PS_CHECK(ps_linsolve_precondition(M, r, z, ctx)); /* z = M^-1 r */
   memcpy(p, z, (size_t)n * sizeof *p);
   double rz = dot(n, r, z);
   for (int it = 1; it <= maxit; it++) {
@@ -102,7 +103,7 @@ int ps_linsolve_pcg(ps_linsolve *M, const ps_operator *A, const double *b,
     }
     *its = it;
     if (sqrt(dot(n, r, r)) <= rtol * bnorm) return PS_OK;
-    PS_CHECK(precondition(M, r, z, ctx));
+    PS_CHECK(ps_linsolve_precondition(M, r, z, ctx));
     double rz1 = dot(n, r, z), beta = rz1 / rz;
     rz = rz1;
     for (ps_int k = 0; k < n; k++) p[k] = z[k] + beta * p[k];

@@ -16,9 +16,9 @@ typedef struct ps_linsolve_stats {
   double flops_factor;                 /* of the last factorisation */
 } ps_linsolve_stats;
 
-/* preconditioner solves with a factor before CHOLMOD's precondition
- * switches to single precision (the copy of the factor is not worth it
- * for fewer) */
+/* default of ps_linsolve.single_after: preconditioner solves with a
+ * factor in double before the backend's precondition takes over (making
+ * CHOLMOD's single-precision copy is not worth it for fewer) */
 #define PS_SINGLE_AFTER 16
 
 typedef struct ps_linsolve_type {
@@ -39,8 +39,8 @@ typedef struct ps_linsolve_type {
                ps_ctx *ctx);
   /* x ~= A \ b with the last factor for preconditioning: a symmetric
    * positive definite approximation cheaper than solve (CHOLMOD: the
-   * factor's values in single precision, from the (PS_SINGLE_AFTER+1)-th
-   * call after a factorisation on). NULL: solve is used. */
+   * factor in single precision, made on the first call after a
+   * factorisation). NULL: solve is used. */
   int (*precondition)(void *state, const double *b, double *x, ps_linsolve_stats *st,
                       ps_ctx *ctx);
   void (*destroy)(void **state);
@@ -60,8 +60,11 @@ typedef struct ps_linsolve {
   int analysed;
   int reanalyze;            /* 1: symbolic analysis before every factor
                                (for comparison only; default 0) */
-  int single_precision;     /* 1: ps_linsolve_pcg preconditions with the
+  int single_precision;     /* 1: ps_linsolve_precondition uses the
                                backend's precondition (default 0) */
+  int single_after;         /* ... after this many solves with a factor
+                               (default PS_SINGLE_AFTER) */
+  int n_since_factor;       /* preconditioner solves with the last factor */
   ps_linsolve_stats stats;
 } ps_linsolve;
 
@@ -75,6 +78,10 @@ int ps_linsolve_factor(ps_linsolve *ls, const ps_csc *A, ps_int *bad_col,
 /* x = A \ b with the last factor. */
 int ps_linsolve_solve(ps_linsolve *ls, const double *b, double *x,
                       ps_ctx *ctx);
+/* x ~= A \ b for CG: the backend's precondition when ls->single_precision
+ * and ls->single_after solves with the last factor were made, else
+ * ps_linsolve_solve. Statuses as ->solve. */
+int ps_linsolve_precondition(ps_linsolve *ls, const double *b, double *x, ps_ctx *ctx);
 
 /* y = A x for a symmetric A stored as one triangle (upper or lower). */
 void ps_csc_symv(const ps_csc *A, const double *x, double *y);

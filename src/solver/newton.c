@@ -173,6 +173,11 @@ int ps_solver_create(ps_solver *s, const ps_particles *P,
     PS_CHECK_GOTO(ps_system_create_pattern(&s->sys_pre, net, fixed, 0, ctx));
     PS_CHECK_GOTO(ps_linsolve_create(&s->ls_pre, ps_linsolve_cholmod, ctx));
     s->ls_pre.single_precision = opts->cg_single_precision;
+    /* a majorant is factored when CG has failed, for the Newton systems
+     * that follow (~240 CG iterations per factor in the paper's sweep):
+     * its float copy (0.06 s at 20k, ~6 CG iterations) pays from the
+     * first solve, unlike the two-horizon factor of an elastic solve */
+    s->ls_pre.single_after = 0;
   }
   ps_int nf = s->sys.n_free;
   s->u = ps_calloc((size_t)nd, sizeof *s->u, ctx);
@@ -281,11 +286,18 @@ static int solve_by_majorant(ps_solver *s, ps_ctx *ctx) {
  * Returns PS_OK, PS_SINGULAR, or fatal. */
 static int solve_tangent(ps_solver *s, ps_ctx *ctx) {
   if (s->opts.reuse_factor && s->have_factor) {
-    /* CG pays while its iterations cost less than a factorisation: cap
-     * them at (mean factorisation time) / (mean CG iteration time) */
+    /* When a failed CG is followed by a factorisation of the tangent
+     * itself, CG pays while its iterations cost less than that
+     * factorisation: cap them at (mean factorisation time) / (mean CG
+     * iteration time). Not when a fresh majorant follows (opts.majorant):
+     * CG with it needs about as many iterations as with an old factor
+     * (12.9 against 13.0 per solve at 5k), so giving up early only adds
+     * factorisations; with faster factorisations the cap fell to ~14 at
+     * 20k and the runs near the plastic limit factored the majorant 3x
+     * as often (c/750: 94 -> 349, 194 -> 293 s). */
     int maxit = s->opts.pcg_max_iterations;
     const ps_linsolve_stats *ls = &s->ls_last->stats;
-    if (s->pcg_iterations > 0 && ls->n_factor > 0) {
+    if (!s->sys_pre.net && s->pcg_iterations > 0 && ls->n_factor > 0) {
       double t_it = s->t_pcg / (double)s->pcg_iterations;
       double t_fac = ls->t_factor / (double)ls->n_factor;
       double cap = t_fac / t_it;

@@ -1058,11 +1058,14 @@ static void fnv(uint64_t *h, const char *s) {
  * (solver.cg_truncate) and Newton solves that stagnate
  * (solver.max_small_steps) can change which solves near the plastic
  * limit load converge (the paper's sweep, rerun: 11 of 12 sigma_f as in
- * version 4, and c/1250 fractures where version 4 stalled). Other CG
+ * version 4, and c/1250 fractures where version 4 stalled). 6: after a
+ * failed increment the fresh factor is the majorant's, not the tangent's,
+ * which changes where runs near the plastic limit stall (c/500: at 1.535
+ * in a breaking round instead of 1.53438 in Newton). Other CG
  * settings, e.g. solver.cg_skip_arms or cg_single_precision, do not change
  * results beyond the Newton tolerance and are not counted; turning
  * cg_truncate off is (it brings back version 4's route through UMFPACK). */
-#define PS_ALGORITHM_VERSION 5
+#define PS_ALGORITHM_VERSION 6
 
 uint64_t ps_case_fingerprint(const ps_case *cs) {
   uint64_t h = 1469598103934665603ULL;

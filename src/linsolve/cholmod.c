@@ -284,7 +284,7 @@ static int chol_precondition(void *state, const double *b, double *x,
     int nc = (int)(super[sn + 1] - k1), nr = (int)(pi[sn + 1] - pi[sn]);
     const ps_int *rows = Ls + pi[sn];
     const float *W = s->Lf + px[sn];
-    if (nc > PS_INVERT_MAX_COLUMNS) { /* L_d y_c = ..., t_b = L_b y_c */
+    if (nc > PS_INVERT_MAX_COLUMNS) { /* t_c = L_d^-1 y_c (strsv), t_b = L_b t_c */
       int m = nr - nc;
       for (int i = 0; i < nc; i++) t[i] = (float)y[k1 + i];
       strsv_("L", "N", "N", &nc, W, &nr, t, &one);

@@ -250,11 +250,6 @@ static int truncated(ps_solver *s, int status, int its, const char *with, ps_ctx
   return 1;
 }
 
-/* du = K_ff^-1 rhs by CG preconditioned with a fresh factor of the
- * one-horizon majorant of the tangent (opts.majorant), capped at
- * pcg_max_iterations. Returns PS_OK (the majorant's factor becomes the
- * one CG reuses), PS_DIVERGED when the majorant is not positive
- * definite or CG does not converge (the caller factors K), or fatal. */
 /* Factor the one-horizon majorant of the tangent of the last evaluation
  * (opts.majorant). Returns PS_OK, PS_DIVERGED (not positive definite), or
  * fatal. */
@@ -270,6 +265,11 @@ static int factor_majorant(ps_solver *s, ps_ctx *ctx) {
   return PS_OK;
 }
 
+/* du = K_ff^-1 rhs by CG preconditioned with a fresh factor of the
+ * one-horizon majorant of the tangent (opts.majorant), capped at
+ * pcg_max_iterations. Returns PS_OK (the majorant's factor becomes the
+ * one CG reuses), PS_DIVERGED when the majorant is not positive
+ * definite or CG does not converge (the caller factors K), or fatal. */
 static int solve_by_majorant(ps_solver *s, ps_ctx *ctx) {
   int status = factor_majorant(s, ctx);
   if (status != PS_OK) return status;

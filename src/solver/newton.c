@@ -251,7 +251,8 @@ static int truncated(ps_solver *s, int status, int its, const char *with, ps_ctx
 }
 
 /* Factor the one-horizon majorant of the tangent of the last evaluation
- * (opts.majorant). Returns PS_OK, PS_DIVERGED (not positive definite), or
+ * (opts.majorant); on success it is the factor CG reuses. Returns PS_OK,
+ * PS_DIVERGED (not positive definite: the caller factors the tangent), or
  * fatal. */
 static int factor_majorant(ps_solver *s, ps_ctx *ctx) {
   ps_int bad = -1;
@@ -262,14 +263,17 @@ static int factor_majorant(ps_solver *s, ps_ctx *ctx) {
     ps_log(ctx, 2, "    majorant not positive definite: factoring the tangent\n");
     return PS_DIVERGED;
   }
+  s->ls_last = &s->ls_pre;
+  s->have_factor = 1;
+  snapshot_arm_state(s, ctx);
   return PS_OK;
 }
 
 /* du = K_ff^-1 rhs by CG preconditioned with a fresh factor of the
  * one-horizon majorant of the tangent (opts.majorant), capped at
- * pcg_max_iterations. Returns PS_OK (the majorant's factor becomes the
- * one CG reuses), PS_DIVERGED when the majorant is not positive
- * definite or CG does not converge (the caller factors K), or fatal. */
+ * pcg_max_iterations. Returns PS_OK, PS_DIVERGED when the majorant is not
+ * positive definite or CG does not converge (the caller factors K), or
+ * fatal. */
 static int solve_by_majorant(ps_solver *s, ps_ctx *ctx) {
   int status = factor_majorant(s, ctx);
   if (status != PS_OK) return status;
@@ -279,9 +283,6 @@ static int solve_by_majorant(ps_solver *s, ps_ctx *ctx) {
   if (truncated(s, status, its, "a fresh majorant factor", ctx)) status = PS_OK;
   if (status == PS_OK) {
     ps_log(ctx, 2, "    CG with a fresh majorant factor: %d iterations\n", its);
-    s->ls_last = &s->ls_pre;
-    s->have_factor = 1;
-    snapshot_arm_state(s, ctx);
     return PS_OK;
   }
   s->pre_failures++;
@@ -584,13 +585,7 @@ int ps_solver_step(ps_solver *s, double lambda, ps_ctx *ctx) {
      * 20k, and CG iterations 3x dearer after it) */
     PS_CHECK(eval(s, s->u, s->f, &s->energy, 1, ctx));
     int st2 = s->sys_pre.net ? factor_majorant(s, ctx) : PS_DIVERGED;
-    if (st2 == PS_OK) {
-      s->ls_last = &s->ls_pre;
-      s->have_factor = 1;
-      snapshot_arm_state(s, ctx);
-    } else if (st2 > 0) {
-      st2 = factor_tangent(s, ctx);
-    }
+    if (st2 > 0) st2 = factor_tangent(s, ctx);
     if (st2 < 0) return st2;
   }
   return status;

@@ -16,7 +16,8 @@
  * assembled matrix's product to 1e-13 (round-off of sums in another
  * order), with prescribed dofs and a free body (a particle whose arms
  * all broke, held by a spring), and so does the coupling K_fp du_p of the
- * predictor; evaluations of forces alone in between do not change it. */
+ * predictor; evaluations of forces alone in between do not change it.
+ * And an arm crushed to zero length (crushed_arm below). */
 #include <gsl/gsl_eigen.h>
 #include <gsl/gsl_rng.h>
 #include <math.h>
@@ -350,6 +351,80 @@ static void run_case(const ps_model_type *type, int rule, int dim, int plane, do
   teardown(&F);
 }
 
+/* An arm crushed to (nearly) zero length, as at a crack tip where a
+ * perfectly plastic arm flows in compression until its particles meet:
+ * the rounded length (PS_ARM_LENGTH_ROUNDING) keeps forces finite and the
+ * tangent consistent there. Without it, |y_b - y_a| has a cone point, the
+ * evaluation failed at coincident particles and Newton stalled next to
+ * them (doc/model.md). Checked: coincident particles evaluate (PS_OK,
+ * finite, that arm's force T dl/dy vanishes: |dl/dy| <= 1e-6, where the
+ * unrounded length has |dl/dy| = 1 however close they are), and at a distance of 0.5 e r0 (inside
+ * the rounding) the tangent equals central differences in the two
+ * particles' dofs (rel. Frobenius 1e-6; step 1e-4 of the rounding radius:
+ * truncation ~1e-8, round-off ~1e-9). */
+static void crushed_arm(void) {
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  fixture F;
+  setup(&F, ps_model_fibre, PS_YIELD_TOTAL, 2, PS_PLANE_STRAIN, 0.3, &ctx);
+  ps_int nd = F.sys.n_dof, d = 2;
+  double *u = calloc((size_t)nd, sizeof *u), *f = calloc((size_t)nd, sizeof *f);
+  double *fp = calloc((size_t)nd, sizeof *fp), *fm = calloc((size_t)nd, sizeof *fm);
+  double *Kd = calloc((size_t)(nd * nd), sizeof *Kd);
+  for (ps_int a = 0; a < F.P.n; a++) u[a * d] = 3.1e-3 * F.P.x[a * d];
+  /* the shortest arm */
+  ps_int i0 = 0;
+  for (ps_int i = 1; i < F.net.n_arm; i++)
+    if (F.net.r0[i] < F.net.r0[i0]) i0 = i;
+  ps_int a = F.net.a[i0], b = F.net.b[i0];
+  double r0 = F.net.r0[i0], E;
+  for (double gap = 0.0; gap <= 0.5; gap += 0.5) {
+    /* b onto a, then gap e r0 away along (0.6, 0.8) */
+    double off[2] = {0.6 * gap * PS_ARM_LENGTH_ROUNDING * r0, 0.8 * gap * PS_ARM_LENGTH_ROUNDING * r0};
+    for (int k = 0; k < d; k++)
+      u[b * d + k] = F.P.x[a * d + k] + u[a * d + k] + off[k] - F.P.x[b * d + k];
+    int status = ps_system_eval(&F.sys, &F.model, &F.st, F.P.x, u, f, &E, PS_EVAL_TANGENT, &ctx);
+    int finite = status == PS_OK && isfinite(E);
+    for (ps_int j = 0; j < nd; j++) finite = finite && isfinite(f[j]);
+    if (gap == 0.0) {
+      double qn = hypot(F.sys.q[i0 * d], F.sys.q[i0 * d + 1]);
+      /* (coincident to round-off of the positions, ~1e-19 m) */
+      ps_check(finite && qn <= 1e-6 && isfinite(F.sys.T[i0]),
+               "coincident particles %lld and %lld: evaluated (status %d), finite, the arm "
+               "exerts no force (|dl/dy| = %g <= 1e-6, strain %.4f)",
+               (long long)a, (long long)b, status, qn, F.sys.dl[i0] / r0);
+      continue;
+    }
+    ps_check(finite, "particles %lld and %lld 0.5e-4 r0 apart: evaluated, finite", (long long)a,
+             (long long)b);
+    dense(&F.sys.A, nd, Kd);
+    double h = 1e-4 * PS_ARM_LENGTH_ROUNDING * r0, num = 0, den = 0;
+    ps_int cols[4] = {a * d, a * d + 1, b * d, b * d + 1};
+    for (int c = 0; c < 4; c++) {
+      ps_int j = cols[c];
+      double u0 = u[j];
+      u[j] = u0 + h;
+      ps_system_eval(&F.sys, &F.model, &F.st, F.P.x, u, fp, &E, 0, &ctx);
+      u[j] = u0 - h;
+      ps_system_eval(&F.sys, &F.model, &F.st, F.P.x, u, fm, &E, 0, &ctx);
+      u[j] = u0;
+      for (ps_int r = 0; r < nd; r++) {
+        double kfd = (fp[r] - fm[r]) / (2 * h);
+        num += (kfd - Kd[r * nd + j]) * (kfd - Kd[r * nd + j]);
+        den += Kd[r * nd + j] * Kd[r * nd + j];
+      }
+    }
+    ps_check_le(sqrt(num / den), 1e-6,
+                "crushed arm (0.5 e r0 long): tangent vs central differences in its dofs");
+  }
+  free(u);
+  free(f);
+  free(fp);
+  free(fm);
+  free(Kd);
+  teardown(&F);
+}
+
 int main(void) {
   const int T = PS_YIELD_TOTAL, D = PS_YIELD_DEVIATORIC;
   run_case(ps_model_fibre, T, 2, PS_PLANE_STRAIN, 0.3, "fibre, 2D plane strain nu=0.3");
@@ -366,5 +441,6 @@ int main(void) {
   run_case(ps_model_state, T, 2, PS_PLANE_STRAIN, 0.3, "state, 2D plane strain nu=0.3");
   run_case(ps_model_state, T, 2, PS_PLANE_STRESS, 0.12, "state, 2D plane stress nu=0.12");
   run_case(ps_model_state, T, 3, PS_SOLID_3D, 0.27, "state, 3D nu=0.27");
+  crushed_arm();
   return ps_check_summary();
 }

@@ -388,22 +388,16 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
       dXdu += dX * du;
       du2 += du * du;
     }
-    double l = sqrt(l2);
-    if (!(l > 0) || !isfinite(l)) {
-      if (st->broken[i]) { /* a broken arm's geometry does not matter */
-        s->l[i] = net->r0[i];
-        s->dl[i] = 0.0;
-        for (int k = 0; k < d; k++) q[k] = k == 0;
-        continue;
-      }
-      return ps_error(ctx, PS_ERR_SOLVER,
-                      "arm %lld: particles %lld and %lld moved onto each other "
-                      "(length %g)",
+    /* the arm length, rounded at zero (ps_arm_length) */
+    double r0 = net->r0[i], e2 = PS_ARM_LENGTH_ROUNDING * PS_ARM_LENGTH_ROUNDING * r0 * r0;
+    double l = sqrt(l2 + e2);
+    if (!isfinite(l))
+      return ps_error(ctx, PS_ERR_SOLVER, "arm %lld: particles %lld and %lld: length %g",
                       (long long)i, (long long)a, (long long)b, l);
-    }
     s->l[i] = l;
-    /* l - r0 = (2 dX.du + du.du)/(l + r0): no cancellation at small strain */
-    s->dl[i] = (2.0 * dXdu + du2) / (l + net->r0[i]);
+    /* l - l(r0) = (2 dX.du + du.du)/(l + l(r0)): no cancellation at small
+     * strain */
+    s->dl[i] = (2.0 * dXdu + du2) / (l + sqrt(r0 * r0 + e2));
     for (int k = 0; k < d; k++) q[k] /= l;
   }
   PS_CHECK(model->type->evaluate(model, s->dl, st, s->T, energy,

@@ -16,6 +16,19 @@
 #include "../linsolve/ps_linsolve.h"
 #include "../model/ps_model.h"
 
+/* The arm length the models see is rounded at zero,
+ *   l = sqrt(|y_b - y_a|^2 + (e r0)^2),  dl = l - sqrt(r0^2 + (e r0)^2),
+ * e = PS_ARM_LENGTH_ROUNDING: |y_b - y_a| is not differentiable where two
+ * particles meet, and a perfectly plastic arm crushed to zero length at a
+ * crack tip (its tension, from the mean strain of its particles, still
+ * pulling them together) put Newton's minimiser on that cone point, where
+ * no line search makes progress (doc/model.md). The gradient of l is q =
+ * (y_b - y_a)/l and its Hessian (I - q q^T)/l, the form the tangent has
+ * anyway, so nothing else changes; dl is zero in the reference state, and
+ * the stiffness of an arm of length r0 changes by the factor
+ * 1/(1 + e^2) (1e-8). */
+#define PS_ARM_LENGTH_ROUNDING 1e-4
+
 /* dof of particle a, direction k: a * dim + k. */
 typedef struct ps_system {
   const ps_network *net;
@@ -45,8 +58,9 @@ typedef struct ps_system {
   ps_csc A;                 /* free-free upper triangle (for linsolve) */
   ps_int *A_src;            /* [nnz(A)] position in Kfull */
 
-  /* per-arm work: current length l, elongation dl = l - r0, direction q
-   * (from a to b), tension T */
+  /* per-arm work: current length l, elongation dl, direction q (from a
+   * to b; the gradient of l, |q| = |y_b - y_a| / l <= 1), tension T, all
+   * of the rounded length of PS_ARM_LENGTH_ROUNDING */
   double *l, *dl, *q, *T;
   /* the tangent of the last evaluation with one (PS_EVAL_OPERATOR or
    * PS_EVAL_TANGENT), kept through later evaluations of forces alone:
@@ -95,7 +109,7 @@ enum ps_eval_want {
  * tensions (model), internal forces f[n_dof] = dPsi/dy (at free dofs the
  * residual, at prescribed dofs the reactions), *energy; and the tangent as
  * `want` (enum ps_eval_want) says. Returns PS_OK, PS_ERR_SOLVER if an arm
- * has zero length (two particles moved onto each other: names them),
+ * length is not finite (names the particles),
  * PS_ERR_INPUT if the model has family terms and the pattern none. */
 int ps_system_eval(ps_system *sys, const ps_model *model, ps_arm_state *st,
                    const double *X, const double *u, double *f,

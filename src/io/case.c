@@ -1064,8 +1064,11 @@ static void fnv(uint64_t *h, const char *s) {
  * in a breaking round instead of 1.53438 in Newton). Other CG
  * settings, e.g. solver.cg_skip_arms or cg_single_precision, do not change
  * results beyond the Newton tolerance and are not counted; turning
- * cg_truncate off is (it brings back version 4's route through UMFPACK). */
-#define PS_ALGORITHM_VERSION 6
+ * cg_truncate off is (it brings back version 4's route through UMFPACK).
+ * 7: arm lengths rounded at zero (PS_ARM_LENGTH_ROUNDING): an arm crushed
+ * at the crack tip no longer stalls Newton, and c/1000 fractures at 20k
+ * where it stalled at 1.47. */
+#define PS_ALGORITHM_VERSION 7
 
 uint64_t ps_case_fingerprint(const ps_case *cs) {
   uint64_t h = 1469598103934665603ULL;

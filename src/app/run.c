@@ -184,11 +184,6 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
            cs->max_increments);
   for (int step = 1; step <= cs->max_increments; step++) {
     double target = s.lambda + dl;
-    static const char *const why[] = {"converged", "no convergence within "
-                                      "solver.max_iterations", "line search failed",
-                                      "residual not finite", "singular tangent",
-                                      "stagnated: solver.max_small_steps tiny line-search "
-                                      "steps in a row"};
     if (target > cs->max_load - 1e-9 * dl) target = cs->max_load; /* no sliver */
     ps_int its0 = s.newton_iterations;
     status = ps_solver_step(&s, target, ctx);
@@ -199,7 +194,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
       good_in_a_row = 0;
       ps_log(ctx, 1, "  step %d: Newton did not converge at load factor %.6g (%s, "
                      "residual %.2e); cutting the increment to %.4g\n",
-             step, target, why[s.last_reason], s.last_residual, dl);
+             step, target, ps_newton_reason_text(s.last_reason), s.last_residual, dl);
       if (dl < cs->min_step) {
         /* the run ends here: an error for `run` (after the summary is
          * written to the partial output), a result for the sweep */
@@ -209,7 +204,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
                  "%s: Newton diverged at load factor %.6g (%s; the increment is below "
                  "path.min_step = %g; last relative residual %.3e). Try a smaller "
                  "path.load_step or solver.linear: umfpack",
-                 cs->path, target, why[s.last_reason], cs->min_step, s.last_residual);
+                 cs->path, target, ps_newton_reason_text(s.last_reason), cs->min_step, s.last_residual);
         snprintf(res->stop_reason, sizeof res->stop_reason,
                  "Newton stalled at load factor %.6g (increments below path.min_step "
                  "did not converge, last residual %.2e) before the crack ran",

@@ -6,6 +6,8 @@
  * run after the whole file is read, since YAML keys come in any order. */
 #include "ps_io.h"
 
+#include "../solver/ps_solver.h"
+
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
@@ -17,11 +19,10 @@
 #include <sys/stat.h>
 #include <yaml.h>
 
-/* solver.max_small_steps by default; a case that sets another value gets
- * another fingerprint (ps_case_fingerprint) */
-#define PS_CASE_MAX_SMALL_STEPS 5
-
 void ps_case_defaults(ps_case *cs) {
+  /* the solver's defaults live in ps_solver_opts_default only */
+  ps_solver_opts so;
+  ps_solver_opts_default(&so);
   memset(cs, 0, sizeof *cs);
   strcpy(cs->name, "case");
   cs->geometry = PS_GEOM_DISK;
@@ -54,19 +55,21 @@ void ps_case_defaults(ps_case *cs) {
   cs->load_type = PS_LOAD_EQ116;
   cs->n_bc = 0;
   cs->stress_length = 0.0;
-  strcpy(cs->linear, "cholmod");
-  cs->tolerance = 1e-8;
-  cs->max_iterations = 30;
-  cs->max_small_steps = PS_CASE_MAX_SMALL_STEPS;
-  cs->line_search = 1;
-  cs->reuse_factor = 1;
-  cs->cg_tolerance = 1e-6;
-  cs->cg_forcing = 100.0;
-  cs->cg_max_iterations = 25;
-  cs->majorant = 1;
-  cs->matrix_free = 1;
-  cs->cg_single_precision = 1;
-  cs->cg_truncate = 1;
+  snprintf(cs->linear, sizeof cs->linear, "%s", so.linear->name);
+  cs->tolerance = so.tolerance;
+  cs->max_iterations = so.max_iterations;
+  cs->max_small_steps = so.max_small_steps;
+  cs->line_search = so.line_search;
+  cs->reuse_factor = so.reuse_factor;
+  cs->cg_tolerance = so.pcg_rtol;
+  cs->cg_forcing = so.cg_forcing;
+  cs->cg_max_iterations = so.pcg_max_iterations;
+  cs->cg_skip_arms = so.pcg_skip_arms;
+  cs->reanalyze = so.reanalyze;
+  cs->majorant = so.majorant;
+  cs->matrix_free = so.matrix_free;
+  cs->cg_single_precision = so.cg_single_precision;
+  cs->cg_truncate = so.cg_truncate;
   cs->load_step = 0.02;
   cs->load_step_after_break = 0.005;
   cs->max_load = 5.0;
@@ -1132,8 +1135,10 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
            cs->load_step_after_break, cs->max_load, cs->max_increments, cs->min_step,
            cs->stop_crack_tip, cs->stop_load_drop, cs->max_break_rounds);
   fnv(&h, b);
-  if (cs->max_small_steps != PS_CASE_MAX_SMALL_STEPS) { /* newer keys: only when not
-                                                         the default */
+  ps_solver_opts so;
+  ps_solver_opts_default(&so);
+  if (cs->max_small_steps != so.max_small_steps) { /* newer keys: only when not
+                                                      the default */
     snprintf(b, sizeof b, "small steps %d", cs->max_small_steps);
     fnv(&h, b);
   }

@@ -612,3 +612,16 @@ ps_int ps_solver_count_yielding(const ps_solver *s) {
   for (ps_int i = 0; i < s->net->n_arm; i++) n += s->st.yielding[i] && !s->st.broken[i];
   return n;
 }
+
+const char *ps_newton_reason_text(int reason) {
+  switch (reason) {
+  case PS_NEWTON_CONVERGED: return "converged";
+  case PS_NEWTON_MAX_ITER: return "no convergence within solver.max_iterations";
+  case PS_NEWTON_LINE_SEARCH: return "line search failed";
+  case PS_NEWTON_NOT_FINITE: return "residual not finite";
+  case PS_NEWTON_SINGULAR: return "singular tangent";
+  case PS_NEWTON_STAGNATED:
+    return "stagnated: solver.max_small_steps tiny line-search steps in a row";
+  }
+  return "unknown reason";
+}

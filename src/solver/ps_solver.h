@@ -211,4 +211,8 @@ int ps_solver_evaluate(ps_solver *s, ps_ctx *ctx);
 /* Intact arms on the yield surface in the current state. */
 ps_int ps_solver_count_yielding(const ps_solver *s);
 
+/* A short sentence for an enum ps_newton_reason, for messages ("line
+ * search failed"); "unknown reason" for any other value. */
+const char *ps_newton_reason_text(int reason);
+
 #endif

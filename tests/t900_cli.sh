@@ -150,6 +150,19 @@ if $P run -q -o "$T/fast" "$srcdir/data/cases/small-disk.yaml" &&
 else
   ko "sigma_f differs between the default solver and exact CG on the assembled tangent"
 fi
+# the adaptive CG tolerance (Eisenstat-Walker, the default) against the
+# fixed rule of sessions 4-7 (cg_forcing: 100): the same converged states
+cp "$srcdir/data/cases/small-disk.yaml" "$T/fixed.yaml"
+printf 'solver: {cg_forcing: 100}\n' >> "$T/fixed.yaml"
+if $P run -q -o "$T/fixed" "$T/fixed.yaml" &&
+   awk -v a="$(val "$T/fast/summary.txt" sigma_failure_over_sigma_y)" \
+       -v b="$(val "$T/fixed/summary.txt" sigma_failure_over_sigma_y)" \
+       'BEGIN { d = a - b; if (d < 0) d = -d; exit !(a > 0 && d <= 1e-7 * b) }' &&
+   [ "$(val "$T/fast/summary.txt" load_factor_at_peak)" = "$(val "$T/fixed/summary.txt" load_factor_at_peak)" ]; then
+  ok "adaptive and fixed CG forcing: the same sigma_f and peak load factor"
+else
+  ko "sigma_f differs between the adaptive and the fixed CG forcing"
+fi
 rm -rf "$T" "$T.partial"
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

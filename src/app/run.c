@@ -115,7 +115,9 @@ static void solver_opts_from_case(const ps_case *cs, ps_solver_opts *o) {
   o->line_search = cs->line_search;
   o->reuse_factor = cs->reuse_factor;
   o->pcg_rtol = cs->cg_tolerance;
+  o->cg_forcing_adaptive = cs->cg_forcing_adaptive;
   o->cg_forcing = cs->cg_forcing;
+  o->cg_forcing_max = cs->cg_forcing_max;
   o->pcg_max_iterations = cs->cg_max_iterations;
   o->pcg_skip_arms = cs->cg_skip_arms;
   o->majorant = cs->majorant;

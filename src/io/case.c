@@ -62,7 +62,9 @@ void ps_case_defaults(ps_case *cs) {
   cs->line_search = so.line_search;
   cs->reuse_factor = so.reuse_factor;
   cs->cg_tolerance = so.pcg_rtol;
+  cs->cg_forcing_adaptive = so.cg_forcing_adaptive;
   cs->cg_forcing = so.cg_forcing;
+  cs->cg_forcing_max = so.cg_forcing_max;
   cs->cg_max_iterations = so.pcg_max_iterations;
   cs->cg_skip_arms = so.pcg_skip_arms;
   cs->reanalyze = so.reanalyze;
@@ -684,7 +686,8 @@ static int on_loading(loader *L, void *arg, const char *key, const char *name,
 static const char *const solver_keys[] = {"linear", "tolerance", "max_iterations",
                                           "max_small_steps",
                                           "line_search", "reuse_factor",
-                                          "cg_tolerance", "cg_forcing", "cg_max_iterations",
+                                          "cg_tolerance", "cg_forcing", "cg_forcing_max",
+                                          "cg_max_iterations",
                                           "cg_skip_arms", "reanalyze", "majorant", "matrix_free",
                                           "cg_single_precision", "cg_truncate", NULL};
 
@@ -710,7 +713,24 @@ static int on_solver(loader *L, void *arg, const char *key, const char *name,
   if (IS("cg_single_precision")) return get_bool(L, v, name, &cs->cg_single_precision);
   if (IS("cg_truncate")) return get_bool(L, v, name, &cs->cg_truncate);
   if (IS("cg_tolerance")) return get_real(L, v, name, 0.0, 1, 1.0, 1, &cs->cg_tolerance);
-  if (IS("cg_forcing")) return get_real(L, v, name, 0.0, 0, INFINITY, 0, &cs->cg_forcing);
+  if (IS("cg_forcing")) { /* adaptive, or a number >= 0: the fixed rule */
+    if (v->type == YAML_SCALAR_NODE && !strcmp(sval(v), "adaptive")) {
+      cs->cg_forcing_adaptive = 1;
+      return PS_OK;
+    }
+    char b[80];
+    double x;
+    char *end = NULL;
+    if (v->type == YAML_SCALAR_NODE && v->data.scalar.length > 0) x = strtod(sval(v), &end);
+    if (!end || end == sval(v) || *end != '\0' || !isfinite(x) || x < 0)
+      return fail(L, line_of(v), "%s must be adaptive or a number >= 0 (got %s)", name,
+                  got(v, b));
+    cs->cg_forcing_adaptive = 0;
+    cs->cg_forcing = x;
+    return PS_OK;
+  }
+  if (IS("cg_forcing_max"))
+    return get_real(L, v, name, 0.0, 1, 1.0, 1, &cs->cg_forcing_max);
   if (IS("cg_max_iterations"))
     return get_int(L, v, name, 1, INT_MAX, &cs->cg_max_iterations);
   if (IS("cg_skip_arms")) return get_int(L, v, name, 0, INT_MAX, &cs->cg_skip_arms);

@@ -19,6 +19,8 @@ void ps_solver_opts_default(ps_solver_opts *o) {
   o->pcg_skip_arms = 0;
   o->reanalyze = 0;
   o->majorant = 1;
+  o->cg_forcing_adaptive = 1;
+  o->cg_forcing_max = 0.5;
   o->cg_forcing = 100.0;
   o->matrix_free = 1;
   o->cg_single_precision = 1;
@@ -397,12 +399,44 @@ static double norm_fixed(const ps_system *sys, const double *f) {
   return sqrt(s);
 }
 
+/* The relative CG tolerance of Newton iteration `it` at the relative
+ * residual rel (rel_prev: the last iteration's; *eta: the last forcing
+ * term in, this one out; adaptive rule only). */
+static double cg_tolerance(const ps_solver_opts *o, int it, double rel, double rel_prev,
+                           double *eta) {
+  double t;
+  if (o->cg_forcing_adaptive) {
+    /* Eisenstat-Walker choice 2: as loose as the last Newton step was
+     * slow to converge, no tighter than the safeguard from the last
+     * eta (a single lucky step does not force an exact solve) */
+    double e = o->cg_forcing_max;
+    if (it > 0 && rel_prev > 0) {
+      e = PS_EW_GAMMA * pow(rel / rel_prev, PS_EW_ALPHA);
+      double guard = PS_EW_GAMMA * pow(*eta, PS_EW_ALPHA);
+      if (guard > PS_EW_SAFEGUARD) e = fmax(e, guard);
+      e = fmin(e, o->cg_forcing_max);
+    }
+    *eta = e;
+    t = fmax(o->pcg_rtol, e);
+  } else {
+    /* max(cg_tolerance, min(1e-2, cg_forcing x rel)) */
+    t = fmax(o->pcg_rtol, fmin(PS_CG_FORCING_MAX, o->cg_forcing * rel));
+    if (o->cg_forcing <= 0) return t;
+  }
+  /* never tighter than the Newton tolerance asks for: a full step leaves
+   * the linear residual t x rel (plus a quadratic term), so t =
+   * PS_CG_OVERSOLVE x tolerance / rel already converges (Kelley's
+   * safeguard against oversolving the last iteration) */
+  return fmax(t, PS_CG_OVERSOLVE * o->tolerance / rel);
+}
+
 int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
   const ps_system *sys = &s->sys;
   ps_int nf = sys->n_free, nd = sys->n_dof;
   PS_CHECK(eval(s, s->u, s->f, &s->energy, 0, ctx));
   int small_steps = 0;     /* line-search steps < PS_SMALL_STEP in a row */
   double rel_before = 0.0; /* the residual before the first of them */
+  double rel_prev = 0.0, eta = 0.0; /* the forcing term's history */
   for (int it = 0;; it++) {
     double rn = norm_free(sys, s->f), ref = norm_fixed(sys, s->f);
     double rel = ref > 0 ? rn / ref : rn;
@@ -436,15 +470,9 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
     PS_CHECK(eval(s, s->u, s->f, &s->energy, 1, ctx));
     for (ps_int k = 0; k < nf; k++) s->rhs[k] = -s->f[sys->dof_of_free[k]];
     /* inexact Newton: far from the solution a rough direction does as
-     * well (the line search guards it), so CG stops at
-     * max(cg_tolerance, min(1e-2, cg_forcing x rel)) */
-    s->cg_rtol = fmax(s->opts.pcg_rtol, fmin(PS_CG_FORCING_MAX, s->opts.cg_forcing * rel));
-    /* and never tighter than the Newton tolerance asks for: a full step
-     * leaves the linear residual cg_rtol x rel (plus a quadratic term), so
-     * cg_rtol = PS_CG_OVERSOLVE x tolerance / rel already converges
-     * (Kelley's safeguard against oversolving the last iteration) */
-    if (s->opts.cg_forcing > 0)
-      s->cg_rtol = fmax(s->cg_rtol, PS_CG_OVERSOLVE * s->opts.tolerance / rel);
+     * well (the line search guards it) */
+    s->cg_rtol = cg_tolerance(&s->opts, it, rel, rel_prev, &eta);
+    rel_prev = rel;
     int status = solve_tangent(s, ctx);
     if (status < 0) return status;
     if (status > 0) {

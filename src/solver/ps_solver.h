@@ -40,8 +40,16 @@ enum ps_newton_reason {
 /* a line-search step below this counts towards stagnation (newton.c) */
 #define PS_SMALL_STEP 1e-2
 
-/* the loosest CG tolerance of the inexact Newton iteration */
+/* the loosest CG tolerance of the fixed forcing rule (opts.cg_forcing > 0,
+ * cg_forcing_adaptive = 0) */
 #define PS_CG_FORCING_MAX 1e-2
+
+/* Eisenstat and Walker's choice 2 (SIAM J. Sci. Comput. 17, 1996):
+ * eta_k = gamma (|r_k| / |r_k-1|)^alpha, not below gamma eta_k-1^alpha
+ * when that exceeds PS_EW_SAFEGUARD (newton.c) */
+#define PS_EW_GAMMA 0.9
+#define PS_EW_ALPHA 2.0
+#define PS_EW_SAFEGUARD 0.1
 
 /* the share of the Newton tolerance that the last CG solve of a Newton
  * solve leaves as linear residual (newton.c: CG does not solve tighter
@@ -63,13 +71,26 @@ typedef struct ps_solver_opts {
                              refactor only when CG does not converge within
                              pcg_max_iterations (see doc/performance.md) */
   double pcg_rtol;        /* relative tolerance of that CG (default 1e-6) */
-  double cg_forcing;      /* inexact Newton (Eisenstat & Walker's forcing
-                             term): CG stops at the relative residual
-                             max(pcg_rtol, min(PS_CG_FORCING_MAX,
-                             cg_forcing x the relative Newton residual));
-                             0: always pcg_rtol (default 100: 1.9x faster
-                             at 5k, the same converged states,
-                             doc/performance.md) */
+  int cg_forcing_adaptive; /* inexact Newton, 1 (default): CG stops at
+                             Eisenstat and Walker's choice-2 forcing term
+                             eta_k = 0.9 (|r_k| / |r_k-1|)^2 (safeguarded;
+                             cg_forcing_max at the first iteration of a
+                             solve and at most), so CG solves roughly while
+                             Newton converges slowly (the active set of
+                             yielding arms changing) and tightly once it
+                             converges fast: 35% off the paper-size run
+                             at c/1000, the same converged states
+                             (doc/performance.md) */
+  double cg_forcing_max;  /* its loosest CG tolerance (default 0.5) */
+  double cg_forcing;      /* with cg_forcing_adaptive = 0: CG stops at the
+                             relative residual max(pcg_rtol,
+                             min(PS_CG_FORCING_MAX, cg_forcing x the
+                             relative Newton residual)) (sessions 4-7);
+                             0: always pcg_rtol (exact Newton). Either
+                             rule never asks for less than
+                             PS_CG_OVERSOLVE x tolerance / the relative
+                             Newton residual (default 100, used only
+                             when not adaptive) */
   int pcg_max_iterations; /* default 25 */
   int pcg_skip_arms;      /* skip CG when at least this many arms changed
                              state (yield, break) since the last

@@ -150,10 +150,10 @@ if $P run -q -o "$T/fast" "$srcdir/data/cases/small-disk.yaml" &&
 else
   ko "sigma_f differs between the default solver and exact CG on the assembled tangent"
 fi
-# the adaptive CG tolerance (Eisenstat-Walker, the default) against the
-# fixed rule of sessions 4-7 (cg_forcing: 100): the same converged states
+# the adaptive CG tolerance (Eisenstat-Walker, cg_forcing: adaptive)
+# against the default fixed rule: the same converged states
 cp "$srcdir/data/cases/small-disk.yaml" "$T/fixed.yaml"
-printf 'solver: {cg_forcing: 100}\n' >> "$T/fixed.yaml"
+printf 'solver: {cg_forcing: adaptive}\n' >> "$T/fixed.yaml"
 if $P run -q -o "$T/fixed" "$T/fixed.yaml" &&
    awk -v a="$(val "$T/fast/summary.txt" sigma_failure_over_sigma_y)" \
        -v b="$(val "$T/fixed/summary.txt" sigma_failure_over_sigma_y)" \

@@ -71,16 +71,17 @@ typedef struct ps_solver_opts {
                              refactor only when CG does not converge within
                              pcg_max_iterations (see doc/performance.md) */
   double pcg_rtol;        /* relative tolerance of that CG (default 1e-6) */
-  int cg_forcing_adaptive; /* inexact Newton, 1 (default): CG stops at
-                             Eisenstat and Walker's choice-2 forcing term
-                             eta_k = 0.9 (|r_k| / |r_k-1|)^2 (safeguarded;
+  int cg_forcing_adaptive; /* inexact Newton, 1: CG stops at Eisenstat and
+                             Walker's choice-2 forcing term eta_k = 0.9
+                             (|r_k| / |r_k-1|)^2 (safeguarded;
                              cg_forcing_max at the first iteration of a
-                             solve and at most), so CG solves roughly while
-                             Newton converges slowly (the active set of
-                             yielding arms changing) and tightly once it
-                             converges fast: 35% off the paper-size run
-                             at c/1000, the same converged states
-                             (doc/performance.md) */
+                             solve and at most): rough CG solves while
+                             Newton converges slowly, tight ones once it
+                             converges fast. 40% off the paper-size run at
+                             c/1000, but more Newton iterations per solve,
+                             and in the sweep c/500 then stalled at the
+                             max_iterations cap, so 0 (the fixed rule
+                             below) is the default (doc/performance.md) */
   double cg_forcing_max;  /* its loosest CG tolerance (default 0.5) */
   double cg_forcing;      /* with cg_forcing_adaptive = 0: CG stops at the
                              relative residual max(pcg_rtol,

@@ -87,11 +87,11 @@ typedef struct ps_solver_opts {
                              relative residual max(pcg_rtol,
                              min(PS_CG_FORCING_MAX, cg_forcing x the
                              relative Newton residual)) (sessions 4-7);
-                             0: always pcg_rtol (exact Newton). Either
-                             rule never asks for less than
-                             PS_CG_OVERSOLVE x tolerance / the relative
-                             Newton residual (default 100, used only
-                             when not adaptive) */
+                             0: always pcg_rtol (exact Newton). Both
+                             rules (but cg_forcing 0) stop CG no tighter
+                             than PS_CG_OVERSOLVE x tolerance / the
+                             relative Newton residual (default 100, used
+                             only when not adaptive) */
   int pcg_max_iterations; /* default 25 */
   int pcg_skip_arms;      /* skip CG when at least this many arms changed
                              state (yield, break) since the last

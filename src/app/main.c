@@ -28,6 +28,8 @@ static const char *HELP_MAIN =
     "  -v, --verbose   Newton iterations too (twice: source locations in errors)\n"
     "      --resume    griffith: continue a sweep in DIR, reusing finished runs\n"
     "  -j, --jobs N    griffith: N runs at a time, one process each (N cores)\n"
+    "  -t, --threads N threads per run (default: the CPUs, shared among -j jobs;\n"
+    "                  at most 2 are used; results do not depend on it)\n"
     "  -h, --help      this text\n"
     "\n"
     "Each load increment prints one progress line:\n"
@@ -141,6 +143,19 @@ static int exit_code(int status) {
   }
 }
 
+/* the number from 1 to 64 after option argv[*i] (*i moves to it), or -1
+ * after a message naming the option and `what` it counts */
+static int count_arg(int argc, char **argv, int *i, const char *what) {
+  const char *opt = argv[*i];
+  char *end = NULL;
+  long v = ++*i < argc ? strtol(argv[*i], &end, 10) : 0;
+  if (*i >= argc || !end || *end || v < 1 || v > 64) {
+    fprintf(stderr, "peristatic: %s needs a number of %s from 1 to 64\n", opt, what);
+    return -1;
+  }
+  return (int)v;
+}
+
 int main(int argc, char **argv) {
   limit_openmp_threads(argv);
   ps_ctx ctx;
@@ -150,7 +165,7 @@ int main(int argc, char **argv) {
   if (!getenv("OPENBLAS_NUM_THREADS")) openblas_set_num_threads(1);
 #endif
   const char *cmd = NULL, *file = NULL, *out = NULL;
-  int verbosity = -1, resume = 0, jobs = 1;
+  int verbosity = -1, resume = 0, jobs = 1, threads = 0;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
     if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
@@ -169,13 +184,9 @@ int main(int argc, char **argv) {
     } else if (!strcmp(a, "--resume")) {
       resume = 1;
     } else if (!strcmp(a, "-j") || !strcmp(a, "--jobs")) {
-      char *end = NULL;
-      long j = ++i < argc ? strtol(argv[i], &end, 10) : 0;
-      if (i >= argc || !end || *end || j < 1 || j > 64) {
-        fprintf(stderr, "peristatic: %s needs a number of jobs from 1 to 64\n", a);
-        return 1;
-      }
-      jobs = (int)j;
+      if ((jobs = count_arg(argc, argv, &i, "jobs")) < 0) return 1;
+    } else if (!strcmp(a, "-t") || !strcmp(a, "--threads")) {
+      if ((threads = count_arg(argc, argv, &i, "threads")) < 0) return 1;
     } else if (!strcmp(a, "--version")) {
       puts("peristatic " PACKAGE_VERSION);
       return 0;
@@ -237,6 +248,7 @@ int main(int argc, char **argv) {
   ps_problem pb;
   double t0 = ps_wtime();
   status = ps_problem_setup(&pb, &cs, &ctx);
+  pb.threads = threads;
   if (status < 0) {
     fprintf(stderr, "peristatic: %s\n", ctx.msg);
     return exit_code(status);

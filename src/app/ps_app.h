@@ -23,6 +23,9 @@ typedef struct ps_problem {
                              per unit thickness in 2D), or NULL if none */
   double measure_length;  /* m (2D) or m^2 (3D) */
   double t_network;       /* wall seconds of geometry + network */
+  int threads;            /* threads per run (ps_solver_opts.threads; 0:
+                             the CPUs this process may use, shared among
+                             griffith's jobs) */
   int stall_is_result;    /* set by the Griffith sweep: a stalled run
                              (ps_run_result.stalled) ends as a result, no
                              fracture, instead of an error

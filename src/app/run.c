@@ -151,6 +151,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
   mat.delta = delta;
   res->sigma_y = mat.sigma_y;
   solver_opts_from_case(cs, &opts);
+  opts.threads = pb->threads;
   status = ps_solver_create(&s, &pb->P, &pb->net, ps_model_type_find(cs->model), &mat,
                             pb->fixed, pb->ubar, &opts, ctx);
   if (status == PS_ERR_INPUT && strncmp(ctx->msg, cs->path, strlen(cs->path)) != 0) {
@@ -660,6 +661,11 @@ static int run_workers(ps_problem *pb, const char *staging, int jobs, ps_ctx *ct
       snprintf(logpath, sizeof logpath, "%s/job-%d.log", staging, w + 1);
       FILE *log = fopen(logpath, "w");
       ctx->log = log;
+      /* the CPUs are shared among the jobs */
+      if (pb->threads <= 0) {
+        int per_job = ps_cpu_count() / jobs;
+        pb->threads = per_job > 1 ? per_job : 1;
+      }
       int bad = 0;
       for (int k = 0; k < n; k++) { /* after a failed run, go on with the others */
         ps_run_result r;

@@ -64,6 +64,7 @@ void ps_system_free(ps_system *s) {
   free(s->free_body);
   free(s->xw);
   free(s->yw);
+  free(s->yw_part);
   ps_arm_tangent_free(&s->tan);
   memset(s, 0, sizeof *s);
 }
@@ -228,6 +229,7 @@ int ps_system_create_pattern(ps_system *s, const ps_network *net,
   ALLOC(s->free_body, n);
   ALLOC(s->xw, s->n_dof);
   ALLOC(s->yw, s->n_dof);
+  ALLOC(s->yw_part, s->n_dof);
   PS_CHECK_GOTO(ps_arm_tangent_alloc(&s->tan, net, ctx));
 cleanup:
   free(mark);
@@ -468,13 +470,15 @@ int ps_system_assemble(ps_system *s, ps_ctx *ctx) {
   return PS_OK;
 }
 
-/* the arm and family terms of y = K x (no springs), y zeroed first; d is
- * the dimension, a constant where apply_terms inlines this */
+/* the arm and family terms of y = K x (no springs) of the arms [i0, i1)
+ * and the families of the particles [c0, c1), y zeroed first; d is the
+ * dimension, a constant where apply_part inlines this */
 static PS_ALWAYS_INLINE void apply_terms_dim(const ps_system *s, const double *x, double *y,
-                                   const int d) {
+                                             ps_int i0, ps_int i1, ps_int c0, ps_int c1,
+                                             const int d) {
   const ps_network *net = s->net;
   memset(y, 0, (size_t)s->n_dof * sizeof *y);
-  for (ps_int i = 0; i < net->n_arm; i++) {
+  for (ps_int i = i0; i < i1; i++) {
     double D = s->tan.D[i], Tl = s->tTl[i];
     if (D == 0.0 && Tl == 0.0) continue;
     const double *q = &s->tq[i * d];
@@ -488,7 +492,7 @@ static PS_ALWAYS_INLINE void apply_terms_dim(const ps_system *s, const double *x
       ya[k] -= kv;
     }
   }
-  for (ps_int c = 0; c < net->n_particle; c++) {
+  for (ps_int c = c0; c < c1; c++) {
     ps_int m;
     const ps_int *M;
     const double *g = NULL, *h = NULL;
@@ -514,11 +518,35 @@ static PS_ALWAYS_INLINE void apply_terms_dim(const ps_system *s, const double *x
   }
 }
 
-static void apply_terms(const ps_system *s, const double *x, double *y) {
-  if (s->dim == 2)
-    apply_terms_dim(s, x, y, 2); /* constant loop bounds: 1.4x faster */
+/* The product is split into PS_APPLY_PARTS parts, each over its share of
+ * the arms and of the families and into its own output (part 0 into y,
+ * part 1 into yw_part), summed afterwards: the same sums in the same
+ * order on one thread or two (ps_team) */
+#define PS_APPLY_PARTS 2
+
+typedef struct {
+  const ps_system *s;
+  const double *x;
+  double *y;
+} apply_job;
+
+static void apply_part(void *arg, int part) {
+  const apply_job *j = arg;
+  const ps_system *s = j->s;
+  ps_int na = s->net->n_arm, np = s->net->n_particle;
+  ps_int i0 = na * part / PS_APPLY_PARTS, i1 = na * (part + 1) / PS_APPLY_PARTS;
+  ps_int c0 = np * part / PS_APPLY_PARTS, c1 = np * (part + 1) / PS_APPLY_PARTS;
+  double *y = part == 0 ? j->y : s->yw_part;
+  if (s->dim == 2) /* constant loop bounds: 1.4x faster */
+    apply_terms_dim(s, j->x, y, i0, i1, c0, c1, 2);
   else
-    apply_terms_dim(s, x, y, 3);
+    apply_terms_dim(s, j->x, y, i0, i1, c0, c1, 3);
+}
+
+static void apply_terms(const ps_system *s, const double *x, double *y) {
+  apply_job j = {s, x, y};
+  ps_team_run(s->team, PS_APPLY_PARTS, apply_part, &j);
+  for (ps_int k = 0; k < s->n_dof; k++) y[k] += s->yw_part[k];
 }
 
 /* diag[n_dof] = the diagonal of K (no springs) */

@@ -74,6 +74,9 @@ typedef struct ps_system {
   double spring;
   int assembled;            /* Kfull and A hold that tangent */
   double *xw, *yw;          /* [n_dof] work of the matrix-free product */
+  double *yw_part;          /* [n_dof] its second part's output */
+  ps_team *team;            /* threads for the product (not owned; NULL:
+                               one; the results do not depend on it) */
   double *G[2];             /* the family gradients g_a of the tangent
                                (both rank-one terms), [dim x |M_a|] at
                                dim * fam_members_ptr[a]; G[1] allocated

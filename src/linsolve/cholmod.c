@@ -32,6 +32,17 @@ typedef struct {
                     not usable (make_single) */
   double *y; /* the permuted vector (n) */
   float *t, *u; /* one supernode's rows of it and its columns (<= n) */
+  /* the parts of the elimination tree for chol_precondition (make_parts):
+   * part_list[part_ptr[p] .. part_ptr[p + 1]) the supernodes of part p
+   * (PS_PART_LOW, PS_PART_HIGH: whole subtrees; PS_PART_TOP: the
+   * supernodes above them) in increasing order; row_top[k] = 1 when column
+   * k is in the top part */
+  ps_int *part_list, part_ptr[4];
+  unsigned char *row_top;
+  int parts_current; /* 1: made for the current analysis */
+  float *t_high, *u_high; /* the high part's t and u (n) */
+  double *z; /* the high part's updates of the top rows (n; zero between
+               solves) */
   double *w; /* one supernode's block while make_single inverts it */
   size_t w_size;
 } chol_state;
@@ -83,6 +94,8 @@ static int chol_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st,
     return ps_error(ctx, PS_ERR_SOLVER, "CHOLMOD analysis failed (status %d)",
                     s->c.status);
   s->n = A->n;
+  s->parts_current = 0;
+  s->Lf_current = 0;
   st->t_analyze += ps_wtime() - t;
   st->n_analyze++;
   return PS_OK;
@@ -208,13 +221,20 @@ static int make_single(chol_state *s, ps_ctx *ctx) {
     free(s->t);
     free(s->u);
     free(s->w);
+    free(s->t_high);
+    free(s->u_high);
+    free(s->z);
     s->Lf_size = s->w_size = 0;
     s->Lf = ps_calloc(L->xsize, sizeof *s->Lf, ctx);
     s->y = ps_calloc((size_t)s->n, sizeof *s->y, ctx);
     s->t = ps_calloc((size_t)s->n, sizeof *s->t, ctx); /* >= any supernode's rows */
     s->u = ps_calloc((size_t)s->n, sizeof *s->u, ctx);
+    s->t_high = ps_calloc((size_t)s->n, sizeof *s->t, ctx);
+    s->u_high = ps_calloc((size_t)s->n, sizeof *s->u, ctx);
+    s->z = ps_calloc((size_t)s->n, sizeof *s->z, ctx);
     s->w = ps_calloc(wmax, sizeof *s->w, ctx);
-    if (!s->Lf || !s->y || !s->t || !s->u || !s->w) return PS_ERR_NOMEM;
+    if (!s->Lf || !s->y || !s->t || !s->u || !s->w || !s->t_high || !s->u_high || !s->z)
+      return PS_ERR_NOMEM;
     s->Lf_size = L->xsize;
     s->w_size = wmax;
   }
@@ -246,6 +266,228 @@ static int make_single(chol_state *s, ps_ctx *ctx) {
   return PS_OK;
 }
 
+/* The parts of the supernodal elimination tree for the preconditioner's
+ * solves (two threads, ps_team): the subtrees of two disjoint sets of
+ * supernodes (PS_PART_LOW, PS_PART_HIGH) have no column in common, so
+ * their forward and backward solves can run at the same time; what lies
+ * above them (PS_PART_TOP, with nested dissection the top separators) is
+ * solved by one thread between the two. Forward, the subtrees update rows
+ * of the top part too; the high part writes those into z, added to y in
+ * a fixed order afterwards, so the sums are the same with one thread or
+ * two. */
+enum { PS_PART_LOW = 0, PS_PART_HIGH = 1, PS_PART_TOP = 2 };
+
+/* the top is grown from the roots down, a heaviest subtree at a time,
+ * at most this many times, and the cheapest split seen is kept */
+#define PS_PART_EXPANSIONS 256
+
+typedef struct {
+  double w;  /* the subtree's work */
+  ps_int sn; /* its root */
+} part_cand;
+
+static int cand_heavier(const void *p, const void *q) {
+  const part_cand *a = p, *b = q;
+  if (a->w != b->w) return a->w > b->w ? -1 : 1;
+  return a->sn < b->sn ? -1 : a->sn > b->sn;
+}
+
+/* cands sorted heaviest first, each to the lighter of two bins (LPT):
+ * the heavier bin's work (bins[c] = its bin when bins is not NULL) */
+static double split_cands(part_cand *cand, ps_int n, unsigned char *bins) {
+  qsort(cand, (size_t)n, sizeof *cand, cand_heavier);
+  double load[2] = {0.0, 0.0};
+  for (ps_int c = 0; c < n; c++) {
+    int b = load[1] < load[0];
+    load[b] += cand[c].w;
+    if (bins) bins[c] = (unsigned char)b;
+  }
+  return fmax(load[0], load[1]);
+}
+
+/* Makes s->part_list, part_ptr and row_top for the current analysis.
+ * The work of a supernode is the entries of its block (read once each way)
+ * plus its rows. Supernodes whose parent does not follow them (CHOLMOD
+ * orders them so; checked) leave everything in the top part: one thread.
+ * PS_OK or PS_ERR_NOMEM. */
+static int make_parts(chol_state *s, ps_ctx *ctx) {
+  const cholmod_factor *L = s->L;
+  ps_int ns = (ps_int)L->nsuper, n = s->n;
+  const ps_int *super = L->super, *pi = L->pi, *Ls = L->s;
+  free(s->part_list);
+  free(s->row_top);
+  s->part_list = ps_calloc((size_t)ns + 1, sizeof *s->part_list, ctx);
+  s->row_top = ps_calloc((size_t)n + 1, 1, ctx);
+  ps_int *parent = ps_calloc((size_t)ns + 1, sizeof *parent, ctx);
+  ps_int *col_sn = ps_calloc((size_t)n + 1, sizeof *col_sn, ctx);
+  ps_int *child = ps_calloc((size_t)ns + 1, sizeof *child, ctx); /* first child */
+  ps_int *sibling = ps_calloc((size_t)ns + 1, sizeof *sibling, ctx);
+  ps_int *expanded = ps_calloc(PS_PART_EXPANSIONS, sizeof *expanded, ctx);
+  double *w_self = ps_calloc((size_t)ns + 1, sizeof *w_self, ctx);
+  double *w_tree = ps_calloc((size_t)ns + 1, sizeof *w_tree, ctx);
+  part_cand *cand = ps_calloc((size_t)ns + 1, sizeof *cand, ctx);
+  unsigned char *part = ps_calloc((size_t)ns + 1, 1, ctx);
+  unsigned char *bins = ps_calloc((size_t)ns + 1, 1, ctx);
+  int status = PS_OK;
+  if (!s->part_list || !s->row_top || !parent || !col_sn || !child || !sibling || !expanded ||
+      !w_self || !w_tree || !cand || !part || !bins) {
+    status = PS_ERR_NOMEM;
+    goto cleanup;
+  }
+  int tree_ok = 1;
+  for (ps_int sn = 0; sn < ns; sn++)
+    for (ps_int k = super[sn]; k < super[sn + 1]; k++) col_sn[k] = sn;
+  for (ps_int sn = 0; sn < ns; sn++) {
+    ps_int nc = super[sn + 1] - super[sn], nr = pi[sn + 1] - pi[sn];
+    parent[sn] = nr > nc ? col_sn[Ls[pi[sn] + nc]] : -1;
+    if (parent[sn] >= 0 && parent[sn] <= sn) tree_ok = 0;
+    w_self[sn] = w_tree[sn] = (double)nr * (double)nc + (double)nr;
+    child[sn] = sibling[sn] = -1;
+  }
+  ps_int n_exp = 0, best_exp = 0, n_cand = 0;
+  if (tree_ok) {
+    for (ps_int sn = 0; sn < ns; sn++)
+      if (parent[sn] >= 0) w_tree[parent[sn]] += w_tree[sn];
+    for (ps_int sn = ns - 1; sn >= 0; sn--)
+      if (parent[sn] >= 0) {
+        sibling[sn] = child[parent[sn]];
+        child[parent[sn]] = sn;
+      }
+    for (ps_int sn = 0; sn < ns; sn++)
+      if (parent[sn] < 0) cand[n_cand++] = (part_cand){w_tree[sn], sn};
+    double w_top = 0.0, best = split_cands(cand, n_cand, NULL);
+    while (n_exp < PS_PART_EXPANSIONS && n_cand > 0) {
+      ps_int h = cand[0].sn; /* the heaviest (split_cands sorted them) */
+      expanded[n_exp++] = h;
+      w_top += w_self[h];
+      cand[0] = cand[--n_cand];
+      for (ps_int c = child[h]; c >= 0; c = sibling[c]) cand[n_cand++] = (part_cand){w_tree[c], c};
+      double cost = split_cands(cand, n_cand, NULL) + w_top;
+      if (cost < best) {
+        best = cost;
+        best_exp = n_exp;
+      }
+    }
+  }
+  /* the best split: the first best_exp expansions are the top, the
+   * subtrees below them go to the bins; without a tree, all is top */
+  for (ps_int sn = 0; sn < ns; sn++) part[sn] = tree_ok ? 255 : PS_PART_TOP;
+  if (tree_ok) {
+    for (ps_int e = 0; e < best_exp; e++) part[expanded[e]] = PS_PART_TOP;
+    n_cand = 0;
+    for (ps_int sn = 0; sn < ns; sn++)
+      if (part[sn] != PS_PART_TOP && (parent[sn] < 0 || part[parent[sn]] == PS_PART_TOP))
+        cand[n_cand++] = (part_cand){w_tree[sn], sn};
+    split_cands(cand, n_cand, bins);
+    for (ps_int c = 0; c < n_cand; c++) part[cand[c].sn] = bins[c];
+    for (ps_int sn = ns - 1; sn >= 0; sn--) /* parents before children */
+      if (part[sn] == 255) part[sn] = part[parent[sn]];
+  }
+  ps_int m = 0;
+  for (int p = 0; p < 3; p++) {
+    s->part_ptr[p] = m;
+    for (ps_int sn = 0; sn < ns; sn++)
+      if (part[sn] == p) s->part_list[m++] = sn;
+  }
+  s->part_ptr[3] = m;
+  for (ps_int k = 0; k < n; k++) s->row_top[k] = part[col_sn[k]] == PS_PART_TOP;
+  s->parts_current = 1;
+cleanup:
+  free(parent);
+  free(col_sn);
+  free(child);
+  free(sibling);
+  free(expanded);
+  free(w_self);
+  free(w_tree);
+  free(cand);
+  free(part);
+  free(bins);
+  return status;
+}
+
+/* Forward step of supernode sn of L y = P b: y_c = L_d^-1 y_c and
+ * y_b -= L_b y_c, with the rows of the top part taken from y_top instead
+ * when they are updated (the high part's z) */
+/* supernode sn of the float factor: its first column k1, nc columns, nr
+ * rows (indices rows) and block W (make_single) */
+typedef struct {
+  ps_int k1;
+  int nc, nr;
+  const ps_int *rows;
+  const float *W;
+} float_block;
+
+static float_block block_of(const chol_state *s, ps_int sn) {
+  const cholmod_factor *L = s->L;
+  const ps_int *super = L->super, *pi = L->pi, *px = L->px;
+  float_block b = {super[sn], (int)(super[sn + 1] - super[sn]), (int)(pi[sn + 1] - pi[sn]),
+                   (const ps_int *)L->s + pi[sn], s->Lf + px[sn]};
+  return b;
+}
+
+static void forward_supernode(const chol_state *s, ps_int sn, float *t, float *u, double *y,
+                              double *y_top) {
+  const int one = 1;
+  const float f_one = 1.0f, f_zero = 0.0f;
+  float_block B = block_of(s, sn);
+  int nc = B.nc, nr = B.nr;
+  if (nc > PS_INVERT_MAX_COLUMNS) { /* t_c = L_d^-1 y_c (strsv), t_b = L_b t_c */
+    int m = nr - nc;
+    for (int i = 0; i < nc; i++) t[i] = (float)y[B.k1 + i];
+    strsv_("L", "N", "N", &nc, B.W, &nr, t, &one);
+    if (m > 0) sgemv_("N", &m, &nc, &f_one, B.W + nc, &nr, t, &one, &f_zero, t + nc, &one);
+  } else { /* t = W y_c */
+    for (int i = 0; i < nc; i++) u[i] = (float)y[B.k1 + i];
+    sgemv_("N", &nr, &nc, &f_one, B.W, &nr, u, &one, &f_zero, t, &one);
+  }
+  for (int i = 0; i < nc; i++) y[B.k1 + i] = t[i];
+  if (y_top == y)
+    for (int i = nc; i < nr; i++) y[B.rows[i]] -= t[i];
+  else
+    for (int i = nc; i < nr; i++) (s->row_top[B.rows[i]] ? y_top : y)[B.rows[i]] -= t[i];
+}
+
+/* Backward step of supernode sn of L^T x = y (x in y) */
+static void backward_supernode(const chol_state *s, ps_int sn, float *t, float *u, double *y) {
+  const int one = 1;
+  const float f_one = 1.0f, f_zero = 0.0f;
+  float_block B = block_of(s, sn);
+  int nc = B.nc, nr = B.nr;
+  for (int i = 0; i < nc; i++) t[i] = (float)y[B.k1 + i];
+  for (int i = nc; i < nr; i++) t[i] = -(float)y[B.rows[i]];
+  if (nc > PS_INVERT_MAX_COLUMNS) { /* L_d^T x_c = y_c - L_b^T x_b */
+    int m = nr - nc;
+    if (m > 0) sgemv_("T", &m, &nc, &f_one, B.W + nc, &nr, t + nc, &one, &f_one, t, &one);
+    strsv_("L", "T", "N", &nc, B.W, &nr, t, &one);
+    for (int i = 0; i < nc; i++) y[B.k1 + i] = t[i];
+  } else { /* x_c = W^T [y_c; -x_b] */
+    sgemv_("T", &nr, &nc, &f_one, B.W, &nr, t, &one, &f_zero, u, &one);
+    for (int i = 0; i < nc; i++) y[B.k1 + i] = u[i];
+  }
+}
+
+typedef struct {
+  chol_state *s;
+  int backward;
+} solve_job;
+
+/* the forward or backward steps of the low or the high part */
+static void solve_part(void *arg, int part) {
+  const solve_job *j = arg;
+  chol_state *s = j->s;
+  float *t = part == PS_PART_HIGH ? s->t_high : s->t;
+  float *u = part == PS_PART_HIGH ? s->u_high : s->u;
+  const ps_int *list = s->part_list;
+  ps_int p0 = s->part_ptr[part], p1 = s->part_ptr[part + 1];
+  if (!j->backward) {
+    double *y_top = part == PS_PART_HIGH ? s->z : s->y;
+    for (ps_int k = p0; k < p1; k++) forward_supernode(s, list[k], t, u, s->y, y_top);
+  } else {
+    for (ps_int k = p1 - 1; k >= p0; k--) backward_supernode(s, list[k], t, u, s->y);
+  }
+}
+
 /* x ~= A \ b in single precision: x = P^T L^-T L^-1 P b, supernode by
  * supernode as CHOLMOD's own solve (each supernode a dense column-major
  * block of nr rows, its nc columns first), with the blocks of make_single,
@@ -258,10 +500,12 @@ static int make_single(chol_state *s, ps_ctx *ctx) {
  * permuted vector itself is kept in double. The triangular solves of a CG
  * preconditioner are bound by memory bandwidth (L is read twice per
  * iteration), so halving the bytes read is what makes them faster. The
- * preconditioner is symmetric positive definite up to float round-off
- * (the same W forward and, transposed, backward), which CG tolerates.
- * Simplicial factors use chol_solve. */
-static int chol_precondition(void *state, const double *b, double *x,
+ * two parts of the elimination tree (make_parts) run on the team's
+ * threads, the top part between them on one. The preconditioner is
+ * symmetric positive definite up to float round-off (the same W forward
+ * and, transposed, backward), which CG tolerates. Simplicial factors use
+ * chol_solve. */
+static int chol_precondition(void *state, const double *b, double *x, ps_team *team,
                              ps_linsolve_stats *st, ps_ctx *ctx) {
   chol_state *s = state;
   const cholmod_factor *L = s->L;
@@ -272,47 +516,24 @@ static int chol_precondition(void *state, const double *b, double *x,
     if (status < 0) return status;
     if (status > 0) return chol_solve(state, b, x, st, ctx);
   }
-  const ps_int *super = L->super, *pi = L->pi, *px = L->px, *Ls = L->s, *perm = L->Perm;
-  ps_int nsuper = (ps_int)L->nsuper, n = s->n;
-  double *y = s->y;
-  float *t = s->t, *u = s->u;
-  const int one = 1;
-  const float f_one = 1.0f, f_zero = 0.0f;
+  if (!s->parts_current) PS_CHECK(make_parts(s, ctx));
+  const ps_int *super = L->super, *perm = L->Perm;
+  ps_int n = s->n;
+  double *y = s->y, *z = s->z;
+  const ps_int *top = s->part_list + s->part_ptr[PS_PART_TOP];
+  ps_int n_top = s->part_ptr[3] - s->part_ptr[PS_PART_TOP];
   for (ps_int k = 0; k < n; k++) y[k] = b[perm ? perm[k] : k];
-  for (ps_int sn = 0; sn < nsuper; sn++) { /* L y = P b */
-    ps_int k1 = super[sn];
-    int nc = (int)(super[sn + 1] - k1), nr = (int)(pi[sn + 1] - pi[sn]);
-    const ps_int *rows = Ls + pi[sn];
-    const float *W = s->Lf + px[sn];
-    if (nc > PS_INVERT_MAX_COLUMNS) { /* t_c = L_d^-1 y_c (strsv), t_b = L_b t_c */
-      int m = nr - nc;
-      for (int i = 0; i < nc; i++) t[i] = (float)y[k1 + i];
-      strsv_("L", "N", "N", &nc, W, &nr, t, &one);
-      if (m > 0) sgemv_("N", &m, &nc, &f_one, W + nc, &nr, t, &one, &f_zero, t + nc, &one);
-    } else { /* t = W y_c */
-      for (int i = 0; i < nc; i++) u[i] = (float)y[k1 + i];
-      sgemv_("N", &nr, &nc, &f_one, W, &nr, u, &one, &f_zero, t, &one);
+  solve_job job = {s, 0};
+  ps_team_run(team, 2, solve_part, &job); /* L y = P b below the top */
+  for (ps_int e = 0; e < n_top; e++)
+    for (ps_int k = super[top[e]]; k < super[top[e] + 1]; k++) {
+      y[k] += z[k];
+      z[k] = 0.0;
     }
-    for (int i = 0; i < nc; i++) y[k1 + i] = t[i];
-    for (int i = nc; i < nr; i++) y[rows[i]] -= t[i];
-  }
-  for (ps_int sn = nsuper - 1; sn >= 0; sn--) { /* L^T x = y */
-    ps_int k1 = super[sn];
-    int nc = (int)(super[sn + 1] - k1), nr = (int)(pi[sn + 1] - pi[sn]);
-    const ps_int *rows = Ls + pi[sn];
-    const float *W = s->Lf + px[sn];
-    for (int i = 0; i < nc; i++) t[i] = (float)y[k1 + i];
-    for (int i = nc; i < nr; i++) t[i] = -(float)y[rows[i]];
-    if (nc > PS_INVERT_MAX_COLUMNS) { /* L_d^T x_c = y_c - L_b^T x_b */
-      int m = nr - nc;
-      if (m > 0) sgemv_("T", &m, &nc, &f_one, W + nc, &nr, t + nc, &one, &f_one, t, &one);
-      strsv_("L", "T", "N", &nc, W, &nr, t, &one);
-      for (int i = 0; i < nc; i++) y[k1 + i] = t[i];
-    } else { /* x_c = W^T [y_c; -x_b] */
-      sgemv_("T", &nr, &nc, &f_one, W, &nr, t, &one, &f_zero, u, &one);
-      for (int i = 0; i < nc; i++) y[k1 + i] = u[i];
-    }
-  }
+  for (ps_int e = 0; e < n_top; e++) forward_supernode(s, top[e], s->t, s->u, y, y);
+  for (ps_int e = n_top - 1; e >= 0; e--) backward_supernode(s, top[e], s->t, s->u, y);
+  job.backward = 1;
+  ps_team_run(team, 2, solve_part, &job); /* L^T x = y below the top */
   for (ps_int k = 0; k < n; k++) x[perm ? perm[k] : k] = y[k];
   st->t_solve += ps_wtime() - t0;
   st->n_solve++;
@@ -332,6 +553,11 @@ static void chol_destroy(void **state) {
   free(s->t);
   free(s->u);
   free(s->w);
+  free(s->t_high);
+  free(s->u_high);
+  free(s->z);
+  free(s->part_list);
+  free(s->row_top);
   free(s);
   *state = NULL;
 }

@@ -65,7 +65,7 @@ ps_operator ps_csc_operator(const ps_csc *A) {
 
 int ps_linsolve_precondition(ps_linsolve *M, const double *r, double *z, ps_ctx *ctx) {
   if (M->single_precision && M->type->precondition && ++M->n_since_factor > M->single_after)
-    return M->type->precondition(M->state, r, z, &M->stats, ctx);
+    return M->type->precondition(M->state, r, z, M->team, &M->stats, ctx);
   return ps_linsolve_solve(M, r, z, ctx);
 }
 

@@ -41,8 +41,8 @@ typedef struct ps_linsolve_type {
    * positive definite approximation cheaper than solve (CHOLMOD: the
    * factor in single precision, made on the first call after a
    * factorisation). NULL: solve is used. */
-  int (*precondition)(void *state, const double *b, double *x, ps_linsolve_stats *st,
-                      ps_ctx *ctx);
+  int (*precondition)(void *state, const double *b, double *x, ps_team *team,
+                      ps_linsolve_stats *st, ps_ctx *ctx);
   void (*destroy)(void **state);
 } ps_linsolve_type;
 
@@ -65,6 +65,8 @@ typedef struct ps_linsolve {
   int single_after;         /* ... after this many solves with a factor
                                (default PS_SINGLE_AFTER) */
   int n_since_factor;       /* preconditioner solves with the last factor */
+  ps_team *team;            /* threads precondition may use (not owned;
+                               NULL: one; the results do not depend on it) */
   ps_linsolve_stats stats;
 } ps_linsolve;
 

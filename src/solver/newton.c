@@ -21,10 +21,11 @@ void ps_solver_opts_default(ps_solver_opts *o) {
   o->majorant = 1;
   o->cg_forcing_adaptive = 0;
   o->cg_forcing_max = 0.5;
-  o->cg_forcing = 100.0;
+  o->cg_forcing = PS_CG_FORCING_FIXED;
   o->matrix_free = 1;
   o->cg_single_precision = 1;
   o->cg_truncate = 1;
+  o->threads = 0;
 }
 
 void ps_solver_free(ps_solver *s) {
@@ -36,6 +37,7 @@ void ps_solver_free(ps_solver *s) {
   ps_arm_state_free(&s->st);
   ps_arm_state_free(&s->st_saved);
   ps_model_free(&s->model);
+  ps_team_free(s->team);
   free(s->u);
   free(s->u_saved);
   free(s->u_prev);
@@ -168,13 +170,19 @@ int ps_solver_create(ps_solver *s, const ps_particles *P,
   PS_CHECK_GOTO(ps_system_create_pattern(&s->sys, net, fixed, type->family_coupling, ctx));
   PS_CHECK_GOTO(ps_arm_state_alloc(&s->st, net->n_arm, ctx));
   PS_CHECK_GOTO(ps_arm_state_alloc(&s->st_saved, net->n_arm, ctx));
+  int threads = opts->threads > 0 ? opts->threads : ps_cpu_count();
+  PS_CHECK_GOTO(ps_team_create(&s->team, threads < PS_MAX_THREADS ? threads : PS_MAX_THREADS,
+                               ctx));
+  s->sys.team = s->team;
   PS_CHECK_GOTO(ps_linsolve_create(&s->ls, opts->linear, ctx));
+  s->ls.team = s->team;
   s->ls.reanalyze = opts->reanalyze;
   s->ls.single_precision = opts->cg_single_precision;
   if (opts->majorant && type->family_coupling && opts->reuse_factor) {
     PS_CHECK_GOTO(ps_system_create_pattern(&s->sys_pre, net, fixed, 0, ctx));
     PS_CHECK_GOTO(ps_linsolve_create(&s->ls_pre, ps_linsolve_cholmod, ctx));
     s->ls_pre.single_precision = opts->cg_single_precision;
+    s->ls_pre.team = s->team;
     /* a majorant is factored when CG has failed, for the Newton systems
      * that follow (~240 CG iterations per factor in the paper's sweep):
      * its float copy (0.06 s at 20k, ~6 CG iterations) pays from the
@@ -401,11 +409,13 @@ static double norm_fixed(const ps_system *sys, const double *f) {
 
 /* The relative CG tolerance of Newton iteration `it` at the relative
  * residual rel (rel_prev: the last iteration's; *eta: the last forcing
- * term in, this one out; adaptive rule only). */
-static double cg_tolerance(const ps_solver_opts *o, int it, double rel, double rel_prev,
-                           double *eta) {
+ * term in, this one out; adaptive rule only): by the adaptive rule when
+ * `adaptive`, else by the fixed rule (with PS_CG_FORCING_FIXED when
+ * opts.cg_forcing_adaptive is set but the solve has handed over). */
+static double cg_tolerance(const ps_solver_opts *o, int adaptive, int it, double rel,
+                           double rel_prev, double *eta) {
   double t;
-  if (o->cg_forcing_adaptive) {
+  if (adaptive) {
     /* Eisenstat-Walker choice 2: as loose as the last Newton step was
      * slow to converge, no tighter than the safeguard from the last
      * eta (a single lucky step does not force an exact solve) */
@@ -420,8 +430,9 @@ static double cg_tolerance(const ps_solver_opts *o, int it, double rel, double r
     t = fmax(o->pcg_rtol, e);
   } else {
     /* max(cg_tolerance, min(1e-2, cg_forcing x rel)) */
-    t = fmax(o->pcg_rtol, fmin(PS_CG_FORCING_MAX, o->cg_forcing * rel));
-    if (o->cg_forcing <= 0) return t;
+    double forcing = o->cg_forcing_adaptive ? PS_CG_FORCING_FIXED : o->cg_forcing;
+    t = fmax(o->pcg_rtol, fmin(PS_CG_FORCING_MAX, forcing * rel));
+    if (forcing <= 0) return t;
   }
   /* never tighter than the Newton tolerance asks for: a full step leaves
    * the linear residual t x rel (plus a quadratic term), so t =
@@ -437,6 +448,13 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
   int small_steps = 0;     /* line-search steps < PS_SMALL_STEP in a row */
   double rel_before = 0.0; /* the residual before the first of them */
   double rel_prev = 0.0, eta = 0.0; /* the forcing term's history */
+  /* the adaptive rule's loose CG solves pay while Newton converges slowly
+   * anyway, but a solve needs more, cheaper iterations with it; one that
+   * reaches max_iterations under it is not given up but continues with
+   * the fixed rule's tight CG solves for up to max_iterations more (the
+   * paper's c/500 run otherwise stalled in a breaking round that the
+   * fixed rule converges, doc/performance.md) */
+  int adaptive = s->opts.cg_forcing_adaptive, budget = s->opts.max_iterations;
   for (int it = 0;; it++) {
     double rn = norm_free(sys, s->f), ref = norm_fixed(sys, s->f);
     double rel = ref > 0 ? rn / ref : rn;
@@ -451,7 +469,13 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
       s->last_reason = PS_NEWTON_CONVERGED;
       return PS_OK;
     }
-    if (it >= s->opts.max_iterations) {
+    if (it >= budget && adaptive) {
+      adaptive = 0;
+      budget = it + s->opts.max_iterations;
+      s->n_handovers++;
+      ps_log(ctx, 2, "    adaptive CG tolerance: max_iterations reached, fixed rule from here\n");
+    }
+    if (it >= budget) {
       s->last_reason = PS_NEWTON_MAX_ITER;
       return PS_DIVERGED;
     }
@@ -471,7 +495,7 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
     for (ps_int k = 0; k < nf; k++) s->rhs[k] = -s->f[sys->dof_of_free[k]];
     /* inexact Newton: far from the solution a rough direction does as
      * well (the line search guards it) */
-    s->cg_rtol = cg_tolerance(&s->opts, it, rel, rel_prev, &eta);
+    s->cg_rtol = cg_tolerance(&s->opts, adaptive, it, rel, rel_prev, &eta);
     rel_prev = rel;
     int status = solve_tangent(s, ctx);
     if (status < 0) return status;

@@ -50,11 +50,18 @@ enum ps_newton_reason {
 #define PS_EW_GAMMA 0.9
 #define PS_EW_ALPHA 2.0
 #define PS_EW_SAFEGUARD 0.1
+/* the default cg_forcing of the fixed rule, also the rule a solve under
+ * the adaptive one hands over to at max_iterations (newton.c) */
+#define PS_CG_FORCING_FIXED 100.0
 
 /* the share of the Newton tolerance that the last CG solve of a Newton
  * solve leaves as linear residual (newton.c: CG does not solve tighter
  * than PS_CG_OVERSOLVE x tolerance / the relative Newton residual) */
 #define PS_CG_OVERSOLVE 0.1
+
+/* the work of a CG iteration is split into two parts (assembly.c,
+ * cholmod.c), so more threads than this do not help */
+#define PS_MAX_THREADS 2
 
 /* Settings of the nonlinear solve and the path. */
 typedef struct ps_solver_opts {
@@ -113,6 +120,11 @@ typedef struct ps_solver_opts {
                              default 1, doc/performance.md) */
   int reanalyze;          /* 1: symbolic analysis before every
                              factorisation (benchmark comparison; 0) */
+  int threads;            /* threads of the CG products and preconditioner
+                             solves (ps_team): 0 (default) as many as the
+                             CPUs this process may use, at most
+                             PS_MAX_THREADS; the numbers a run gives do
+                             not depend on it */
   int majorant;           /* 1: for models with family terms, when CG with
                              the old factor fails, factor the one-horizon
                              majorant of the tangent
@@ -133,6 +145,7 @@ typedef struct ps_solver {
   const ps_linsolve *ls_last; /* which one holds the current factor */
   ps_system sys_pre;        /* one-horizon majorant (opts.majorant) */
   ps_linsolve ls_pre;       /* its CHOLMOD factor */
+  ps_team *team;            /* opts.threads threads (NULL: one) */
   int have_factor;          /* a factor of a recent tangent is available */
   ps_solver_opts opts;
 
@@ -163,6 +176,9 @@ typedef struct ps_solver {
   ps_int pre_failures;      /* CG with a fresh majorant factor that failed */
   ps_int pcg_truncated;     /* Newton directions from CG truncated at
                                negative curvature (opts.cg_truncate) */
+  ps_int n_handovers;       /* Newton solves that reached max_iterations
+                               under the adaptive CG tolerance and went
+                               on with the fixed rule */
   ps_int n_stagnated;       /* Newton solves ended as stagnated
                                (opts.max_small_steps) */
   unsigned char *arm_state_at_factor; /* [n_arm] yielding | 2 broken, when the

@@ -106,6 +106,26 @@ typedef struct ps_csc {
   double *x;   /* [p[n]] values */
 } ps_csc;
 
+/* A team of threads for the parallel loops of one run (team.c). The
+ * caller splits a job into n_parts parts, a number fixed by the data, not
+ * by the team, and every part writes only its own outputs (sums across
+ * parts are formed afterwards in a fixed order): results do not depend on
+ * the number of threads. Part p runs on member p mod size; the calling
+ * thread is member 0. A NULL team runs the parts in order on the caller.
+ * Create a team only after any fork() (threads do not survive it). */
+typedef struct ps_team ps_team;
+/* *team = a team of n_threads (NULL for n_threads <= 1; fewer members if
+ * the system refuses threads). PS_OK or PS_ERR_NOMEM. */
+int ps_team_create(ps_team **team, int n_threads, ps_ctx *ctx);
+void ps_team_free(ps_team *team);
+/* the number of members (1 for NULL) */
+int ps_team_size(const ps_team *team);
+/* fn(arg, p) for p = 0 .. n_parts - 1; returns when all have run. */
+void ps_team_run(ps_team *team, int n_parts, void (*fn)(void *arg, int part), void *arg);
+
+/* The number of CPUs this process may run on (sched_getaffinity; >= 1). */
+int ps_cpu_count(void);
+
 /* force inlining (GCC, Clang), so that a dimension passed as a constant
  * unrolls the inner loops */
 #if defined(__GNUC__)

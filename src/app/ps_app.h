@@ -57,6 +57,12 @@ typedef struct ps_run_result {
   ps_int shifted_steps;     /* Newton directions from a shifted tangent */
   ps_int cg_truncated;      /* from CG truncated at negative curvature */
   ps_int stagnated;         /* Newton solves ended as stagnated */
+  ps_int handovers;         /* adaptive CG solves that went on with the
+                               fixed rule at max_iterations */
+  int threads;              /* threads of the run's CG */
+  double serial_share;      /* share of a preconditioner solve on one
+                               thread alone (the majorant's factor, else
+                               the tangent's) */
   ps_int line_search_cuts;  /* backtracking steps of the line search */
   double t_majorant_factor, nnz_majorant_factor;
   double t_cg;              /* wall seconds in CG (products and

@@ -366,6 +366,9 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
   res->shifted_steps = s.n_shifted;
   res->cg_truncated = s.pcg_truncated;
   res->stagnated = s.n_stagnated;
+  res->handovers = s.n_handovers;
+  res->threads = ps_team_size(s.team);
+  res->serial_share = s.sys_pre.net ? s.ls_pre.stats.serial_share : s.ls.stats.serial_share;
   res->line_search_cuts = s.n_line_search_cuts;
   res->t_majorant_factor = s.ls_pre.stats.t_factor;
   res->nnz_majorant_factor = s.ls_pre.stats.nnz_factor;
@@ -415,6 +418,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
             "nnz_factor: %.0f\nflops_factor: %.4g\nmajorant_factorisations: %lld\n"
             "majorant_cg_failures: %lld\nmajorant_factor_s: %.3f\nmajorant_nnz_factor: %.0f\n"
             "cg_s: %.3f\nshifted_steps: %lld\ncg_truncated: %lld\nnewton_stagnated: %lld\nline_search_cuts: %lld\n"
+            "newton_handovers: %lld\nthreads: %d\npreconditioner_serial_share: %.3f\n"
             "case_fingerprint: %016llx\n",
             cs->name, (long long)pb->P.n, (long long)pb->net.n_arm,
             (long long)s.sys.n_free, delta, mat.sigma_y, peak, peak / mat.sigma_y,
@@ -432,6 +436,7 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
             res->nnz_majorant_factor, res->t_cg,
             (long long)res->shifted_steps, (long long)res->cg_truncated,
             (long long)res->stagnated, (long long)res->line_search_cuts,
+            (long long)res->handovers, res->threads, res->serial_share,
             (unsigned long long)ps_case_fingerprint(cs));
     if (cs->n_j_rings > 0 && pb->P.dim == 2) { /* J of the final state, Eq. 39 */
       double *sig = malloc(4 * (size_t)pb->P.n * sizeof *sig);

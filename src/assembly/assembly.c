@@ -65,6 +65,7 @@ void ps_system_free(ps_system *s) {
   free(s->xw);
   free(s->yw);
   free(s->yw_part);
+  free(s->f_part);
   ps_arm_tangent_free(&s->tan);
   memset(s, 0, sizeof *s);
 }
@@ -230,6 +231,7 @@ int ps_system_create_pattern(ps_system *s, const ps_network *net,
   ALLOC(s->xw, s->n_dof);
   ALLOC(s->yw, s->n_dof);
   ALLOC(s->yw_part, s->n_dof);
+  ALLOC(s->f_part, s->n_dof);
   PS_CHECK_GOTO(ps_arm_tangent_alloc(&s->tan, net, ctx));
 cleanup:
   free(mark);
@@ -373,55 +375,117 @@ static void add_family_term(ps_system *s, ps_int c, int term) {
 
 static void tangent_diagonal(ps_system *s, double *diag);
 
+/* The per-arm and per-particle loops of an evaluation are split into
+ * PS_EVAL_PARTS parts (halves of the arms and of the particles) for the
+ * run's team: the arm geometry and the family gradients write only their
+ * own entries; the forces of the second half of the arms go into f_part,
+ * added to f afterwards, so the sums are the same on one thread or two. */
+#define PS_EVAL_PARTS 2
+
+typedef struct {
+  ps_system *s;
+  const ps_arm_state *st;
+  const double *X, *u;
+  double *f;
+  int phase;                  /* 0 geometry, 1 forces, 2 the tangent's data */
+  ps_int bad[PS_EVAL_PARTS];  /* phase 0: the first arm of a part whose
+                                 length is not finite, or -1 */
+} eval_job;
+
+static void eval_part(void *arg, int part) {
+  eval_job *j = arg;
+  ps_system *s = j->s;
+  const ps_network *net = s->net;
+  const int d = s->dim;
+  ps_int na = net->n_arm;
+  ps_int i0 = na * part / PS_EVAL_PARTS, i1 = na * (part + 1) / PS_EVAL_PARTS;
+  if (j->phase == 0) {
+    const double *X = j->X, *u = j->u;
+    j->bad[part] = -1;
+    for (ps_int i = i0; i < i1; i++) {
+      ps_int a = net->a[i], b = net->b[i];
+      double l2 = 0.0, dXdu = 0.0, du2 = 0.0;
+      double *q = &s->q[i * d];
+      for (int k = 0; k < d; k++) {
+        double dX = X[b * d + k] - X[a * d + k], du = u[b * d + k] - u[a * d + k];
+        q[k] = dX + du;
+        l2 += q[k] * q[k];
+        dXdu += dX * du;
+        du2 += du * du;
+      }
+      /* the arm length, rounded at zero (ps_arm_length) */
+      double r0 = net->r0[i], e2 = PS_ARM_LENGTH_ROUNDING * PS_ARM_LENGTH_ROUNDING * r0 * r0;
+      double l = sqrt(l2 + e2);
+      if (!isfinite(l) && j->bad[part] < 0) j->bad[part] = i;
+      s->l[i] = l;
+      /* l - l(r0) = (2 dX.du + du.du)/(l + l(r0)): no cancellation at
+       * small strain */
+      s->dl[i] = (2.0 * dXdu + du2) / (l + sqrt(r0 * r0 + e2));
+      for (int k = 0; k < d; k++) q[k] /= l;
+    }
+  } else if (j->phase == 1) {
+    double *f = part == 0 ? j->f : s->f_part;
+    memset(f, 0, (size_t)s->n_dof * sizeof *f);
+    for (ps_int i = i0; i < i1; i++) {
+      double T = s->T[i];
+      if (T == 0.0) continue;
+      const double *q = &s->q[i * d];
+      for (int k = 0; k < d; k++) {
+        f[net->a[i] * d + k] -= T * q[k]; /* dl/dy_a = -q */
+        f[net->b[i] * d + k] += T * q[k];
+      }
+    }
+  } else {
+    for (ps_int i = i0; i < i1; i++) {
+      for (int k = 0; k < d; k++) s->tq[i * d + k] = s->q[i * d + k];
+      s->tTl[i] = j->st->broken[i] ? 0.0 : s->T[i] / s->l[i];
+    }
+  }
+}
+
+/* the family gradients of the rank-one terms of the particles of one
+ * part (after phase 2: they need tq of every arm; G allocated by the
+ * caller) */
+static void gradient_part(void *arg, int part) {
+  eval_job *j = arg;
+  ps_system *s = j->s;
+  const ps_network *net = s->net;
+  ps_int np = net->n_particle;
+  ps_int c0 = np * part / PS_EVAL_PARTS, c1 = np * (part + 1) / PS_EVAL_PARTS;
+  for (ps_int c = c0; c < c1; c++)
+    for (int term = 0; term < 2; term++) {
+      double cc = term == 0 ? s->tan.c[c] : s->tan.c2[c];
+      if (cc == 0.0) continue;
+      family_gradient(s, c, term == 0 ? s->tan.w : s->tan.w2,
+                      &s->G[term][(ps_int)s->dim * s->fam_members_ptr[c]]);
+    }
+}
+
 int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
                    const double *X, const double *u, double *f,
                    double *energy, int want, ps_ctx *ctx) {
   const ps_network *net = s->net;
   int want_tangent = want != PS_EVAL_FORCES;
   int d = s->dim;
-  for (ps_int i = 0; i < net->n_arm; i++) {
-    ps_int a = net->a[i], b = net->b[i];
-    double l2 = 0.0, dXdu = 0.0, du2 = 0.0;
-    double *q = &s->q[i * d];
-    for (int k = 0; k < d; k++) {
-      double dX = X[b * d + k] - X[a * d + k], du = u[b * d + k] - u[a * d + k];
-      q[k] = dX + du;
-      l2 += q[k] * q[k];
-      dXdu += dX * du;
-      du2 += du * du;
-    }
-    /* the arm length, rounded at zero (ps_arm_length) */
-    double r0 = net->r0[i], e2 = PS_ARM_LENGTH_ROUNDING * PS_ARM_LENGTH_ROUNDING * r0 * r0;
-    double l = sqrt(l2 + e2);
-    if (!isfinite(l))
+  eval_job job = {s, st, X, u, f, 0, {-1, -1}};
+  ps_team_run(s->team, PS_EVAL_PARTS, eval_part, &job);
+  for (int p = 0; p < PS_EVAL_PARTS; p++)
+    if (job.bad[p] >= 0) {
+      ps_int i = job.bad[p];
       return ps_error(ctx, PS_ERR_SOLVER, "arm %lld: particles %lld and %lld: length %g",
-                      (long long)i, (long long)a, (long long)b, l);
-    s->l[i] = l;
-    /* l - l(r0) = (2 dX.du + du.du)/(l + l(r0)): no cancellation at small
-     * strain */
-    s->dl[i] = (2.0 * dXdu + du2) / (l + sqrt(r0 * r0 + e2));
-    for (int k = 0; k < d; k++) q[k] /= l;
-  }
+                      (long long)i, (long long)net->a[i], (long long)net->b[i], s->l[i]);
+    }
   PS_CHECK(model->type->evaluate(model, s->dl, st, s->T, energy,
                                  want_tangent ? &s->tan : NULL, ctx));
-  memset(f, 0, (size_t)s->n_dof * sizeof *f);
-  for (ps_int i = 0; i < net->n_arm; i++) {
-    double T = s->T[i];
-    if (T == 0.0) continue;
-    const double *q = &s->q[i * d];
-    for (int k = 0; k < d; k++) {
-      f[net->a[i] * d + k] -= T * q[k]; /* dl/dy_a = -q */
-      f[net->b[i] * d + k] += T * q[k];
-    }
-  }
+  job.phase = 1;
+  ps_team_run(s->team, PS_EVAL_PARTS, eval_part, &job);
+  for (ps_int k = 0; k < s->n_dof; k++) f[k] += s->f_part[k];
   if (!want_tangent) return PS_OK;
 
   /* keep the tangent's geometry and free bodies */
   s->assembled = 0;
-  for (ps_int i = 0; i < net->n_arm; i++) {
-    for (int k = 0; k < d; k++) s->tq[i * d + k] = s->q[i * d + k];
-    s->tTl[i] = st->broken[i] ? 0.0 : s->T[i] / s->l[i];
-  }
+  job.phase = 2;
+  ps_team_run(s->team, PS_EVAL_PARTS, eval_part, &job);
   ps_int any_free = 0;
   for (ps_int a = 0; a < net->n_particle; a++) {
     int intact = 0;
@@ -431,22 +495,22 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
     any_free += !intact;
   }
   /* the family gradients of the rank-one terms */
-  for (ps_int c = 0; c < net->n_particle; c++)
-    for (int term = 0; term < 2; term++) {
-      double cc = term == 0 ? s->tan.c[c] : s->tan.c2[c];
-      if (cc == 0.0) continue;
-      if (!s->family_coupling)
-        return ps_error(ctx, PS_ERR_INPUT,
-                        "the model has family terms but the tangent pattern has none "
-                        "(ps_system_create_pattern with family_coupling 0)");
-      if (!s->G[term]) {
-        s->G[term] = ps_calloc((size_t)d * (size_t)s->fam_members_ptr[net->n_particle],
-                               sizeof *s->G[term], ctx);
-        if (!s->G[term]) return PS_ERR_NOMEM;
-      }
-      family_gradient(s, c, term == 0 ? s->tan.w : s->tan.w2,
-                      &s->G[term][(ps_int)d * s->fam_members_ptr[c]]);
+  for (int term = 0; term < 2; term++) {
+    const double *cc = term == 0 ? s->tan.c : s->tan.c2;
+    ps_int any = 0;
+    for (ps_int c = 0; cc && c < net->n_particle && !any; c++) any = cc[c] != 0.0;
+    if (!any) continue;
+    if (!s->family_coupling)
+      return ps_error(ctx, PS_ERR_INPUT,
+                      "the model has family terms but the tangent pattern has none "
+                      "(ps_system_create_pattern with family_coupling 0)");
+    if (!s->G[term]) {
+      s->G[term] = ps_calloc((size_t)d * (size_t)s->fam_members_ptr[net->n_particle],
+                             sizeof *s->G[term], ctx);
+      if (!s->G[term]) return PS_ERR_NOMEM;
     }
+  }
+  ps_team_run(s->team, PS_EVAL_PARTS, gradient_part, &job);
   /* the free bodies' spring: the stiffest diagonal entry of K */
   s->spring = 0.0;
   if (any_free) {

@@ -75,6 +75,7 @@ typedef struct ps_system {
   int assembled;            /* Kfull and A hold that tangent */
   double *xw, *yw;          /* [n_dof] work of the matrix-free product */
   double *yw_part;          /* [n_dof] its second part's output */
+  double *f_part;           /* [n_dof] ps_system_eval's second part's forces */
   ps_team *team;            /* threads for the product (not owned; NULL:
                                one; the results do not depend on it) */
   double *G[2];             /* the family gradients g_a of the tangent

@@ -310,7 +310,7 @@ static double split_cands(part_cand *cand, ps_int n, unsigned char *bins) {
  * plus its rows. Supernodes whose parent does not follow them (CHOLMOD
  * orders them so; checked) leave everything in the top part: one thread.
  * PS_OK or PS_ERR_NOMEM. */
-static int make_parts(chol_state *s, ps_ctx *ctx) {
+static int make_parts(chol_state *s, ps_linsolve_stats *st, ps_ctx *ctx) {
   const cholmod_factor *L = s->L;
   ps_int ns = (ps_int)L->nsuper, n = s->n;
   const ps_int *super = L->super, *pi = L->pi, *Ls = L->s;
@@ -345,6 +345,9 @@ static int make_parts(chol_state *s, ps_ctx *ctx) {
     child[sn] = sibling[sn] = -1;
   }
   ps_int n_exp = 0, best_exp = 0, n_cand = 0;
+  double w_all = 0.0, w_top_best = 0.0;
+  for (ps_int sn = 0; sn < ns; sn++) w_all += w_self[sn];
+  st->serial_share = 1.0;
   if (tree_ok) {
     for (ps_int sn = 0; sn < ns; sn++)
       if (parent[sn] >= 0) w_tree[parent[sn]] += w_tree[sn];
@@ -366,6 +369,7 @@ static int make_parts(chol_state *s, ps_ctx *ctx) {
       if (cost < best) {
         best = cost;
         best_exp = n_exp;
+        w_top_best = w_top;
       }
     }
   }
@@ -382,6 +386,7 @@ static int make_parts(chol_state *s, ps_ctx *ctx) {
     for (ps_int c = 0; c < n_cand; c++) part[cand[c].sn] = bins[c];
     for (ps_int sn = ns - 1; sn >= 0; sn--) /* parents before children */
       if (part[sn] == 255) part[sn] = part[parent[sn]];
+    st->serial_share = w_all > 0 ? w_top_best / w_all : 1.0;
   }
   ps_int m = 0;
   for (int p = 0; p < 3; p++) {
@@ -516,7 +521,7 @@ static int chol_precondition(void *state, const double *b, double *x, ps_team *t
     if (status < 0) return status;
     if (status > 0) return chol_solve(state, b, x, st, ctx);
   }
-  if (!s->parts_current) PS_CHECK(make_parts(s, ctx));
+  if (!s->parts_current) PS_CHECK(make_parts(s, st, ctx));
   const ps_int *super = L->super, *perm = L->Perm;
   ps_int n = s->n;
   double *y = s->y, *z = s->z;

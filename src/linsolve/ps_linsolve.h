@@ -14,6 +14,11 @@ typedef struct ps_linsolve_stats {
   ps_int n_analyze, n_factor, n_solve;
   double nnz_factor;                   /* nnz(L) (+ nnz(U) for LU) */
   double flops_factor;                 /* of the last factorisation */
+  double serial_share;                 /* of the work of a preconditioner
+                                          solve, the share one thread does
+                                          while the other waits (the top of
+                                          the elimination tree; CHOLMOD,
+                                          0 until the first solve) */
 } ps_linsolve_stats;
 
 /* default of ps_linsolve.single_after: preconditioner solves with a

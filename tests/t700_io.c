@@ -70,8 +70,8 @@ static void test_defaults(void) {
            "defaults: disk, 2D, eq116");
   ps_check(isnan(cs.mat.delta) && cs.delta_over_c == 1e-3, "defaults: delta unset, c/1000");
   ps_check(cs.n_sweep == 12, "defaults: 12 sweep values");
-  ps_check(cs.cg_forcing_adaptive == 0 && cs.cg_forcing == 100 && cs.cg_forcing_max == 0.5,
-           "defaults: the fixed CG forcing rule 100 (adaptive: at most 0.5)");
+  ps_check(cs.cg_forcing_adaptive == 1 && cs.cg_forcing == 100 && cs.cg_forcing_max == 0.5,
+           "defaults: adaptive CG forcing, at most 0.5 (the fixed rule's number 100)");
   ps_check_rel(cs.sweep_delta_over_c[11], 1.0 / 3250, 1e-15, "defaults: last sweep 1/3250");
   ps_check(!strcmp(cs.linear, "cholmod") && cs.out_dir[0] == '\0' && cs.vtk_every == 10,
            "defaults: cholmod, out_dir empty, vtk_every 10");
@@ -130,8 +130,8 @@ static void test_full(void) {
   ps_check(!strcmp(cs.linear, "umfpack") && cs.max_iterations == 50 && !cs.line_search,
            "full: solver");
   ps_check_rel(cs.tolerance, 1e-10, 0, "full: tolerance");
-  ps_check(cs.cg_forcing_adaptive && cs.cg_forcing_max == 0.25,
-           "full: cg_forcing adaptive, cg_forcing_max 0.25");
+  ps_check(!cs.cg_forcing_adaptive && cs.cg_forcing == 50 && cs.cg_forcing_max == 0.25,
+           "full: cg_forcing 50 (the fixed rule), cg_forcing_max 0.25");
   ps_check(cs.load_step == 0.01 && cs.load_step_after_break == 0.001 && cs.max_load == 2 &&
                cs.max_increments == 100 && cs.min_step == 1e-7 &&
                cs.stop_crack_tip == 5 && cs.stop_load_drop == 0 &&

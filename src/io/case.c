@@ -1090,8 +1090,14 @@ static void fnv(uint64_t *h, const char *s) {
  * cg_truncate off is (it brings back version 4's route through UMFPACK).
  * 7: arm lengths rounded at zero (PS_ARM_LENGTH_ROUNDING): an arm crushed
  * at the crack tip no longer stalls Newton, and c/1000 fractures at 20k
- * where it stalled at 1.47. */
-#define PS_ALGORITHM_VERSION 7
+ * where it stalled at 1.47.
+ * 8: the adaptive CG tolerance (cg_forcing: adaptive, with the fixed rule
+ * once a solve reaches max_iterations) is the default, and a CG
+ * iteration's sums are split in two parts for two threads (the same
+ * numbers on one thread or two, but other round-off than version 7's);
+ * the fixed rule now enters the fingerprint (near the plastic limit the
+ * two rules' paths differ by ~1e-4). */
+#define PS_ALGORITHM_VERSION 8
 
 uint64_t ps_case_fingerprint(const ps_case *cs) {
   uint64_t h = 1469598103934665603ULL;
@@ -1163,6 +1169,10 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
     fnv(&h, b);
   }
   if (!cs->cg_truncate) fnv(&h, "cg not truncated");
+  if (!cs->cg_forcing_adaptive) { /* the default since version 8 */
+    snprintf(b, sizeof b, "cg forcing %.17g", cs->cg_forcing);
+    fnv(&h, b);
+  }
   if (cs->stop_tip_advance > 0) { /* newer key: only when set */
     snprintf(b, sizeof b, "tip advance %.17g", cs->stop_tip_advance);
     fnv(&h, b);

@@ -94,8 +94,9 @@ typedef struct ps_case {
   int reuse_factor;    /* CG preconditioned by the last factor, default 1 */
   double cg_tolerance; /* its relative tolerance, default 1e-6 */
   int cg_forcing_adaptive; /* cg_forcing: adaptive (Eisenstat and Walker's
-                          choice 2, ps_solver_opts; default 0) */
-  double cg_forcing;   /* cg_forcing: a number, the fixed rule (default 100) */
+                          choice 2, ps_solver_opts; the default) */
+  double cg_forcing;   /* cg_forcing: a number, the fixed rule (100 when
+                          adaptive is not chosen) */
   double cg_forcing_max; /* the adaptive rule's loosest CG tolerance, 0.5 */
   int cg_max_iterations; /* default 25 */
   int cg_skip_arms;    /* skip CG when this many arms changed state since

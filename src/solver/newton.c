@@ -19,7 +19,7 @@ void ps_solver_opts_default(ps_solver_opts *o) {
   o->pcg_skip_arms = 0;
   o->reanalyze = 0;
   o->majorant = 1;
-  o->cg_forcing_adaptive = 0;
+  o->cg_forcing_adaptive = 1;
   o->cg_forcing_max = 0.5;
   o->cg_forcing = PS_CG_FORCING_FIXED;
   o->matrix_free = 1;

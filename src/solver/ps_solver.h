@@ -84,11 +84,12 @@ typedef struct ps_solver_opts {
                              cg_forcing_max at the first iteration of a
                              solve and at most): rough CG solves while
                              Newton converges slowly, tight ones once it
-                             converges fast. 40% off the paper-size run at
-                             c/1000, but more Newton iterations per solve,
-                             and in the sweep c/500 then stalled at the
-                             max_iterations cap, so 0 (the fixed rule
-                             below) is the default (doc/performance.md) */
+                             converges fast; a solve that reaches
+                             max_iterations goes on with the fixed rule
+                             (PS_CG_FORCING_FIXED) for max_iterations
+                             more. 1 (default since version 8): 40% off
+                             the paper-size run at c/1000; 0: the fixed
+                             rule below (doc/performance.md) */
   double cg_forcing_max;  /* its loosest CG tolerance (default 0.5) */
   double cg_forcing;      /* with cg_forcing_adaptive = 0: CG stops at the
                              relative residual max(pcg_rtol,

@@ -7,6 +7,9 @@
 #                  of the paper's disk at its 20k particles, delta = c/3250
 #                  (repeated) and c/1000 (once)
 #   BENCH_QUICK=1  tiny cases only: a smoke test of this script (seconds)
+#   BENCH_THREADS  peristatic -t for every run (default: its own, the CPUs,
+#                  at most 2); with BENCH_LARGE the paper-size runs to
+#                  fracture are also run once with -t 1 (rows "...-t1")
 # Run it on a quiet machine: it measures wall time.
 set -eu
 top=$(cd "$(dirname "$0")/.." && pwd)
@@ -19,7 +22,7 @@ export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
 [ -x "$bin" ] || { echo "bench: build peristatic first (make)" >&2; exit 1; }
 
 csv="$out/results.csv.tmp"
-echo "case,kind,particles,arms,free_dofs,linear,reuse_factor,repeat,network_s,assembly_s,analyze_s,factor_s,solve_s,increments,newton_iterations,factorisations,cg_iterations,nnz_tangent_upper,nnz_factor,flops_factor,sigma_failure_over_sigma_y,wall_s,peak_memory_MiB,cg_s" > "$csv"
+echo "case,kind,particles,arms,free_dofs,linear,reuse_factor,repeat,network_s,assembly_s,analyze_s,factor_s,solve_s,increments,newton_iterations,factorisations,cg_iterations,nnz_tangent_upper,nnz_factor,flops_factor,sigma_failure_over_sigma_y,wall_s,peak_memory_MiB,cg_s,threads" > "$csv"
 
 # disk CASE-FILE: n_eta n_xi kind(elastic|fracture) linear reuse
 # (SOLVER_EXTRA: more solver keys, e.g. "cg_forcing: 0")
@@ -48,13 +51,14 @@ val() { awk -F': ' -v k="$2" '$1 == k {print $2}' "$1"; }
 run_file() {
   r=1
   while [ "$r" -le "$6" ]; do
-    "$bin" run -q -o "$work/out" "$1" >/dev/null
+    th=${RUN_THREADS:-${BENCH_THREADS:-}}
+    "$bin" run -q ${th:+-t "$th"} -o "$work/out" "$1" >/dev/null
     s="$work/out/summary.txt"
     printf '%s,%s,%s,%s,%s,%s,%s,%s' "$2" "$3" "$(val "$s" particles)" "$(val "$s" arms)" \
       "$(val "$s" free_dofs)" "$4" "$5" "$r" >> "$csv"
     for k in network_s assembly_s analyze_s factor_s solve_s increments newton_iterations \
              factorisations cg_iterations nnz_tangent_upper nnz_factor flops_factor \
-             sigma_failure_over_sigma_y wall_s peak_memory_MiB cg_s; do
+             sigma_failure_over_sigma_y wall_s peak_memory_MiB cg_s threads; do
       printf ',%s' "$(val "$s" $k)" >> "$csv"
     done
     printf '\n' >> "$csv"
@@ -149,6 +153,9 @@ if [ "${BENCH_LARGE:-0}" = 1 ]; then
   # and at the issue's (and Table 1's) delta = c/1000, which fractures since
   # algorithm version 7 (arm lengths rounded at zero); ~5 min, so once
   run_file "$top/data/cases/paper-griffith.yaml" paper-griffith-c1000 fracture cholmod true 1
+  # the same on one thread (a sweep's job with -j 2 on 2 cores)
+  RUN_THREADS=1 run_file "$f" paper-griffith-c3250-t1 fracture cholmod true 1
+  RUN_THREADS=1 run_file "$top/data/cases/paper-griffith.yaml" paper-griffith-c1000-t1 fracture cholmod true 1
 fi
 mv "$csv" "$out/results.csv"
 
@@ -158,7 +165,7 @@ awk -F, 'NR > 1 {
     key = $1 "," $6 "," $7; if (!(key in n)) keys[++nk] = key
     n[key]++; w[key, n[key]] = $22; fa[key, n[key]] = $12; cgs[key, n[key]] = $24
     size[key] = $5; its[key] = $15; fac[key] = $16; cg[key] = $17; nnz[key] = $18
-    nl[key] = $19; fl[key] = $20; mem[key] = $23; sf[key] = $21; kind[key] = $2
+    nl[key] = $19; fl[key] = $20; mem[key] = $23; sf[key] = $21; kind[key] = $2; thr[key] = $25
   }
   function median(a, key, m,   i, j, t, v) {
     for (i = 1; i <= m; i++) v[i] = a[key, i]
@@ -166,15 +173,15 @@ awk -F, 'NR > 1 {
     return (m % 2) ? v[(m + 1) / 2] : (v[m / 2] + v[m / 2 + 1]) / 2
   }
   END {
-    printf "%-32s %-18s %5s %7s %9s %9s %10s %9s %9s %6s %6s %6s %8s %8s %9s\n", "case", "linear", "reuse",
+    printf "%-32s %-18s %5s %7s %9s %9s %10s %9s %9s %6s %6s %6s %8s %8s %9s %7s\n", "case", "linear", "reuse",
       "runs", "free_dofs", "nnz(A)", "nnz(L)", "flops", "wall_s", "newton", "factor", "cg", "factor_s",
-      "cg_s", "peak_MiB"
+      "cg_s", "peak_MiB", "threads"
     for (ik = 1; ik <= nk; ik++) {
       k = keys[ik]
       split(k, p, ",")
       mw = median(w, k, n[k]); mf = median(fa, k, n[k]); mc = median(cgs, k, n[k])
-      printf "%-32s %-18s %5s %7d %9d %9.3g %10.3g %9.3g %9.3f %6d %6d %6d %8.3f %8.3f %9.1f\n", p[1], p[2], p[3],
-        n[k], size[k], nnz[k], nl[k], fl[k], mw, its[k], fac[k], cg[k], mf, mc, mem[k]
+      printf "%-32s %-18s %5s %7d %9d %9.3g %10.3g %9.3g %9.3f %6d %6d %6d %8.3f %8.3f %9.1f %7s\n", p[1], p[2], p[3],
+        n[k], size[k], nnz[k], nl[k], fl[k], mw, its[k], fac[k], cg[k], mf, mc, mem[k], thr[k]
       if (kind[k] == "elastic" && p[1] ~ /^disk-[0-9.]+k-elastic$/ && p[2] == "cholmod" && p[3] == "true") {
         m++; lx[m] = log(size[k]); ly[m] = log(mw); lf[m] = log(mf / (fac[k] > 0 ? fac[k] : 1))
       }

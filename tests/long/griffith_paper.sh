@@ -8,7 +8,7 @@
 # at least the eleven runs the paper's Fig. 14 plots as fractured
 # (c/3250 .. c/750) fracture.
 # Two runs at a time (-j 2, GRIFFITH_JOBS to change), one per core; about
-# 21 minutes into a fresh folder on a 2-core machine (doc/griffith.md).
+# 11 minutes into a fresh folder on a 2-core machine (doc/griffith.md).
 top=$(cd "$(dirname "$0")/../.." && pwd)
 out=${GRIFFITH_OUT:-$top/doc/results/griffith-paper}
 export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}

@@ -66,7 +66,7 @@ static const char *HELP_MAIN =
     "success, 1 on bad input, 2 on a solver failure, 3 on an I/O error.\n";
 
 static const char *HELP_RUN =
-    "peristatic run [-o DIR] [-q|-v] CASE.yaml\n"
+    "peristatic run [-o DIR] [-q|-v] [-t N] CASE.yaml\n"
     "\n"
     "Solves the case to equilibrium at each increment of the load factor with\n"
     "Newton's method (consistent tangent, CHOLMOD, energy line search), commits\n"
@@ -76,10 +76,12 @@ static const char *HELP_RUN =
     "Stops when the crack tip passes path.stop_crack_tip * c (disk), when the\n"
     "boundary stress falls below path.stop_load_drop of its peak, or at\n"
     "path.max_load. Reports sigma_failure = the peak boundary stress.\n"
-    "A run in which nothing breaks ends with 'no fracture': not an error.\n";
+    "A run in which nothing breaks ends with 'no fracture': not an error.\n"
+    "Each Newton system is solved by conjugate gradients on two threads (-t N to\n"
+    "choose; the same numbers on one), preconditioned by an earlier factor.\n";
 
 static const char *HELP_GRIFFITH =
-    "peristatic griffith [-o DIR] [-q|-v] [--resume] [-j N] CASE.yaml\n"
+    "peristatic griffith [-o DIR] [-q|-v] [--resume] [-j N] [-t N] CASE.yaml\n"
     "\n"
     "Runs the case once per value of griffith.delta_over_c (default the paper's\n"
     "c/500 .. c/3250 in steps of 250 in the denominator) on one particle cloud.\n"
@@ -96,7 +98,7 @@ static const char *HELP_GRIFFITH =
     "With -j N the runs are shared among N worker processes, each taking the\n"
     "next run not yet taken, largest delta (longest run) first, and logging to\n"
     "DIR/job-K.log: on N cores the sweep takes about 1/N of the time and N times\n"
-    "the memory of one run.\n"
+    "the memory of one run; each job gets CPUs/N threads (-t to set them).\n"
     "\n"
     "A run whose solve fails before the crack runs (Newton increment below\n"
     "path.min_step, or a re-equilibration that fails without the load falling\n"

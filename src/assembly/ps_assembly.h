@@ -127,7 +127,9 @@ int ps_system_assemble(ps_system *sys, ps_ctx *ctx);
 /* y[n_dof] = K x[n_dof] with the tangent K of the last evaluation with one
  * (all dofs, the free bodies' springs included), matrix-free: arm terms
  * and rank-one family terms, O(arms + family members), without the
- * two-horizon matrix (doc/performance.md). */
+ * two-horizon matrix (doc/performance.md). In two parts on sys->team's
+ * threads; the second part's sum goes through sys->yw_part, so two calls
+ * on one system must not run at the same time. */
 void ps_system_apply(const ps_system *sys, const double *x, double *y);
 
 /* y[n_free] = K_ff x[n_free], matrix-free (as ps_system_apply); equals

@@ -45,6 +45,7 @@ typedef struct {
                solves) */
   double *w; /* one supernode's block while make_single inverts it */
   size_t w_size;
+  size_t n_size; /* the length of y, t, u, t_high, u_high, z */
 } chol_state;
 
 static int create(void **state, int supernodal, ps_ctx *ctx) {
@@ -215,7 +216,7 @@ static int make_single(chol_state *s, ps_ctx *ctx) {
   size_t wmax = 0; /* the largest supernode block */
   for (size_t sn = 0; sn < L->nsuper; sn++)
     if ((size_t)(px[sn + 1] - px[sn]) > wmax) wmax = (size_t)(px[sn + 1] - px[sn]);
-  if (L->xsize > s->Lf_size || wmax > s->w_size || !s->y) {
+  if (L->xsize > s->Lf_size || wmax > s->w_size || (size_t)s->n > s->n_size || !s->y) {
     free(s->Lf);
     free(s->y);
     free(s->t);
@@ -237,6 +238,7 @@ static int make_single(chol_state *s, ps_ctx *ctx) {
       return PS_ERR_NOMEM;
     s->Lf_size = L->xsize;
     s->w_size = wmax;
+    s->n_size = (size_t)s->n;
   }
   const double *Lx = L->x;
   const double d_one = 1.0;
@@ -341,6 +343,8 @@ static int make_parts(chol_state *s, ps_linsolve_stats *st, ps_ctx *ctx) {
     ps_int nc = super[sn + 1] - super[sn], nr = pi[sn + 1] - pi[sn];
     parent[sn] = nr > nc ? col_sn[Ls[pi[sn] + nc]] : -1;
     if (parent[sn] >= 0 && parent[sn] <= sn) tree_ok = 0;
+    for (ps_int r = pi[sn] + nc + 1; r < pi[sn + 1]; r++) /* rows sorted: the */
+      if (Ls[r] <= Ls[r - 1]) tree_ok = 0;                /* first is the parent */
     w_self[sn] = w_tree[sn] = (double)nr * (double)nc + (double)nr;
     child[sn] = sibling[sn] = -1;
   }

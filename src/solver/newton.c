@@ -3,6 +3,7 @@
  * and arm breaking with re-equilibration. */
 #include "ps_solver.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -471,7 +472,8 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
     }
     if (it >= budget && adaptive) {
       adaptive = 0;
-      budget = it + s->opts.max_iterations;
+      budget = s->opts.max_iterations > INT_MAX - it ? INT_MAX : it + s->opts.max_iterations;
+      small_steps = 0; /* the fixed rule's steps are judged afresh */
       s->n_handovers++;
       ps_log(ctx, 2, "    adaptive CG tolerance: max_iterations reached, fixed rule from here\n");
     }

@@ -7,6 +7,9 @@
 #                  particles (elastic, 6.7 GB), and runs to fracture
 #                  of the paper's disk at its 20k particles, delta = c/3250
 #                  (repeated) and c/1000 (once)
+#   BENCH_HUGE=1   with BENCH_LARGE: also the paper's disk at 40k and 80k
+#                  particles run to fracture at c/1000 with the sweep's
+#                  settings (once each; ~9 and ~40 minutes)
 #   BENCH_QUICK=1  tiny cases only: a smoke test of this script (seconds)
 #   BENCH_THREADS  peristatic -t for every run (default: its own, the CPUs,
 #                  at most 2); with BENCH_LARGE the paper-size runs to
@@ -159,6 +162,16 @@ if [ "${BENCH_LARGE:-0}" = 1 ]; then
   # the same on one thread (a sweep's job with -j 2 on 2 cores)
   RUN_THREADS=1 run_file "$f" paper-griffith-c3250-t1 fracture cholmod true 1
   RUN_THREADS=1 run_file "$top/data/cases/paper-griffith.yaml" paper-griffith-c1000-t1 fracture cholmod true 1
+  if [ "${BENCH_HUGE:-0}" = 1 ]; then
+    for sz in "28 56 40k" "40 80 80k"; do
+      set -- $sz
+      f="$work/paper-$3.yaml"
+      sed -e "s/^  n_eta: 20\$/  n_eta: $1/" -e "s/^  n_xi: 40\$/  n_xi: $2/" \
+        "$top/data/cases/paper-griffith.yaml" > "$f"
+      grep -q "^  n_xi: $2\$" "$f" || { echo "bench: cannot set the disk size" >&2; exit 1; }
+      run_file "$f" "paper-griffith-$3-c1000" fracture cholmod true 1
+    done
+  fi
 fi
 mv "$csv" "$out/results.csv"
 

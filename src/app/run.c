@@ -175,9 +175,10 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
                   "newton_iterations,relative_residual,converged,arms_yielding,arms_broken,"
                   "crack_tip_over_c,wall_s\n");
   }
-  ps_log(ctx, 1, "# %s: %lld particles, %lld arms, %lld free dofs, delta %s%.4g m\n",
+  ps_log(ctx, 1, "# %s: %lld particles, %lld arms, %lld free dofs, delta %s%.4g m, %d thread%s\n",
          cs->name, (long long)pb->P.n, (long long)pb->net.n_arm,
-         (long long)s.sys.n_free, isfinite(delta) ? "" : "(no breaking) ", delta);
+         (long long)s.sys.n_free, isfinite(delta) ? "" : "(no breaking) ", delta,
+         ps_team_size(s.team), ps_team_size(s.team) > 1 ? "s" : "");
   ps_log(ctx, 1, "# %4s %9s %10s %6s %9s %8s %7s %6s\n", "step", "lambda", "sig/sig_y",
          "newton", "residual", "yielding", "broken", "tip/c");
   double dl_nominal = cs->load_step, dl = dl_nominal, peak = -INFINITY;

@@ -165,6 +165,17 @@ if $P run -q -o "$T/fixed" "$T/fixed.yaml" && same_peak "$T/fast" "$T/fixed"; th
 else
   ko "sigma_f differs between the adaptive and the fixed CG forcing"
 fi
+# a Newton solve that reaches max_iterations under the adaptive rule goes
+# on with the fixed rule: with max_iterations 6 some solves do (32 in
+# version 8), and the run still ends at the default's sigma_f
+cp "$srcdir/data/cases/small-disk.yaml" "$T/handover.yaml"
+printf 'solver: {max_iterations: 6}\n' >> "$T/handover.yaml"
+if $P run -q -o "$T/handover" "$T/handover.yaml" &&
+   [ "$(val "$T/handover/summary.txt" newton_handovers)" -gt 0 ] && same_peak "$T/fast" "$T/handover"; then
+  ok "max_iterations 6: $(val "$T/handover/summary.txt" newton_handovers) solves handed over to the fixed CG rule, the same sigma_f"
+else
+  ko "the handover at max_iterations (adaptive CG rule) did not act or changed sigma_f"
+fi
 # threads: a CG iteration's sums are split in parts fixed by the data, so
 # one thread and two give the same history to the last digit
 if $P run -q -t 1 -o "$T/t1" "$srcdir/data/cases/small-disk.yaml" &&

@@ -253,11 +253,11 @@ int main(int argc, char **argv) {
   ps_problem pb;
   double t0 = ps_wtime();
   status = ps_problem_setup(&pb, &cs, &ctx);
-  pb.threads = threads;
   if (status < 0) {
     fprintf(stderr, "peristatic: %s\n", ctx.msg);
     return exit_code(status);
   }
+  pb.threads = threads;
   if (!strcmp(cmd, "info")) {
     ps_int nfree = 0, nd = (ps_int)pb.P.dim * pb.P.n;
     for (ps_int j = 0; j < nd; j++) nfree += !pb.fixed[j];

@@ -375,12 +375,25 @@ static void add_family_term(ps_system *s, ps_int c, int term) {
 
 static void tangent_diagonal(ps_system *s, double *diag);
 
-/* The per-arm and per-particle loops of an evaluation are split into
- * PS_EVAL_PARTS parts (halves of the arms and of the particles) for the
- * run's team: the arm geometry and the family gradients write only their
- * own entries; the forces of the second half of the arms go into f_part,
- * added to f afterwards, so the sums are the same on one thread or two. */
-#define PS_EVAL_PARTS 2
+/* The per-arm and per-particle loops of an evaluation and of the
+ * matrix-free product are split into PS_SYSTEM_PARTS parts (halves of the
+ * arms and of the particles) for the run's team: the arm geometry and the
+ * family gradients write only their own entries; sums over arms (forces,
+ * products) of the second part go into a vector of their own (f_part,
+ * yw_part), added afterwards (add_second_part), so the sums are the same
+ * on one thread or two. */
+#define PS_SYSTEM_PARTS 2
+
+/* [*lo, *hi): part `part`'s share of n items */
+static inline void part_range(ps_int n, int part, ps_int *lo, ps_int *hi) {
+  *lo = n * part / PS_SYSTEM_PARTS;
+  *hi = n * (part + 1) / PS_SYSTEM_PARTS;
+}
+
+/* y[n] += the second part's sums */
+static void add_second_part(double *y, const double *second, ps_int n) {
+  for (ps_int k = 0; k < n; k++) y[k] += second[k];
+}
 
 typedef struct {
   ps_system *s;
@@ -388,7 +401,7 @@ typedef struct {
   const double *X, *u;
   double *f;
   int phase;                  /* 0 geometry, 1 forces, 2 the tangent's data */
-  ps_int bad[PS_EVAL_PARTS];  /* phase 0: the first arm of a part whose
+  ps_int bad[PS_SYSTEM_PARTS]; /* phase 0: the first arm of a part whose
                                  length is not finite, or -1 */
 } eval_job;
 
@@ -397,8 +410,8 @@ static void eval_part(void *arg, int part) {
   ps_system *s = j->s;
   const ps_network *net = s->net;
   const int d = s->dim;
-  ps_int na = net->n_arm;
-  ps_int i0 = na * part / PS_EVAL_PARTS, i1 = na * (part + 1) / PS_EVAL_PARTS;
+  ps_int i0, i1;
+  part_range(net->n_arm, part, &i0, &i1);
   if (j->phase == 0) {
     const double *X = j->X, *u = j->u;
     j->bad[part] = -1;
@@ -449,9 +462,8 @@ static void eval_part(void *arg, int part) {
 static void gradient_part(void *arg, int part) {
   eval_job *j = arg;
   ps_system *s = j->s;
-  const ps_network *net = s->net;
-  ps_int np = net->n_particle;
-  ps_int c0 = np * part / PS_EVAL_PARTS, c1 = np * (part + 1) / PS_EVAL_PARTS;
+  ps_int c0, c1;
+  part_range(s->net->n_particle, part, &c0, &c1);
   for (ps_int c = c0; c < c1; c++)
     for (int term = 0; term < 2; term++) {
       double cc = term == 0 ? s->tan.c[c] : s->tan.c2[c];
@@ -468,8 +480,8 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
   int want_tangent = want != PS_EVAL_FORCES;
   int d = s->dim;
   eval_job job = {s, st, X, u, f, 0, {-1, -1}};
-  ps_team_run(s->team, PS_EVAL_PARTS, eval_part, &job);
-  for (int p = 0; p < PS_EVAL_PARTS; p++)
+  ps_team_run(s->team, PS_SYSTEM_PARTS, eval_part, &job);
+  for (int p = 0; p < PS_SYSTEM_PARTS; p++)
     if (job.bad[p] >= 0) {
       ps_int i = job.bad[p];
       return ps_error(ctx, PS_ERR_SOLVER, "arm %lld: particles %lld and %lld: length %g",
@@ -478,14 +490,14 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
   PS_CHECK(model->type->evaluate(model, s->dl, st, s->T, energy,
                                  want_tangent ? &s->tan : NULL, ctx));
   job.phase = 1;
-  ps_team_run(s->team, PS_EVAL_PARTS, eval_part, &job);
-  for (ps_int k = 0; k < s->n_dof; k++) f[k] += s->f_part[k];
+  ps_team_run(s->team, PS_SYSTEM_PARTS, eval_part, &job);
+  add_second_part(f, s->f_part, s->n_dof);
   if (!want_tangent) return PS_OK;
 
   /* keep the tangent's geometry and free bodies */
   s->assembled = 0;
   job.phase = 2;
-  ps_team_run(s->team, PS_EVAL_PARTS, eval_part, &job);
+  ps_team_run(s->team, PS_SYSTEM_PARTS, eval_part, &job);
   ps_int any_free = 0;
   for (ps_int a = 0; a < net->n_particle; a++) {
     int intact = 0;
@@ -510,7 +522,7 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
       if (!s->G[term]) return PS_ERR_NOMEM;
     }
   }
-  ps_team_run(s->team, PS_EVAL_PARTS, gradient_part, &job);
+  ps_team_run(s->team, PS_SYSTEM_PARTS, gradient_part, &job);
   /* the free bodies' spring: the stiffest diagonal entry of K */
   s->spring = 0.0;
   if (any_free) {
@@ -582,12 +594,8 @@ static PS_ALWAYS_INLINE void apply_terms_dim(const ps_system *s, const double *x
   }
 }
 
-/* The product is split into PS_APPLY_PARTS parts, each over its share of
- * the arms and of the families and into its own output (part 0 into y,
- * part 1 into yw_part), summed afterwards: the same sums in the same
- * order on one thread or two (ps_team) */
-#define PS_APPLY_PARTS 2
-
+/* the product in PS_SYSTEM_PARTS parts (part 0 into y, part 1 into
+ * yw_part) */
 typedef struct {
   const ps_system *s;
   const double *x;
@@ -597,9 +605,9 @@ typedef struct {
 static void apply_part(void *arg, int part) {
   const apply_job *j = arg;
   const ps_system *s = j->s;
-  ps_int na = s->net->n_arm, np = s->net->n_particle;
-  ps_int i0 = na * part / PS_APPLY_PARTS, i1 = na * (part + 1) / PS_APPLY_PARTS;
-  ps_int c0 = np * part / PS_APPLY_PARTS, c1 = np * (part + 1) / PS_APPLY_PARTS;
+  ps_int i0, i1, c0, c1;
+  part_range(s->net->n_arm, part, &i0, &i1);
+  part_range(s->net->n_particle, part, &c0, &c1);
   double *y = part == 0 ? j->y : s->yw_part;
   if (s->dim == 2) /* constant loop bounds: 1.4x faster */
     apply_terms_dim(s, j->x, y, i0, i1, c0, c1, 2);
@@ -609,8 +617,8 @@ static void apply_part(void *arg, int part) {
 
 static void apply_terms(const ps_system *s, const double *x, double *y) {
   apply_job j = {s, x, y};
-  ps_team_run(s->team, PS_APPLY_PARTS, apply_part, &j);
-  for (ps_int k = 0; k < s->n_dof; k++) y[k] += s->yw_part[k];
+  ps_team_run(s->team, PS_SYSTEM_PARTS, apply_part, &j);
+  add_second_part(y, s->yw_part, s->n_dof);
 }
 
 /* diag[n_dof] = the diagonal of K (no springs) */

@@ -278,6 +278,8 @@ static int make_single(chol_state *s, ps_ctx *ctx) {
  * a fixed order afterwards, so the sums are the same with one thread or
  * two. */
 enum { PS_PART_LOW = 0, PS_PART_HIGH = 1, PS_PART_TOP = 2 };
+/* the parts solved at the same time: LOW and HIGH */
+#define PS_TREE_PARTS 2
 
 /* the top is grown from the roots down, a heaviest subtree at a time,
  * at most this many times, and the cheapest split seen is kept */
@@ -415,9 +417,6 @@ cleanup:
   return status;
 }
 
-/* Forward step of supernode sn of L y = P b: y_c = L_d^-1 y_c and
- * y_b -= L_b y_c, with the rows of the top part taken from y_top instead
- * when they are updated (the high part's z) */
 /* supernode sn of the float factor: its first column k1, nc columns, nr
  * rows (indices rows) and block W (make_single) */
 typedef struct {
@@ -435,6 +434,9 @@ static float_block block_of(const chol_state *s, ps_int sn) {
   return b;
 }
 
+/* Forward step of supernode sn of L y = P b: y_c = L_d^-1 y_c and
+ * y_b -= L_b y_c, with the rows of the top part taken from y_top instead
+ * when they are updated (the high part's z) */
 static void forward_supernode(const chol_state *s, ps_int sn, float *t, float *u, double *y,
                               double *y_top) {
   const int one = 1;
@@ -533,7 +535,7 @@ static int chol_precondition(void *state, const double *b, double *x, ps_team *t
   ps_int n_top = s->part_ptr[3] - s->part_ptr[PS_PART_TOP];
   for (ps_int k = 0; k < n; k++) y[k] = b[perm ? perm[k] : k];
   solve_job job = {s, 0};
-  ps_team_run(team, 2, solve_part, &job); /* L y = P b below the top */
+  ps_team_run(team, PS_TREE_PARTS, solve_part, &job); /* L y = P b below the top */
   for (ps_int e = 0; e < n_top; e++)
     for (ps_int k = super[top[e]]; k < super[top[e] + 1]; k++) {
       y[k] += z[k];
@@ -542,7 +544,7 @@ static int chol_precondition(void *state, const double *b, double *x, ps_team *t
   for (ps_int e = 0; e < n_top; e++) forward_supernode(s, top[e], s->t, s->u, y, y);
   for (ps_int e = n_top - 1; e >= 0; e--) backward_supernode(s, top[e], s->t, s->u, y);
   job.backward = 1;
-  ps_team_run(team, 2, solve_part, &job); /* L^T x = y below the top */
+  ps_team_run(team, PS_TREE_PARTS, solve_part, &job); /* L^T x = y below the top */
   for (ps_int k = 0; k < n; k++) x[perm ? perm[k] : k] = y[k];
   st->t_solve += ps_wtime() - t0;
   st->n_solve++;

@@ -411,8 +411,9 @@ static double norm_fixed(const ps_system *sys, const double *f) {
 /* The relative CG tolerance of Newton iteration `it` at the relative
  * residual rel (rel_prev: the last iteration's; *eta: the last forcing
  * term in, this one out; adaptive rule only): by the adaptive rule when
- * `adaptive`, else by the fixed rule (with PS_CG_FORCING_FIXED when
- * opts.cg_forcing_adaptive is set but the solve has handed over). */
+ * `adaptive`, else by the fixed rule with opts.cg_forcing (which stays at
+ * its default PS_CG_FORCING_FIXED when the case chose adaptive, for a
+ * solve that has handed over). */
 static double cg_tolerance(const ps_solver_opts *o, int adaptive, int it, double rel,
                            double rel_prev, double *eta) {
   double t;
@@ -431,9 +432,8 @@ static double cg_tolerance(const ps_solver_opts *o, int adaptive, int it, double
     t = fmax(o->pcg_rtol, e);
   } else {
     /* max(cg_tolerance, min(1e-2, cg_forcing x rel)) */
-    double forcing = o->cg_forcing_adaptive ? PS_CG_FORCING_FIXED : o->cg_forcing;
-    t = fmax(o->pcg_rtol, fmin(PS_CG_FORCING_MAX, forcing * rel));
-    if (forcing <= 0) return t;
+    t = fmax(o->pcg_rtol, fmin(PS_CG_FORCING_MAX, o->cg_forcing * rel));
+    if (o->cg_forcing <= 0) return t;
   }
   /* never tighter than the Newton tolerance asks for: a full step leaves
    * the linear residual t x rel (plus a quadratic term), so t =

@@ -86,8 +86,8 @@ typedef struct ps_solver_opts {
                              Newton converges slowly, tight ones once it
                              converges fast; a solve that reaches
                              max_iterations goes on with the fixed rule
-                             (PS_CG_FORCING_FIXED) for max_iterations
-                             more. 1 (default since version 8): 40% off
+                             (cg_forcing, default PS_CG_FORCING_FIXED)
+                             for max_iterations more. 1 (default since version 8): 40% off
                              the paper-size run at c/1000; 0: the fixed
                              rule below (doc/performance.md) */
   double cg_forcing_max;  /* its loosest CG tolerance (default 0.5) */
@@ -98,8 +98,8 @@ typedef struct ps_solver_opts {
                              0: always pcg_rtol (exact Newton). Both
                              rules (but cg_forcing 0) stop CG no tighter
                              than PS_CG_OVERSOLVE x tolerance / the
-                             relative Newton residual (default 100, used
-                             only when not adaptive) */
+                             relative Newton residual (default 100; with
+                             the adaptive rule, used after a handover) */
   int pcg_max_iterations; /* default 25 */
   int pcg_skip_arms;      /* skip CG when at least this many arms changed
                              state (yield, break) since the last

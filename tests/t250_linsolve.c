@@ -153,7 +153,7 @@ int main(void) {
     double share = ls[0].stats.serial_share;
     ps_check(share > 0.0 && share < 1.0,
              "the elimination tree splits: one thread alone does %.1f%% of a solve "
-             "(in (0, 100%%): this small factor's top supernode has 142 of 280 columns)",
+             "(in (0, 100%%): this small factor's top supernode has 142 of its 236 columns)",
              100 * share);
     /* the matrix-free product in its two parts on two threads: the same
      * to the bit as on one */

@@ -59,17 +59,20 @@ int main(void) {
   st.eps_p[0] = 1.5 * ey;
   double lim = 1.5 * ey * r0;
   m.mat.delta = lim * (1 + 1e-9);
-  ps_check(m.type->break_arms(&m, &st, 0) == 0 && !st.broken[0],
+  ps_int nb = -1;
+  ps_check(m.type->break_arms(&m, &st, 0, &nb, &ctx) == PS_OK && nb == 0 && !st.broken[0],
            "no break while eps_p r0 < delta");
   m.mat.delta = lim * (1 - 1e-9);
-  ps_check(m.type->break_arms(&m, &st, 0) == 1 && st.broken[0], "breaks once eps_p r0 > delta");
+  ps_check(m.type->break_arms(&m, &st, 0, &nb, &ctx) == PS_OK && nb == 1 && st.broken[0],
+           "breaks once eps_p r0 > delta");
   dl = 3 * ey * r0;
   m.type->evaluate(&m, &dl, &st, &T, &E, NULL, &ctx);
   ps_check(T == 0.0 && E == 0.0, "a broken arm carries nothing (T = %g, energy = %g)", T, E);
   st.broken[0] = 0;
   st.eps_p[0] = -40 * ey; /* large plastic shortening */
   m.mat.delta = 1e-12;
-  ps_check(m.type->break_arms(&m, &st, 0) == 0, "never breaks in compression");
+  ps_check(m.type->break_arms(&m, &st, 0, &nb, &ctx) == PS_OK && nb == 0,
+           "never breaks in compression");
   ps_arm_state_free(&st);
   ps_model_free(&m);
   ps_network_free(&net);

@@ -440,8 +440,8 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
             (long long)res->handovers, res->threads, res->serial_share,
             (unsigned long long)ps_case_fingerprint(cs));
     if (cs->n_j_rings > 0 && pb->P.dim == 2) { /* J of the final state, Eq. 39 */
-      double *sig = malloc(4 * (size_t)pb->P.n * sizeof *sig);
-      double *H = malloc(4 * (size_t)pb->P.n * sizeof *H);
+      double *sig = ps_calloc(4 * (size_t)pb->P.n, sizeof *sig, ctx);
+      double *H = ps_calloc(4 * (size_t)pb->P.n, sizeof *H, ctx);
       if (!sig || !H) {
         free(sig);
         free(H);

@@ -139,8 +139,8 @@ int ps_problem_setup(ps_problem *pb, const ps_case *cs, ps_ctx *ctx) {
   memset(pb, 0, sizeof *pb);
   pb->cs = *cs;
   enum { HOLE_SIDES = 64 }; /* arms across a hole cross its inscribed polygon */
-  ps_crack *cracks = calloc((size_t)(cs->n_cracks + 1 + HOLE_SIDES * cs->n_holes),
-                            sizeof *cracks);
+  ps_crack *cracks = ps_calloc((size_t)(cs->n_cracks + 1 + HOLE_SIDES * cs->n_holes),
+                               sizeof *cracks, ctx);
   if (!cracks) return PS_ERR_NOMEM;
   int n_cracks = cs->n_cracks;
   memcpy(cracks, cs->cracks, sizeof(ps_crack) * (size_t)cs->n_cracks);

@@ -60,7 +60,18 @@ void ps_particles_free(ps_particles *p) {
   free(p->block);
   free(p->zone_xi);
   free(p->in_boundary_zone);
+  free(p->source);
+  free(p->line);
   memset(p, 0, sizeof *p);
+}
+
+const char *ps_particle_where(const ps_particles *p, ps_int a, char *buf, size_t len) {
+  if (p->source && p->line)
+    snprintf(buf, len, "%s:%lld: particle %lld", p->source, (long long)p->line[a],
+             (long long)a);
+  else
+    snprintf(buf, len, "particle %lld", (long long)a);
+  return buf;
 }
 
 int ps_geom_box(ps_particles *p, int dim, const ps_int counts[3], double d,

@@ -19,6 +19,10 @@ typedef struct ps_particles {
    * and the flag "in the boundary zone" (outermost ring of zones). */
   int *zone_xi;
   unsigned char *in_boundary_zone;
+  /* point cloud only (NULL otherwise): the file it was read from and the
+   * line of each particle in it, so that messages name file:line */
+  char *source;
+  ps_int *line;
 } ps_particles;
 
 /* Allocate a cloud of n particles in dim dimensions (all arrays zeroed).
@@ -26,6 +30,11 @@ typedef struct ps_particles {
 int ps_particles_alloc(ps_particles *p, int dim, ps_int n, ps_ctx *ctx);
 /* Free all arrays; safe on a zeroed or already freed cloud. */
 void ps_particles_free(ps_particles *p);
+
+/* Where particle a comes from, for messages: "cloud.txt:37: particle 36"
+ * for a point cloud (source and line set), else "particle 36". Writes at
+ * most len bytes to buf and returns buf. */
+const char *ps_particle_where(const ps_particles *p, ps_int a, char *buf, size_t len);
 
 /* Remove the particles inside any of the n circles (cx, cy, R) (2D),
  * keeping the order of the rest. Returns PS_OK, PS_ERR_INPUT (not 2D, or

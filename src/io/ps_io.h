@@ -110,6 +110,9 @@ typedef struct ps_case {
                           direction, default 1 */
   int majorant;        /* CG with a factor of the one-horizon majorant
                           before refactoring the tangent, default 1 */
+  double max_memory_gib; /* solver.max_memory_gib: refuse a case whose
+                          estimated memory (ps_network_estimate) exceeds
+                          it, GiB; 0 (default): 80% of the machine's RAM */
 
   /* path following */
   double load_step;    /* load factor increment, default 0.02 */

@@ -221,21 +221,24 @@ static double excess(const ps_model *m, const ps_arm_state *st, ps_int i) {
   return ps_arm_plastic_strain(st, i, m->mat.yield_rule) * m->net->r0[i] - m->mat.delta;
 }
 
-static ps_int fibre_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count) {
+static int fibre_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
+                            ps_int *n_broken, ps_ctx *ctx) {
   const ps_network *net = m->net;
   double delta = m->mat.delta;
-  if (!(delta > 0) || !isfinite(delta)) return 0;
+  *n_broken = 0;
+  if (!(delta > 0) || !isfinite(delta)) return PS_OK;
   ps_int nc = 0;
   for (ps_int i = 0; i < net->n_arm; i++) nc += excess(m, st, i) > 0;
-  if (nc == 0) return 0;
+  if (nc == 0) return PS_OK;
   if (max_count <= 0 || nc <= max_count) {
     for (ps_int i = 0; i < net->n_arm; i++)
       if (excess(m, st, i) > 0) st->broken[i] = 1;
-    return nc;
+    *n_broken = nc;
+    return PS_OK;
   }
   /* only the max_count arms past the limit by the most */
-  candidate *c = malloc((size_t)nc * sizeof *c);
-  if (!c) return 0;
+  candidate *c = ps_calloc((size_t)nc, sizeof *c, ctx);
+  if (!c) return PS_ERR_NOMEM;
   ps_int k = 0;
   for (ps_int i = 0; i < net->n_arm; i++) {
     double e = excess(m, st, i);
@@ -247,7 +250,8 @@ static ps_int fibre_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_c
   qsort(c, (size_t)nc, sizeof *c, by_excess_desc);
   for (ps_int j = 0; j < max_count; j++) st->broken[c[j].arm] = 1;
   free(c);
-  return max_count;
+  *n_broken = max_count;
+  return PS_OK;
 }
 
 static const ps_model_type fibre_type = {"fibre", fibre_evaluate, fibre_break_arms,

@@ -92,11 +92,14 @@ void ps_arm_tangent_free(ps_arm_tangent *t) {
   memset(t, 0, sizeof *t);
 }
 
-ps_int ps_model_never_breaks(const ps_model *m, ps_arm_state *st, ps_int max_count) {
+int ps_model_never_breaks(const ps_model *m, ps_arm_state *st, ps_int max_count,
+                          ps_int *n_broken, ps_ctx *ctx) {
   (void)m;
   (void)st;
   (void)max_count;
-  return 0;
+  (void)ctx;
+  *n_broken = 0;
+  return PS_OK;
 }
 
 double ps_arm_plastic_strain(const ps_arm_state *st, ps_int i, int yield_rule) {

@@ -95,11 +95,13 @@ typedef struct ps_model_type {
    * stiffness. Returns PS_OK. */
   int (*evaluate)(const ps_model *m, const double *dl, ps_arm_state *st,
                   double *T, double *energy, ps_arm_tangent *tan, ps_ctx *ctx);
-  /* After a converged, committed state: mark the arms that break; returns
-   * how many broke now. With max_count > 0, only the max_count arms past
-   * the limit by the most (a gentler step when re-equilibration after
-   * breaking them all fails). */
-  ps_int (*break_arms)(const ps_model *m, ps_arm_state *st, ps_int max_count);
+  /* After a converged, committed state: mark the arms that break and set
+   * *n_broken to how many broke now. With max_count > 0, only the
+   * max_count arms past the limit by the most (a gentler step when
+   * re-equilibration after breaking them all fails). Returns PS_OK or
+   * PS_ERR_NOMEM (then no arm is marked and *n_broken = 0). */
+  int (*break_arms)(const ps_model *m, ps_arm_state *st, ps_int max_count,
+                    ps_int *n_broken, ps_ctx *ctx);
   /* Optional (NULL: nothing to do): check the parameters against the
    * network and precompute per-arm data into m->arm_k. Returns PS_OK,
    * PS_ERR_INPUT (message names the parameter), PS_ERR_NOMEM. */
@@ -133,8 +135,10 @@ extern const ps_model_type *const ps_model_fibre;
  * nu is fixed: 1/3 in plane stress, 1/4 in plane strain and 3D. */
 extern const ps_model_type *const ps_model_bond;
 
-/* break_arms of the elastic models: nothing ever breaks; returns 0. */
-ps_int ps_model_never_breaks(const ps_model *m, ps_arm_state *st, ps_int max_count);
+/* break_arms of the elastic models: nothing ever breaks (*n_broken = 0);
+ * returns PS_OK. */
+int ps_model_never_breaks(const ps_model *m, ps_arm_state *st, ps_int max_count,
+                          ps_int *n_broken, ps_ctx *ctx);
 
 /* Ordinary state-based linear elastic PD with the dilatation / deviatoric
  * split (pd-elastoplastic-animation-supplement, Eq. 26-47; Madenci &

@@ -647,7 +647,7 @@ int ps_solver_step(ps_solver *s, double lambda, ps_ctx *ctx) {
 
 int ps_solver_break_round(ps_solver *s, ps_int max_count, ps_int *n_broken,
                           ps_ctx *ctx) {
-  *n_broken = s->model.type->break_arms(&s->model, &s->st, max_count);
+  PS_CHECK(s->model.type->break_arms(&s->model, &s->st, max_count, n_broken, ctx));
   if (*n_broken == 0) return PS_OK;
   s->have_prev = 0; /* do not extrapolate across a break */
   ps_log(ctx, 2, "    %lld arms broke, re-equilibrating\n", (long long)*n_broken);

@@ -67,10 +67,21 @@ void ps_log(const ps_ctx *ctx, int level, const char *fmt, ...)
     }                                                                        \
   } while (0)
 
-/* calloc that records PS_ERR_NOMEM in ctx and returns NULL on failure. */
+/* The one allocation function of peristatic: calloc that records
+ * PS_ERR_NOMEM in ctx and returns NULL on failure (also when count * size
+ * overflows size_t). Every allocation of ours goes through ps_calloc or
+ * ps_realloc, so that the memory-failure test can make each one fail. */
 void *ps_calloc(size_t count, size_t size, ps_ctx *ctx);
-/* realloc with the same contract; on failure *p is left untouched. */
+/* realloc with the same contract; on failure *p is left untouched.
+ * Returns PS_OK or PS_ERR_NOMEM. */
 int ps_realloc(void **p, size_t count, size_t size, ps_ctx *ctx);
+
+/* Test hook (in the style of CSparse's Tcov malloc tests): after n more
+ * successful allocations by ps_calloc/ps_realloc, every further one fails
+ * as if the system had no memory. n < 0 (the default) switches it off.
+ * Process-wide: for the memory-failure test program only. Returns the
+ * number of allocations made since the previous call. */
+long ps_alloc_countdown(long n);
 
 /* Wall-clock seconds since an arbitrary origin (CLOCK_MONOTONIC). */
 double ps_wtime(void);

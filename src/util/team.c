@@ -117,7 +117,7 @@ int ps_team_create(ps_team **team, int n_threads, ps_ctx *ctx) {
   atomic_init(&t->done, 0);
   t->n_threads = 1;
   for (int m = 1; m < n_threads; m++) {
-    worker_arg *wa = malloc(sizeof *wa);
+    worker_arg *wa = ps_calloc(1, sizeof *wa, ctx);
     if (!wa) break;
     wa->team = t;
     wa->member = m;

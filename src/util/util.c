@@ -4,6 +4,7 @@
 
 #include <errno.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
@@ -42,8 +43,28 @@ void ps_log(const ps_ctx *ctx, int level, const char *fmt, ...) {
   fflush(ctx->log);
 }
 
+/* the memory-failure test's countdown (ps_alloc_countdown): the one
+ * piece of process-wide state, untouched unless a test sets it */
+static long alloc_left = -1, alloc_count = 0;
+
+long ps_alloc_countdown(long n) {
+  long made = alloc_count;
+  alloc_left = n;
+  alloc_count = 0;
+  return made;
+}
+
+/* 1 when the countdown says this allocation must fail */
+static int alloc_fails(void) {
+  alloc_count++;
+  if (alloc_left < 0) return 0;
+  if (alloc_left == 0) return 1;
+  alloc_left--;
+  return 0;
+}
+
 void *ps_calloc(size_t count, size_t size, ps_ctx *ctx) {
-  void *p = calloc(count ? count : 1, size ? size : 1);
+  void *p = alloc_fails() ? NULL : calloc(count ? count : 1, size ? size : 1);
   if (!p)
     ps_error(ctx, PS_ERR_NOMEM, "out of memory allocating %zu x %zu bytes",
              count, size);
@@ -51,7 +72,10 @@ void *ps_calloc(size_t count, size_t size, ps_ctx *ctx) {
 }
 
 int ps_realloc(void **p, size_t count, size_t size, ps_ctx *ctx) {
-  void *q = realloc(*p, (count ? count : 1) * size);
+  if (size && count > SIZE_MAX / size)
+    return ps_error(ctx, PS_ERR_NOMEM, "out of memory: %zu x %zu bytes overflow", count,
+                    size);
+  void *q = alloc_fails() ? NULL : realloc(*p, (count ? count : 1) * size);
   if (!q)
     return ps_error(ctx, PS_ERR_NOMEM, "out of memory growing to %zu x %zu bytes",
                     count, size);

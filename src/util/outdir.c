@@ -1,0 +1,2 @@
+/* outdir.c: output folders owned by peristatic (to be written). */
+#include "ps_util.h"

@@ -163,6 +163,7 @@ static int count_arg(int argc, char **argv, int *i, const char *what) {
 
 int main(int argc, char **argv) {
   limit_openmp_threads(argv);
+  ps_signals_install();
   ps_ctx ctx;
   ps_ctx_init(&ctx);
   gsl_set_error_handler_off();

@@ -109,4 +109,11 @@ int ps_griffith_jobs(ps_problem *pb, const char *out_dir, int resume, int jobs,
                      double *slope, double *intercept, double *r2, int *n_fractured,
                      ps_ctx *ctx);
 
+/* Install the SIGINT/SIGTERM handlers of the command line: a signal
+ * sets a flag that the load path checks (ps_signal_received) to end the
+ * run cleanly. Call once at the start of main. */
+void ps_signals_install(void);
+/* The signal number received since ps_signals_install, 0 if none. */
+int ps_signal_received(void);
+
 #endif

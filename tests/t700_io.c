@@ -217,7 +217,7 @@ static void test_bad_cases(void) {
   bad_case("bad_nu.yaml", PS_ERR_INPUT, 2,
            (const char *const[]){"material.nu", "(-1, 0.5)", "0.5", NULL});
   bad_case("bad_number.yaml", PS_ERR_INPUT, 2,
-           (const char *const[]){"material.E must be a number", "2e11x", NULL});
+           (const char *const[]){"material.E must be a decimal number (got '2e11x')", NULL});
   bad_case("bad_dup.yaml", PS_ERR_INPUT, 4,
            (const char *const[]){"kernel.alpha", "twice", "line 2", NULL});
   bad_case("bad_bc_nofix.yaml", PS_ERR_INPUT, 7,
@@ -260,7 +260,8 @@ static void test_bad_cases(void) {
 
 static void test_bad_clouds(void) {
   bad_cloud("bad_cloud_nan.txt", 2, 3,
-            (const char *const[]){"x y volume [block]", "field 2 (y)", "'abc'", NULL});
+            (const char *const[]){"x y volume [block]", "y (field 2",
+                                  "is not a finite decimal number (got 'abc')", NULL});
   bad_cloud("bad_cloud_fields.txt", 2, 2,
             (const char *const[]){"x y volume [block]", "5 fields", "0 1e-3 1e-6 1 7", NULL});
   bad_cloud("bad_cloud_volume.txt", 2, 4,
@@ -278,6 +279,226 @@ static void test_bad_clouds(void) {
   int s = ps_cloud_read(&p, DATA("no_such_cloud.txt"), 2, &ctx);
   ps_check(s == PS_ERR_IO && strstr(ctx.msg, "no_such_cloud.txt: cannot open"),
            "missing cloud: PS_ERR_IO (%s)", ctx.msg);
+}
+
+/* Issue 23: numbers and integers are plain decimal and in range;
+ * geometry keys of another type, kernel and material values that broke a
+ * computation downstream, and the bond model's nu are refused at load,
+ * each naming file, line and key. */
+static void test_bad_values(void) {
+  bad_case("bad_hex.yaml", PS_ERR_INPUT, 3,
+           (const char *const[]){"material.E must be a decimal number (got '0x10')", NULL});
+  bad_case("bad_blank_number.yaml", PS_ERR_INPUT, 4,
+           (const char *const[]){"material.E must be a decimal number (got ' 5.1')", NULL});
+  bad_case("bad_inf.yaml", PS_ERR_INPUT, 3,
+           (const char *const[]){"kernel.alpha must be a decimal number (got '.inf')", NULL});
+  bad_case("bad_nan.yaml", PS_ERR_INPUT, 3,
+           (const char *const[]){"path.max_load must be a decimal number (got 'nan')", NULL});
+  bad_case("bad_overflow.yaml", PS_ERR_INPUT, 3,
+           (const char *const[]){"material.E must be a finite decimal number (got '1e400'",
+                                 NULL});
+  bad_case("bad_octal.yaml", PS_ERR_INPUT, 3,
+           (const char *const[]){"solver.max_iterations must be a decimal integer (got '010')",
+                                 NULL});
+  bad_case("bad_int_range.yaml", PS_ERR_INPUT, 3,
+           (const char *const[]){"solver.max_iterations must be an integer in 1..2147483647",
+                                 "(got 2147483648)", NULL});
+  bad_case("bad_long_range.yaml", PS_ERR_INPUT, 3,
+           (const char *const[]){"geometry.seed must be an integer in 0..", NULL});
+  bad_case("bad_counts_range.yaml", PS_ERR_INPUT, 4,
+           (const char *const[]){"geometry.counts must be an integer in 1..2147483647",
+                                 NULL});
+  bad_case("bad_counts_total.yaml", PS_ERR_INPUT, 5,
+           (const char *const[]){"geometry.counts asks for 2.2e+12 particles", NULL});
+  bad_case("bad_key_file_disk.yaml", PS_ERR_INPUT, 5,
+           (const char *const[]){"geometry.file does not apply to geometry.type disk (it is "
+                                 "for type cloud)", NULL});
+  bad_case("bad_key_counts_cloud.yaml", PS_ERR_INPUT, 5,
+           (const char *const[]){"geometry.counts does not apply to geometry.type cloud", NULL});
+  bad_case("bad_key_disk_box.yaml", PS_ERR_INPUT, 5,
+           (const char *const[]){"geometry.n_xi does not apply to geometry.type box (it is "
+                                 "for type disk)", NULL});
+  /* the first key in the file that does not apply */
+  bad_case("bad_key_jitter_cloud.yaml", PS_ERR_INPUT, 5,
+           (const char *const[]){"geometry.origin does not apply", NULL});
+  bad_case("bad_key_spacing_disk.yaml", PS_ERR_INPUT, 3,
+           (const char *const[]){"geometry.spacing does not apply to geometry.type disk, the "
+                                 "default", NULL});
+  bad_case("bad_alpha_big.yaml", PS_ERR_INPUT, 3,
+           (const char *const[]){"kernel.alpha must be in [0.001, 1000] (got 1.0e155)", NULL});
+  bad_case("bad_k_big.yaml", PS_ERR_INPUT, 3,
+           (const char *const[]){"kernel.k must be an integer in 1..16 (got 2147483647)", NULL});
+  bad_case("bad_E_huge.yaml", PS_ERR_INPUT, 3,
+           (const char *const[]){"material.E must be in [1e-20, 1e+20] (got 1.0e300)", NULL});
+  bad_case("bad_yield_strain.yaml", PS_ERR_INPUT, 3,
+           (const char *const[]){"material.yield_strain must be in [1e-09, 1] (got 2)", NULL});
+  bad_case("bad_bond_nu.yaml", PS_ERR_INPUT, 0,
+           (const char *const[]){"material.nu = 0.3: bond-based peridynamics has nu = 1/4 in "
+                                 "plane strain", "(material.nu is at line 6)", NULL});
+  bad_case("bad_memory.yaml", PS_ERR_INPUT, 3,
+           (const char *const[]){"solver.max_memory_gib must be in (0, ", "(got 0)", NULL});
+  bad_case("bad_utf8.yaml", PS_ERR_INPUT, 3,
+           (const char *const[]){"YAML read error: invalid leading UTF-8 octet", NULL});
+  bad_case("bad_nul.yaml", PS_ERR_INPUT, 4,
+           (const char *const[]){"YAML read error: control characters", NULL});
+
+  /* solver.max_memory_gib is read, and is not part of the fingerprint */
+  ps_ctx ctx;
+  ps_case cs, ref;
+  ps_ctx_init(&ctx);
+  ps_case_defaults(&cs);
+  ps_case_defaults(&ref);
+  int s = ps_case_load(&cs, DATA("memory.yaml"), &ctx);
+  ps_check(s == PS_OK && cs.max_memory_gib == 2.5, "memory.yaml: max_memory_gib 2.5 (%s)",
+           ctx.msg);
+  ps_check(ps_case_fingerprint(&cs) == ps_case_fingerprint(&ref),
+           "memory.yaml: max_memory_gib leaves the fingerprint as it was");
+}
+
+/* Write `n` copies of `unit` and then `tail` into path. */
+static void write_repeated(const char *path, const char *unit, long n, const char *tail) {
+  FILE *f = fopen(path, "w");
+  if (!f) return;
+  for (long i = 0; i < n; i++) fputs(unit, f);
+  fputs(tail, f);
+  fclose(f);
+}
+
+/* Size and nesting are refused before libyaml sees the text (its 0.2.5
+ * takes quadratic time in the nesting); 32 levels still load. */
+static void test_case_limits(void) {
+  const char *path = "t700_tmp_case.yaml";
+  ps_ctx ctx;
+  ps_case cs;
+  ps_ctx_init(&ctx);
+  ps_case_defaults(&cs);
+  write_repeated(path, "[", 200000, "\n"); /* libyaml 0.2.5 alone: minutes */
+  double t0 = ps_wtime();
+  int s = ps_case_load(&cs, path, &ctx);
+  double dt = ps_wtime() - t0;
+  ps_check(s == PS_ERR_INPUT && strstr(ctx.msg, "t700_tmp_case.yaml:1: nesting deeper than "
+                                                "32 levels"),
+           "200,000 levels of '[': refused (%s)", ctx.msg);
+  /* a guard against the quadratic parse (minutes), not a speed test */
+  ps_check_le(dt, 30.0, "200,000 levels of '[': refused before libyaml parses them (s)");
+  /* block nesting: "a:" 40 times, each indented one more */
+  FILE *f = fopen(path, "w");
+  for (int i = 0; f && i < 40; i++) fprintf(f, "%*sa:\n", i, "");
+  if (f) fclose(f);
+  s = ps_case_load(&cs, path, &ctx);
+  ps_check(s == PS_ERR_INPUT && strstr(ctx.msg, "t700_tmp_case.yaml:33: nesting deeper"),
+           "40 levels of block mappings: refused at line 33 (%s)", ctx.msg);
+  /* the root mapping and 31 lists: 32 levels, read by libyaml */
+  f = fopen(path, "w");
+  if (f) {
+    fputs("name: ", f);
+    for (int i = 0; i < 31; i++) fputc('[', f);
+    for (int i = 0; i < 31; i++) fputc(']', f);
+    fputs("\n", f);
+    fclose(f);
+  }
+  s = ps_case_load(&cs, path, &ctx);
+  ps_check(s == PS_ERR_INPUT && strstr(ctx.msg, "name must be a non-empty string"),
+           "32 levels: parsed (%s)", ctx.msg);
+  /* brackets in quotes, comments and plain scalars are no nesting */
+  f = fopen(path, "w");
+  if (f) {
+    fputs("name: 'it''s [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[['  # [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[\n"
+          "output: {dir: \"a[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[\\\" [[[[[\"}\n", f);
+    fclose(f);
+  }
+  s = ps_case_load(&cs, path, &ctx);
+  ps_check(s == PS_OK && !strncmp(cs.name, "it's [[[", 8) && !strncmp(cs.out_dir, "a[[[", 4),
+           "brackets in quoted scalars and comments are text (%s)", ctx.msg);
+  ps_case_defaults(&cs);
+  /* a file over 1 MiB: refused before parsing */
+  write_repeated(path, "# a comment line of a case file that is far too large\n", 20000, "");
+  s = ps_case_load(&cs, path, &ctx);
+  ps_check(s == PS_ERR_INPUT && strstr(ctx.msg, "t700_tmp_case.yaml: larger than 1 MiB "
+                                                "(1080000 bytes)"),
+           "a 1 MB file: refused (%s)", ctx.msg);
+  remove(path);
+}
+
+/* Clouds: every particle keeps its file and line; lines are capped; a
+ * file without line breaks is refused at once; every allocation failing
+ * in turn gives PS_ERR_NOMEM and a zeroed cloud. */
+static void test_cloud_limits(void) {
+  bad_cloud("bad_cloud_overflow.txt", 2, 2,
+            (const char *const[]){"x (field 1", "is not a finite decimal number (got '1e400')",
+                                  NULL});
+  bad_cloud("bad_cloud_hex.txt", 2, 3, (const char *const[]){"x (field 1", "'0x10'", NULL});
+  bad_cloud("bad_cloud_inf.txt", 2, 2, (const char *const[]){"volume (field 3", "'inf'", NULL});
+  bad_cloud("bad_cloud_block_range.txt", 2, 2,
+            (const char *const[]){"block", "'99999999999'", NULL});
+  bad_cloud("bad_cloud_nul.txt", 2, 3, (const char *const[]){"NUL byte", NULL});
+
+  ps_ctx ctx;
+  ps_particles p;
+  ps_ctx_init(&ctx);
+  int s = ps_cloud_read(&p, DATA("cloud2d.txt"), 2, &ctx);
+  ps_check(s == PS_OK && p.source && !strcmp(p.source, DATA("cloud2d.txt")) && p.line &&
+               p.line[0] == 2 && p.line[1] == 4 && p.line[2] == 5 && p.line[3] == 6,
+           "cloud2d.txt: source and lines 2, 4, 5, 6 of the particles");
+  char w[1200];
+  if (s == PS_OK)
+    ps_check(strstr(ps_particle_where(&p, 2, w, sizeof w), "cloud2d.txt:5: particle 2") != NULL,
+             "ps_particle_where names file:line (%s)", w);
+  ps_particles_free(&p);
+
+  const char *path = "t700_tmp_cloud.txt";
+  write_repeated(path, "0 ", 4000000, "1e-6"); /* 8 MB, no line break */
+  double t0 = ps_wtime();
+  s = ps_cloud_read(&p, path, 2, &ctx);
+  ps_check(s == PS_ERR_INPUT && strstr(ctx.msg, "t700_tmp_cloud.txt:1: line longer than 4096 "
+                                                "characters") && !p.x,
+           "8 MB without a line break: refused at line 1 (%s)", ctx.msg);
+  ps_check_le(ps_wtime() - t0, 30.0,
+              "8 MB without a line break: refused at the cap, not read whole (hang guard, s)");
+  write_repeated(path, "0 0 1e-6 # a line of a cloud\n", 2000, "");
+  long total = -1, nomem = 0, other = 0;
+  ps_alloc_countdown(-1);
+  s = ps_cloud_read(&p, path, 2, &ctx);
+  total = ps_alloc_countdown(-1);
+  ps_check(s == PS_OK && p.n == 2000, "2000 particles read with %ld allocations", total);
+  ps_particles_free(&p);
+  for (long n = 0; n < total; n++) {
+    ps_ctx_init(&ctx);
+    ps_alloc_countdown(n);
+    s = ps_cloud_read(&p, path, 2, &ctx);
+    ps_alloc_countdown(-1);
+    if (s == PS_ERR_NOMEM && strstr(ctx.msg, "out of memory") && !p.x && !p.source && !p.line)
+      nomem++;
+    else
+      other++;
+    ps_particles_free(&p);
+  }
+  ps_check(nomem == total && other == 0,
+           "each of the %ld allocations failing: PS_ERR_NOMEM, a zeroed cloud (%ld other)",
+           total, other);
+  remove(path);
+}
+
+/* Every allocation of a case load failing in turn: PS_ERR_NOMEM, the case
+ * unchanged. */
+static void test_case_nomem(void) {
+  ps_ctx ctx;
+  ps_case cs;
+  ps_ctx_init(&ctx);
+  ps_case_defaults(&cs);
+  ps_alloc_countdown(-1);
+  int s = ps_case_load(&cs, DATA("full.yaml"), &ctx);
+  long total = ps_alloc_countdown(-1), bad = 0;
+  ps_check(s == PS_OK && total >= 2, "full.yaml: %ld allocations", total);
+  for (long n = 0; n < total; n++) {
+    ps_ctx_init(&ctx);
+    ps_case_defaults(&cs);
+    ps_alloc_countdown(n);
+    s = ps_case_load(&cs, DATA("full.yaml"), &ctx);
+    ps_alloc_countdown(-1);
+    bad += !(s == PS_ERR_NOMEM && strstr(ctx.msg, "out of memory") && cs.alpha == 5.1);
+  }
+  ps_check(bad == 0, "full.yaml: each allocation failing gives PS_ERR_NOMEM (%ld did not)", bad);
 }
 
 static void test_vtk(void) {
@@ -346,6 +567,10 @@ int main(void) {
   test_cloud2d();
   test_bad_cases();
   test_bad_clouds();
+  test_bad_values();
+  test_case_limits();
+  test_cloud_limits();
+  test_case_nomem();
   test_vtk();
   return ps_check_summary();
 }

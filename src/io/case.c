@@ -2,8 +2,11 @@
  * ps_case_load reads a YAML file (libyaml document API) over them. Every
  * error names the file and the line of the offending node, e.g.
  * "case.yaml:14: material.E must be > 0 (got -3e9)". Checks that involve
- * several keys (dim against counts, loading type against geometry, ...)
- * run after the whole file is read, since YAML keys come in any order. */
+ * several keys (dim against counts, loading type against geometry, keys
+ * of another geometry type, the bond model's nu, ...) run after the whole
+ * file is read, since YAML keys come in any order. The text is read whole
+ * first and its size and nesting bounded before libyaml sees it (Debian's
+ * libyaml 0.2.5 is quadratic in the nesting). */
 #include "ps_io.h"
 
 #include "../solver/ps_solver.h"
@@ -102,6 +105,8 @@ typedef struct loader {
   int line_j, line_j_tip;
   int line_load_type, line_boundary, line_delta, line_delta_over_c;
   int line_sweep_list, line_sweep_den;
+  int line_E, line_nu, line_yield_strain, line_plane;
+  int line_geometry[24]; /* per geometry_keys entry: where it was given */
 } loader;
 
 /* Handler for one key of a mapping: key is the bare key, name its dotted
@@ -147,6 +152,17 @@ static const char *got(const yaml_node_t *n, char buf[80]) {
   }
 }
 
+/* got(), with a non-empty scalar in quotes: "'0x10'" (blanks show). */
+static const char *got_quoted(const yaml_node_t *n, char buf[84]) {
+  char b[80];
+  const char *g = got(n, b);
+  if (n->type != YAML_SCALAR_NODE || n->data.scalar.length == 0)
+    snprintf(buf, 84, "%s", g);
+  else
+    snprintf(buf, 84, "'%s'", g);
+  return buf;
+}
+
 /* "a, b, c" from a NULL-terminated list of names. */
 static void join(char *buf, size_t size, const char *const *names) {
   size_t len = 0;
@@ -170,19 +186,46 @@ static void range_text(char *buf, size_t size, double lo, int lo_open, double hi
              hi_open ? ')' : ']');
 }
 
-/* A number: the scalar must parse completely with strtod and be finite,
- * then lie in the range (infinite bounds are not checked). */
+/* ps_io.h */
+int ps_is_decimal(const char *s, int integer) {
+  const char *p = s + (*s == '+' || *s == '-');
+  const char *d0 = p;
+  while (*p >= '0' && *p <= '9') p++;
+  size_t n_int = (size_t)(p - d0);
+  if (integer) return *p == '\0' && n_int > 0 && !(n_int > 1 && *d0 == '0');
+  size_t n_frac = 0;
+  if (*p == '.') {
+    const char *f0 = ++p;
+    while (*p >= '0' && *p <= '9') p++;
+    n_frac = (size_t)(p - f0);
+  }
+  if (n_int + n_frac == 0) return 0;
+  if (*p == 'e' || *p == 'E') {
+    p++;
+    p += *p == '+' || *p == '-';
+    const char *e0 = p;
+    while (*p >= '0' && *p <= '9') p++;
+    if (p == e0) return 0;
+  }
+  return *p == '\0';
+}
+
+/* A number: the scalar must be a plain decimal number (is_decimal) that
+ * a double holds (no overflow; an underflow reads as the nearest double,
+ * 0 or subnormal, which the ranges then judge), then lie in the range
+ * (infinite bounds are not checked). */
 static int get_real(loader *L, yaml_node_t *n, const char *name, double lo,
                     int lo_open, double hi, int hi_open, double *out) {
-  char b[80], rng[64];
-  double v = 0.0;
-  int ok = n->type == YAML_SCALAR_NODE && n->data.scalar.length > 0;
-  if (ok) {
-    char *end;
-    v = strtod(sval(n), &end);
-    ok = end != sval(n) && *end == '\0' && isfinite(v);
-  }
-  if (!ok) return fail(L, line_of(n), "%s must be a number (got %s)", name, got(n, b));
+  char b[84], rng[64];
+  if (n->type != YAML_SCALAR_NODE || !ps_is_decimal(sval(n), 0))
+    return fail(L, line_of(n), "%s must be a decimal number (got %s)", name,
+                got_quoted(n, b));
+  errno = 0;
+  double v = strtod(sval(n), NULL);
+  if (!isfinite(v) || (errno == ERANGE && fabs(v) > 1.0))
+    return fail(L, line_of(n),
+                "%s must be a finite decimal number (got %s: beyond the largest "
+                "double, about 1.8e308)", name, got_quoted(n, b));
   if (!((isinf(lo) || (lo_open ? v > lo : v >= lo)) &&
         (isinf(hi) || (hi_open ? v < hi : v <= hi)))) {
     range_text(rng, sizeof rng, lo, lo_open, hi, hi_open);
@@ -197,22 +240,33 @@ static int get_pos(loader *L, yaml_node_t *n, const char *name, double *out) {
   return get_real(L, n, name, 0.0, 1, INFINITY, 0, out);
 }
 
-/* A decimal integer in [lo, hi] (hi == LONG_MAX: no upper bound). */
+/* A number > 0 (get_pos, and its message) that must also lie in [lo,
+ * hi]: "material.E must be in [1e-20, 1e+20] (got 1e300): why". */
+static int get_pos_in(loader *L, yaml_node_t *n, const char *name, double lo, double hi,
+                      const char *why, double *out) {
+  double v;
+  if (get_pos(L, n, name, &v) != PS_OK) return PS_ERR_INPUT;
+  if (v < lo || v > hi)
+    return fail(L, line_of(n), "%s must be in [%g, %g] (got %s): %s", name, lo, hi,
+                sval(n), why);
+  *out = v;
+  return PS_OK;
+}
+
+/* A decimal integer (is_decimal) in [lo, hi] (hi == LONG_MAX: no upper
+ * bound but the type's); values past the range, including those too
+ * large for a long, are refused with the range. */
 static int get_long(loader *L, yaml_node_t *n, const char *name, long lo, long hi,
                     long *out) {
-  char b[80];
-  long v = 0;
-  int ok = n->type == YAML_SCALAR_NODE && n->data.scalar.length > 0;
-  if (ok) {
-    char *end;
-    errno = 0;
-    v = strtol(sval(n), &end, 10);
-    ok = end != sval(n) && *end == '\0' && errno == 0;
-  }
-  if (!ok)
-    return fail(L, line_of(n), "%s must be an integer (got %s)", name, got(n, b));
-  if (v < lo || v > hi) {
-    if (hi == LONG_MAX)
+  char b[84];
+  if (n->type != YAML_SCALAR_NODE || !ps_is_decimal(sval(n), 1))
+    return fail(L, line_of(n), "%s must be a decimal integer (got %s)", name,
+                got_quoted(n, b));
+  errno = 0;
+  long v = strtol(sval(n), NULL, 10);
+  int overflow = errno == ERANGE;
+  if (overflow || v < lo || v > hi) {
+    if (hi == LONG_MAX && !overflow)
       return fail(L, line_of(n), "%s must be an integer >= %ld (got %s)", name, lo,
                   got(n, b));
     return fail(L, line_of(n), "%s must be an integer in %ld..%ld (got %s)", name, lo,
@@ -412,6 +466,11 @@ static int on_geometry(loader *L, void *arg, const char *key, const char *name,
   ps_case *cs = L->cs;
   char b[80];
   (void)arg;
+  _Static_assert(sizeof geometry_keys / sizeof geometry_keys[0] <=
+                     sizeof L->line_geometry / sizeof L->line_geometry[0],
+                 "one line_geometry per geometry key");
+  for (int i = 0; geometry_keys[i]; i++)
+    if (IS(geometry_keys[i])) L->line_geometry[i] = line_of(v);
   if (IS("type")) {
     L->line_type = line_of(v);
     return get_choice(L, v, name, types, &cs->geometry);
@@ -447,7 +506,7 @@ static int on_geometry(loader *L, void *arg, const char *key, const char *name,
     cs->counts[2] = 1;
     for (int k = 0; k < L->n_counts; k++) {
       long c;
-      if (get_long(L, seq_item(L, v, k), name, 1, LONG_MAX, &c)) return PS_ERR_INPUT;
+      if (get_long(L, seq_item(L, v, k), name, 1, INT_MAX, &c)) return PS_ERR_INPUT;
       cs->counts[k] = (ps_int)c;
     }
     return PS_OK;
@@ -492,8 +551,10 @@ static const char *const kernel_keys[] = {"alpha", "k", NULL};
 static int on_kernel(loader *L, void *arg, const char *key, const char *name,
                      yaml_node_t *v) {
   (void)arg;
-  if (IS("alpha")) return get_pos(L, v, name, &L->cs->alpha);
-  return get_int(L, v, name, 1, INT_MAX, &L->cs->kernel_k);
+  if (IS("alpha"))
+    return get_pos_in(L, v, name, PS_ALPHA_MIN, PS_ALPHA_MAX,
+                      "the horizon in particle sizes h (the paper: 5.1)", &L->cs->alpha);
+  return get_int(L, v, name, 1, PS_KERNEL_K_MAX, &L->cs->kernel_k);
 }
 
 /* ---- material ---- */
@@ -518,14 +579,26 @@ static int on_material(loader *L, void *arg, const char *key, const char *name,
     strcpy(cs->model, known_models[i]);
     return PS_OK;
   }
-  if (IS("E")) return get_pos(L, v, name, &m->E);
-  if (IS("nu")) return get_real(L, v, name, -1.0, 1, 0.5, 1, &m->nu);
+  if (IS("E")) {
+    L->line_E = line_of(v);
+    return get_pos_in(L, v, name, PS_E_MIN, PS_E_MAX,
+                      "Young's modulus in Pa (steel: 2.1e11)", &m->E);
+  }
+  if (IS("nu")) {
+    L->line_nu = line_of(v);
+    return get_real(L, v, name, -1.0, 1, 0.5, 1, &m->nu);
+  }
   if (IS("plane")) {
+    L->line_plane = line_of(v);
     if (get_choice(L, v, name, planes, &i)) return PS_ERR_INPUT;
     m->plane = i == 0 ? PS_PLANE_STRAIN : PS_PLANE_STRESS;
     return PS_OK;
   }
-  if (IS("yield_strain")) return get_pos(L, v, name, &m->yield_strain);
+  if (IS("yield_strain")) {
+    L->line_yield_strain = line_of(v);
+    return get_pos_in(L, v, name, PS_YIELD_STRAIN_MIN, PS_YIELD_STRAIN_MAX,
+                      "a strain (steel: 0.002)", &m->yield_strain);
+  }
   if (IS("plastic")) return get_bool(L, v, name, &m->plastic);
   if (IS("delta")) {
     L->line_delta = line_of(v);
@@ -538,7 +611,10 @@ static int on_material(loader *L, void *arg, const char *key, const char *name,
     return get_pos(L, v, name, &cs->delta_over_c);
   }
   if (IS("rho")) return get_pos(L, v, name, &m->rho);
-  if (IS("horizon_factor")) return get_pos(L, v, name, &cs->horizon_factor);
+  if (IS("horizon_factor"))
+    return get_pos_in(L, v, name, PS_ALPHA_MIN, PS_ALPHA_MAX,
+                      "the horizon in lattice spacings (Fallah et al.: 3)",
+                      &cs->horizon_factor);
   if (IS("surface_correction")) return get_bool(L, v, name, &m->surface_correction);
   if (get_choice(L, v, name, rules, &i)) return PS_ERR_INPUT; /* yield_rule */
   m->yield_rule = i == 0 ? PS_YIELD_TOTAL : PS_YIELD_DEVIATORIC;
@@ -689,7 +765,8 @@ static const char *const solver_keys[] = {"linear", "tolerance", "max_iterations
                                           "cg_tolerance", "cg_forcing", "cg_forcing_max",
                                           "cg_max_iterations",
                                           "cg_skip_arms", "reanalyze", "majorant", "matrix_free",
-                                          "cg_single_precision", "cg_truncate", NULL};
+                                          "cg_single_precision", "cg_truncate",
+                                          "max_memory_gib", NULL};
 
 static int on_solver(loader *L, void *arg, const char *key, const char *name,
                      yaml_node_t *v) {
@@ -719,10 +796,9 @@ static int on_solver(loader *L, void *arg, const char *key, const char *name,
       return PS_OK;
     }
     char b[80];
-    double x;
-    char *end = NULL;
-    if (v->type == YAML_SCALAR_NODE && v->data.scalar.length > 0) x = strtod(sval(v), &end);
-    if (!end || end == sval(v) || *end != '\0' || !isfinite(x) || x < 0)
+    double x = -1.0;
+    if (v->type == YAML_SCALAR_NODE && ps_is_decimal(sval(v), 0)) x = strtod(sval(v), NULL);
+    if (!isfinite(x) || x < 0)
       return fail(L, line_of(v), "%s must be adaptive or a number >= 0 (got %s)", name,
                   got(v, b));
     cs->cg_forcing_adaptive = 0;
@@ -734,6 +810,8 @@ static int on_solver(loader *L, void *arg, const char *key, const char *name,
   if (IS("cg_max_iterations"))
     return get_int(L, v, name, 1, INT_MAX, &cs->cg_max_iterations);
   if (IS("cg_skip_arms")) return get_int(L, v, name, 0, INT_MAX, &cs->cg_skip_arms);
+  if (IS("max_memory_gib")) /* a limit, not a setting of the result */
+    return get_real(L, v, name, 0.0, 1, PS_MAX_MEMORY_GIB, 0, &cs->max_memory_gib);
   return get_bool(L, v, name, &cs->line_search);
 }
 
@@ -888,10 +966,108 @@ static int on_top(loader *L, void *arg, const char *key, const char *name,
   return walk_map(L, v, name, griffith_keys, on_griffith, NULL);
 }
 
+/* A geometry key given for a geometry type it does not apply to (it
+ * would be silently ignored): "case.yaml:7: geometry.file does not apply
+ * to geometry.type disk (it is for type cloud)", for the first such key
+ * in the file. Keys not listed (type, dim, sizes, size_neighbours,
+ * cracks) apply to every type; geometry.holes has its own check. */
+static int geometry_keys_apply(loader *L) {
+  enum { D = 1 << PS_GEOM_DISK, B = 1 << PS_GEOM_BOX, C = 1 << PS_GEOM_CLOUD };
+  static const struct {
+    const char *key;
+    unsigned types;
+    const char *for_text;
+  } only[] = {{"c", D, "type disk"},          {"n_eta", D, "type disk"},
+              {"n_xi", D, "type disk"},       {"per_zone", D, "type disk"},
+              {"xi_min", D, "type disk"},     {"xi_max", D, "type disk"},
+              {"jitter", D | B, "types disk and box"},
+              {"seed", D | B, "types disk and box"},
+              {"counts", B, "type box"},      {"lattice", B, "type box"},
+              {"origin", B, "type box"},      {"file", C, "type cloud"},
+              {"spacing", B, "type box, and for loading tractions"}};
+  static const char *const gname[] = {"disk", "box", "cloud"};
+  const ps_case *cs = L->cs;
+  int traction = 0;
+  for (int i = 0; i < cs->n_bc; i++)
+    for (int k = 0; k < 3; k++) traction |= cs->bc[i].traction_set[k];
+  int first = 0, at = 0;
+  for (size_t j = 0; j < sizeof only / sizeof only[0]; j++) {
+    int i = 0;
+    while (strcmp(geometry_keys[i], only[j].key)) i++;
+    int line = L->line_geometry[i];
+    if (!line || (only[j].types >> cs->geometry & 1u)) continue;
+    if (!strcmp(only[j].key, "spacing") && traction) continue;
+    if (!first || line < first) {
+      first = line;
+      at = (int)j;
+    }
+  }
+  if (!first) return PS_OK;
+  return fail(L, first, "geometry.%s does not apply to geometry.type %s%s (it is for %s)",
+              only[at].key, gname[cs->geometry], L->line_type ? "" : ", the default",
+              only[at].for_text);
+}
+
+/* The line where geometry key `key` was given, else `otherwise`. */
+static int geometry_line(const loader *L, const char *key, int otherwise) {
+  for (int i = 0; geometry_keys[i]; i++)
+    if (!strcmp(geometry_keys[i], key) && L->line_geometry[i]) return L->line_geometry[i];
+  return otherwise;
+}
+
+/* The number of particles a box or disk asks for: at most
+ * PS_MAX_PARTICLES (the generators' limit), named with the keys' line.
+ * (Whether they fit in memory is judged later, by the size estimate.) */
+static int particle_counts_check(loader *L) {
+  const ps_case *cs = L->cs;
+  double n = 1.0;
+  if (cs->geometry == PS_GEOM_BOX) {
+    for (int k = 0; k < cs->dim; k++) n *= (double)cs->counts[k];
+    if (n > (double)PS_MAX_PARTICLES)
+      return fail(L, L->line_counts, "geometry.counts asks for %.3g particles; at most "
+                  "2^40 = %.4g can be indexed", n, (double)PS_MAX_PARTICLES);
+  } else if (cs->geometry == PS_GEOM_DISK) {
+    const ps_disk_params *dp = &cs->disk;
+    double m = dp->per_zone;
+    int line = geometry_line(L, "per_zone", geometry_line(L, "n_xi", L->line_type));
+    n = (double)dp->n_eta * dp->n_xi * m * m;
+    if (n > (double)PS_MAX_PARTICLES)
+      return fail(L, line,
+                  "geometry.n_eta x geometry.n_xi x geometry.per_zone^2 = %d x %d x %d^2 "
+                  "asks for %.3g particles; at most 2^40 = %.4g can be indexed",
+                  dp->n_eta, dp->n_xi, dp->per_zone, n, (double)PS_MAX_PARTICLES);
+  }
+  return PS_OK;
+}
+
+/* The bond-based model fixes Poisson's ratio (Fallah et al. 2020): 1/3
+ * in plane stress, 1/4 in plane strain and 3D. Checked here, so that
+ * `info` refuses what `run` would (bond.c checks it again). The message
+ * names the file only, as the model's own did ("case.yaml: material.nu
+ * = 0.3: bond-based ..."), and the line at its end. */
+static int bond_nu_check(loader *L) {
+  const ps_case *cs = L->cs;
+  if (strcmp(cs->model, "bond") != 0) return PS_OK;
+  int stress = cs->dim == 2 && cs->mat.plane == PS_PLANE_STRESS;
+  double nu_fixed = stress ? 1.0 / 3.0 : 0.25;
+  if (fabs(cs->mat.nu - nu_fixed) <= 1e-3) return PS_OK;
+  char where[64];
+  if (L->line_nu)
+    snprintf(where, sizeof where, "material.nu is at line %d", L->line_nu);
+  else
+    snprintf(where, sizeof where, "material.nu is not given: the default is 0.3");
+  return fail(L, 0,
+              "material.nu = %g: bond-based peridynamics has nu = %s in %s (Fallah et "
+              "al. 2020, section 5) (%s)",
+              cs->mat.nu, stress ? "1/3" : "1/4",
+              cs->dim == 3 ? "3D" : stress ? "plane stress" : "plane strain", where);
+}
+
 /* Checks across sections, after the whole file is read. */
 static int cross_checks(loader *L) {
   static const char *const gname[] = {"disk", "box", "cloud"};
   ps_case *cs = L->cs;
+  if (geometry_keys_apply(L) != PS_OK) return PS_ERR_INPUT;
   if (cs->geometry == PS_GEOM_DISK) {
     if (L->line_dim && cs->dim != 2)
       return fail(L, L->line_dim, "geometry.dim must be 2 for geometry.type disk (got %d)",
@@ -921,6 +1097,7 @@ static int cross_checks(loader *L) {
     return fail(L, L->line_type ? L->line_type : 1,
                 "material.model %s needs geometry.type box (a regular lattice: the "
                 "horizon is material.horizon_factor * geometry.spacing)", cs->model);
+  if (bond_nu_check(L) != PS_OK || particle_counts_check(L) != PS_OK) return PS_ERR_INPUT;
   if (L->line_delta_over_c && cs->geometry != PS_GEOM_DISK)
     return fail(L, L->line_delta_over_c,
                 "material.delta_over_c needs geometry.type disk (c is the disk's half "
@@ -960,16 +1137,225 @@ static int cross_checks(loader *L) {
   return PS_OK;
 }
 
-/* "FILE:LINE: YAML syntax error: problem (context at line N)". */
-static int syntax_error(const char *file, const yaml_parser_t *pa, ps_ctx *ctx) {
+/* ---- the text before libyaml ---- */
+
+/* Read the whole case file into *text (NUL-terminated, *len bytes, freed
+ * by the caller) if it is at most PS_CASE_MAX_BYTES long. Returns PS_OK,
+ * PS_ERR_IO (cannot open, a directory, read error), PS_ERR_INPUT (too
+ * large), PS_ERR_NOMEM. */
+static int read_case_text(const char *path, char **text, size_t *len, ps_ctx *ctx) {
+  const size_t max = PS_CASE_MAX_BYTES;
+  *text = NULL;
+  *len = 0;
+  FILE *f = fopen(path, "rb");
+  if (!f) return ps_error(ctx, PS_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  struct stat st;
+  int regular = fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode);
+  if (!regular && fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+    fclose(f);
+    return ps_error(ctx, PS_ERR_IO, "%s: cannot open: %s", path, strerror(EISDIR));
+  }
+  if (regular && (uintmax_t)st.st_size > max) {
+    fclose(f);
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "%s: larger than 1 MiB (%jd bytes); case files are small YAML texts",
+                    path, (intmax_t)st.st_size);
+  }
+  /* a regular file's size is known; pipes and devices grow the buffer
+   * (to one byte past the limit, to tell "too large") */
+  size_t cap = regular ? (size_t)st.st_size + 1 : 4096, n = 0;
+  void *buf = ps_calloc(cap + 1, 1, ctx);
+  int status = buf ? PS_OK : PS_ERR_NOMEM;
+  while (status == PS_OK) {
+    n += fread((char *)buf + n, 1, cap - n, f);
+    if (n < cap || cap > max) break; /* end of file, an error, or too large */
+    size_t grown = 2 * cap > max + 1 ? max + 1 : 2 * cap;
+    status = ps_realloc(&buf, grown + 1, 1, ctx);
+    cap = grown;
+  }
+  if (status == PS_OK && ferror(f))
+    status = ps_error(ctx, PS_ERR_IO, "%s: read error: %s", path, strerror(errno));
+  else if (status == PS_OK && n > max)
+    status = ps_error(ctx, PS_ERR_INPUT,
+                      "%s: larger than 1 MiB (more than %zu bytes); case files are small "
+                      "YAML texts", path, max);
+  fclose(f);
+  if (status != PS_OK) {
+    free(buf);
+    return status;
+  }
+  ((char *)buf)[n] = '\0';
+  *text = buf;
+  *len = n;
+  return PS_OK;
+}
+
+/* The nesting of a case file's text, measured before libyaml parses it:
+ * block levels (a stack of indentation columns, with a sequence at its
+ * parent key's column and each compact "- " on a line one more) plus
+ * flow levels ('[' and '{' where a node may start, outside quoted
+ * scalars, comments and block scalars). An approximation of YAML's
+ * grammar, close enough to bound libyaml's work: it can count a level
+ * more than libyaml builds (a plain scalar continued on a line that
+ * starts with '['), never many fewer. */
+typedef struct nest_scan {
+  int flow;         /* open flow collections */
+  char quote;       /* '\'' or '"' inside a quoted scalar, else 0 */
+  int node_start;   /* a node may start at the next character */
+  int block_scalar; /* >= 0: inside a block scalar ('|', '>') whose
+                       header line is indented this much; -1: not */
+  int n_level;      /* block levels: columns and kinds (1: sequence) */
+  int col[PS_CASE_MAX_DEPTH + 2];
+  char seq[PS_CASE_MAX_DEPTH + 2];
+} nest_scan;
+
+/* Push a block level; 0 when that makes the nesting too deep. */
+static int nest_push(nest_scan *S, int col, int seq) {
+  if (S->n_level + S->flow >= PS_CASE_MAX_DEPTH) return 0;
+  S->col[S->n_level] = col;
+  S->seq[S->n_level++] = (char)seq;
+  return 1;
+}
+
+/* Is s[i] an indicator followed by a blank or the end of the line? */
+static int indicator(const char *s, size_t i, size_t len, char c) {
+  return s[i] == c && (i + 1 == len || s[i + 1] == ' ' || s[i + 1] == '\t');
+}
+
+/* Scan the characters s[i..len) of one line for quotes, comments and flow
+ * brackets. Returns 0 when the nesting gets too deep. */
+static int nest_chars(nest_scan *S, const char *s, size_t i, size_t len, int indent) {
+  for (; i < len; i++) {
+    char c = s[i];
+    if (S->quote) {
+      if (S->quote == '"' && c == '\\')
+        i++;
+      else if (c == '\'' && S->quote == '\'' && i + 1 < len && s[i + 1] == '\'')
+        i++;
+      else if (c == S->quote)
+        S->quote = 0;
+      continue;
+    }
+    if (c == ' ' || c == '\t') continue;
+    if (c == '#' && (i == 0 || s[i - 1] == ' ' || s[i - 1] == '\t')) break;
+    if (S->node_start && (c == '\'' || c == '"')) {
+      S->quote = c;
+      S->node_start = 0;
+    } else if ((c == '[' || c == '{') && (S->node_start || S->flow > 0)) {
+      if (S->n_level + ++S->flow > PS_CASE_MAX_DEPTH) return 0;
+      S->node_start = 1;
+    } else if ((c == ']' || c == '}') && S->flow > 0) {
+      S->flow--;
+      S->node_start = 0;
+    } else if (c == ',' && S->flow > 0) {
+      S->node_start = 1;
+    } else if (c == ':' && (indicator(s, i, len, ':') ||
+                            (S->flow > 0 && i + 1 < len && strchr(",[]{}", s[i + 1])))) {
+      S->node_start = 1;
+    } else if (S->node_start && (indicator(s, i, len, '-') || indicator(s, i, len, '?'))) {
+      /* a node may still start after "- " or "? " */
+    } else if (S->node_start && (c == '&' || c == '!')) {
+      while (i + 1 < len && s[i + 1] != ' ' && s[i + 1] != '\t') i++; /* anchor, tag */
+    } else if (S->node_start && S->flow == 0 && (c == '|' || c == '>')) {
+      S->block_scalar = indent; /* the rest of the line: indicators, comment */
+      break;
+    } else {
+      S->node_start = 0;
+    }
+  }
+  return 1;
+}
+
+/* One line (without its line break) of block context: the levels its
+ * indentation closes and opens, then its characters. Returns 0 when the
+ * nesting gets too deep. */
+static int nest_block_line(nest_scan *S, const char *s, size_t len) {
+  size_t i = 0;
+  while (i < len && s[i] == ' ') i++;
+  int indent = (int)i;
+  if (i == len || s[i] == '#' || (i == 0 && s[0] == '%')) return 1; /* blank, comment,
+                                                                   directive */
+  if (i == 0 && len >= 3 && (!strncmp(s, "---", 3) || !strncmp(s, "...", 3)) &&
+      (len == 3 || s[3] == ' ' || s[3] == '\t')) { /* a document starts or ends */
+    S->n_level = 0;
+    S->node_start = 1;
+    return nest_chars(S, s, 3, len, 0);
+  }
+  int seq_line = indicator(s, i, len, '-');
+  while (S->n_level > 0 && S->col[S->n_level - 1] > indent) S->n_level--;
+  if (S->n_level > 0 && S->col[S->n_level - 1] == indent && S->seq[S->n_level - 1] &&
+      !seq_line)
+    S->n_level--; /* a sequence at its key's column ended */
+  int top = S->n_level > 0 ? S->col[S->n_level - 1] : -1;
+  if (top < indent || (top == indent && seq_line && !S->seq[S->n_level - 1]))
+    if (!nest_push(S, indent, seq_line)) return 0;
+  /* compact nesting on the line: "- - key: [..." */
+  while (indicator(s, i, len, '-') || indicator(s, i, len, '?')) {
+    i++;
+    while (i < len && (s[i] == ' ' || s[i] == '\t')) i++;
+    if (i == len || s[i] == '#') break;
+    if (!nest_push(S, (int)i, indicator(s, i, len, '-'))) return 0;
+  }
+  S->node_start = 1;
+  return nest_chars(S, s, i, len, indent);
+}
+
+/* Refuse a text nested deeper than PS_CASE_MAX_DEPTH levels (nest_scan)
+ * before libyaml parses it: "case.yaml:7: nesting deeper than 32 levels".
+ * Returns PS_OK or PS_ERR_INPUT. */
+static int check_nesting(const char *path, const char *text, size_t len, ps_ctx *ctx) {
+  nest_scan S = {.block_scalar = -1};
+  int line = 1;
+  for (size_t at = 0; at < len; line++) {
+    const char *nl = memchr(text + at, '\n', len - at);
+    size_t end = nl ? (size_t)(nl - text) : len, n = end - at;
+    const char *s = text + at;
+    at = end + 1;
+    if (n > 0 && s[n - 1] == '\r') n--;
+    if (S.block_scalar >= 0) {
+      size_t i = 0;
+      while (i < n && s[i] == ' ') i++;
+      if (i == n || (int)i > S.block_scalar) continue; /* the scalar's text */
+      S.block_scalar = -1;
+    }
+    int ok = S.quote || S.flow > 0 ? nest_chars(&S, s, 0, n, 0) : nest_block_line(&S, s, n);
+    if (!ok)
+      return ps_error(ctx, PS_ERR_INPUT,
+                      "%s:%d: nesting deeper than %d levels (lists and mappings); case "
+                      "files nest a few", path, line, PS_CASE_MAX_DEPTH);
+  }
+  return PS_OK;
+}
+
+/* 1-based line of byte offset `offset` of text (line breaks: \n, \r\n,
+ * or \r alone, as libyaml counts them); its 1-based column in *col. */
+static int line_at(const char *text, size_t len, size_t offset, size_t *col) {
+  int line = 1;
+  size_t start = 0;
+  if (offset > len) offset = len;
+  for (size_t i = 0; i < offset; i++)
+    if (text[i] == '\n' || (text[i] == '\r' && (i + 1 >= len || text[i + 1] != '\n'))) {
+      line++;
+      start = i + 1;
+    }
+  *col = offset - start + 1;
+  return line;
+}
+
+/* "FILE:LINE: YAML syntax error: problem (context at line N)"; encoding
+ * errors (invalid UTF-8, control characters such as NUL) as "FILE:LINE:
+ * YAML read error: problem (column C)", counted in text. */
+static int syntax_error(const char *file, const yaml_parser_t *pa, const char *text,
+                        size_t len, ps_ctx *ctx) {
   const char *problem = pa->problem ? pa->problem : "cannot parse";
   if (pa->error == YAML_MEMORY_ERROR)
     return ps_error(ctx, PS_ERR_NOMEM, "%s: out of memory while parsing YAML", file);
-  if (pa->error == YAML_READER_ERROR && pa->problem && !strcmp(pa->problem, "input error"))
-    return ps_error(ctx, PS_ERR_IO, "%s: read error", file);
-  if (pa->error == YAML_READER_ERROR)
-    return ps_error(ctx, PS_ERR_INPUT, "%s: YAML read error: %s (at byte %zu)", file,
-                    problem, pa->problem_offset);
+  if (pa->error == YAML_READER_ERROR) {
+    size_t col;
+    int line = line_at(text, len, pa->problem_offset, &col);
+    return ps_error(ctx, PS_ERR_INPUT, "%s:%d: YAML read error: %s (column %zu)", file,
+                    line, problem, col);
+  }
   if (pa->context)
     return ps_error(ctx, PS_ERR_INPUT, "%s:%d: YAML syntax error: %s (%s at line %d)",
                     file, (int)pa->problem_mark.line + 1, problem, pa->context,
@@ -1004,33 +1390,35 @@ static void set_names(ps_case *cs, const char *path) {
 int ps_case_load(ps_case *cs, const char *path, ps_ctx *ctx) {
   if (strlen(path) >= sizeof cs->path)
     return ps_error(ctx, PS_ERR_IO, "%s: path too long", path);
-  FILE *f = fopen(path, "rb");
-  if (!f) return ps_error(ctx, PS_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-  struct stat st;
-  if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
-    fclose(f);
-    return ps_error(ctx, PS_ERR_IO, "%s: cannot open: %s", path, strerror(EISDIR));
+  /* size and nesting are checked before libyaml sees the text */
+  char *text;
+  size_t len;
+  PS_CHECK(read_case_text(path, &text, &len, ctx));
+  int status = check_nesting(path, text, len, ctx);
+  if (status != PS_OK) {
+    free(text);
+    return status;
   }
   /* fill a copy so that a failed load leaves *cs as it was */
   ps_case *work = ps_calloc(1, sizeof *work, ctx);
   if (!work) {
-    fclose(f);
+    free(text);
     return PS_ERR_NOMEM;
   }
   *work = *cs;
   set_names(work, path);
 
-  int status = PS_OK, have_doc = 0;
+  int have_doc = 0;
   yaml_parser_t parser;
   yaml_document_t doc;
   if (!yaml_parser_initialize(&parser)) {
     free(work);
-    fclose(f);
+    free(text);
     return ps_error(ctx, PS_ERR_NOMEM, "%s: cannot initialise the YAML parser", path);
   }
-  yaml_parser_set_input_file(&parser, f);
+  yaml_parser_set_input_string(&parser, (const unsigned char *)text, len);
   if (!yaml_parser_load(&parser, &doc)) {
-    status = syntax_error(path, &parser, ctx);
+    status = syntax_error(path, &parser, text, len, ctx);
     goto cleanup;
   }
   have_doc = 1;
@@ -1043,7 +1431,7 @@ int ps_case_load(ps_case *cs, const char *path, ps_ctx *ctx) {
   /* a second document would be silently ignored: refuse it */
   yaml_document_t extra;
   if (!yaml_parser_load(&parser, &extra)) {
-    status = syntax_error(path, &parser, ctx);
+    status = syntax_error(path, &parser, text, len, ctx);
     goto cleanup;
   }
   yaml_node_t *extra_root = yaml_document_get_root_node(&extra);
@@ -1059,8 +1447,8 @@ int ps_case_load(ps_case *cs, const char *path, ps_ctx *ctx) {
 cleanup:
   if (have_doc) yaml_document_delete(&doc);
   yaml_parser_delete(&parser);
-  fclose(f);
   free(work);
+  free(text);
   return status;
 }
 
@@ -1099,6 +1487,9 @@ static void fnv(uint64_t *h, const char *s) {
  * two rules' paths differ by ~1e-4). */
 #define PS_ALGORITHM_VERSION 8
 
+/* Not hashed (they do not change a run's result): the output keys, delta
+ * and the Griffith list, the CG settings named above, and
+ * solver.max_memory_gib (a limit on what may be allocated). */
 uint64_t ps_case_fingerprint(const ps_case *cs) {
   uint64_t h = 1469598103934665603ULL;
   char b[1600];

@@ -17,6 +17,29 @@ enum ps_load_type { PS_LOAD_EQ116 = 0, PS_LOAD_BOUNDARY = 1 };
 #define PS_MAX_BC 32
 #define PS_MAX_SWEEP 64
 
+/* Case files are checked before libyaml parses them (Debian's libyaml
+ * 0.2.5 takes time quadratic in the nesting: 50,000 levels of '[', 15 s):
+ * at most this many bytes (the shipped cases are a few KB) and this many
+ * levels of nested lists and mappings (they use about 6). */
+#define PS_CASE_MAX_BYTES ((size_t)1 << 20)
+#define PS_CASE_MAX_DEPTH 32
+
+/* Ranges of the kernel and horizon keys (checked when a case is read).
+ * kernel.alpha and material.horizon_factor are horizons in particle
+ * sizes or lattice spacings (the paper: 5.1; Fallah et al.: 3): beyond
+ * 1000 every particle would have millions of arms, and below 0.001 none;
+ * Eq. 54's quadrature (ps_kernel_init) is accurate to 1e-14 over the
+ * whole range (it fails from alpha = 1e100 in 3D, 1e155 in 2D). kernel.k
+ * is the exponent of Eq. 112 (the paper: 2): up to 16, the weights still
+ * reach the horizon's outer half (the quadrature itself holds to 1e6). */
+#define PS_ALPHA_MIN 1e-3
+#define PS_ALPHA_MAX 1e3
+#define PS_KERNEL_K_MAX 16
+/* geometry.counts: particles in all (ps_geom_box's limit; per axis: an int) */
+#define PS_MAX_PARTICLES ((ps_int)1 << 40)
+/* solver.max_memory_gib: at most this many GiB (about 1 PiB) */
+#define PS_MAX_MEMORY_GIB 1e6
+
 /* A particle selection: all bounds that are set must hold (inclusive);
  * block >= 0 also requires that block id. Bounds unset are +-inf. */
 typedef struct ps_select {
@@ -111,7 +134,7 @@ typedef struct ps_case {
   int majorant;        /* CG with a factor of the one-horizon majorant
                           before refactoring the tangent, default 1 */
   double max_memory_gib; /* solver.max_memory_gib: refuse a case whose
-                          estimated memory (ps_network_estimate) exceeds
+                          estimated memory (ps_estimate_*, src/network/ps_network.h) exceeds
                           it, GiB; 0 (default): 80% of the machine's RAM */
 
   /* path following */
@@ -154,23 +177,44 @@ typedef struct ps_case {
 void ps_case_defaults(ps_case *cs);
 
 /* Read a YAML case file over the defaults. Errors name the file and line:
- * "case.yaml:14: material.E must be > 0 (got -3e9)". Unknown keys, wrong
- * types and impossible values are errors. Returns PS_OK, PS_ERR_INPUT,
- * PS_ERR_IO; on failure *cs is unchanged. */
+ * "case.yaml:14: material.E must be > 0 (got -3e9)". Unknown keys, keys
+ * of another geometry type, wrong types, numbers that are not plain
+ * decimal and impossible values are errors; a file over
+ * PS_CASE_MAX_BYTES or nested deeper than PS_CASE_MAX_DEPTH is refused
+ * before libyaml parses it. Returns PS_OK, PS_ERR_INPUT, PS_ERR_IO,
+ * PS_ERR_NOMEM; on failure *cs is unchanged. */
 int ps_case_load(ps_case *cs, const char *path, ps_ctx *ctx);
 
 /* A 64-bit hash (FNV-1a) of everything in the case that determines a run's
- * result, except delta, the Griffith list and the output and CG settings:
+ * result, except delta, the Griffith list, the output and CG settings and
+ * solver.max_memory_gib (a limit, not a setting of the result):
  * geometry, sizes, cracks, kernel, material, loading, Newton tolerance and
  * the load path. Written to summary.txt so that `griffith --resume` only
  * reuses runs of the same case. */
 uint64_t ps_case_fingerprint(const ps_case *cs);
 
+/* Is s a plain decimal number, the only kind case files and point clouds
+ * take: an optional sign, digits with an optional fraction (or a fraction
+ * alone), an optional exponent, and nothing else (no blanks, hex, inf,
+ * nan, '_')? With integer != 0: a sign and digits only, without a leading
+ * zero ("010" would be octal 8 to YAML 1.1). Whether the value fits a
+ * double or long is the caller's check (strtod/strtol and ERANGE). */
+int ps_is_decimal(const char *s, int integer);
+
+/* The longest line of a point cloud, characters (a file without line
+ * breaks is refused at once, not read whole). */
+#define PS_CLOUD_MAX_LINE 4096
+
 /* Read a point cloud: one particle per line, "x y [z] volume [block]" (dim
  * coordinates, then the volume in m^N, then an optional integer block id);
- * '#' starts a comment, blank lines are skipped. Errors name file:line.
- * Returns PS_OK, PS_ERR_INPUT, PS_ERR_IO, PS_ERR_NOMEM; on failure *p is
- * zeroed (safe to ps_particles_free). */
+ * '#' starts a comment, blank lines are skipped. Numbers are decimal
+ * (ps_is_decimal) and finite; lines at most PS_CLOUD_MAX_LINE characters.
+ * Errors name file:line ("cloud.txt:12: x (field 1 of 'x y volume
+ * [block]') is not a finite decimal number (got '1e400')"). p->source is
+ * a copy of path and p->line[a] the line of particle a (for messages:
+ * ps_particle_where). Returns PS_OK, PS_ERR_INPUT, PS_ERR_IO (cannot open,
+ * a read error), PS_ERR_NOMEM; on failure *p is zeroed (safe to
+ * ps_particles_free). */
 int ps_cloud_read(ps_particles *p, const char *path, int dim, ps_ctx *ctx);
 
 /* A named array for output: n_comp values per point or cell. */

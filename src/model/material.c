@@ -2,20 +2,44 @@
  * tangent storage, model lookup. */
 #include "ps_model.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+/* The derived moduli of ps_material_finish must be finite and positive
+ * (they are for every E and nu in range; this guards callers that bypass
+ * the case file's checks). */
+static int check_derived(const ps_material *m, ps_ctx *ctx) {
+  if (!(isfinite(m->G) && m->G > 0 && isfinite(m->K) && m->K > 0 && isfinite(m->kappa)))
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "material.E = %g with material.nu = %g gives the moduli G = %g, K = "
+                    "%g: not finite positive numbers", m->E, m->nu, m->G, m->K);
+  if (!(isfinite(m->sigma_y) && m->sigma_y >= DBL_MIN))
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "material.E x material.yield_strain = %g x %g gives the yield stress "
+                    "sigma_y = %g: not a finite positive number", m->E, m->yield_strain,
+                    m->sigma_y);
+  return PS_OK;
+}
+
 int ps_material_finish(ps_material *m, int dim, ps_ctx *ctx) {
   if (!(m->E > 0) || !isfinite(m->E))
     return ps_error(ctx, PS_ERR_INPUT, "material.E must be > 0 (got %g)", m->E);
+  if (m->E < PS_E_MIN || m->E > PS_E_MAX)
+    return ps_error(ctx, PS_ERR_INPUT, "material.E must be in [%g, %g] Pa (got %g)",
+                    PS_E_MIN, PS_E_MAX, m->E);
   if (!(m->nu > -1.0 && m->nu < 0.5))
     return ps_error(ctx, PS_ERR_INPUT, "material.nu must be in (-1, 0.5) (got %g)",
                     m->nu);
   if (m->plastic && !(m->yield_strain > 0))
     return ps_error(ctx, PS_ERR_INPUT,
                     "material.yield_strain must be > 0 (got %g)", m->yield_strain);
-  if (!(m->rho > 0))
+  if (m->plastic &&
+      (m->yield_strain < PS_YIELD_STRAIN_MIN || m->yield_strain > PS_YIELD_STRAIN_MAX))
+    return ps_error(ctx, PS_ERR_INPUT, "material.yield_strain must be in [%g, %g] (got %g)",
+                    PS_YIELD_STRAIN_MIN, PS_YIELD_STRAIN_MAX, m->yield_strain);
+  if (!(m->rho > 0) || !isfinite(m->rho))
     return ps_error(ctx, PS_ERR_INPUT, "material.rho must be > 0 (got %g)", m->rho);
   if (dim == 3 && m->plane != PS_SOLID_3D) m->plane = PS_SOLID_3D;
   if (dim == 2 && m->plane == PS_SOLID_3D)
@@ -37,7 +61,7 @@ int ps_material_finish(ps_material *m, int dim, ps_ctx *ctx) {
     break;
   }
   m->sigma_y = E * m->yield_strain;
-  return PS_OK;
+  return check_derived(m, ctx);
 }
 
 int ps_arm_state_alloc(ps_arm_state *st, ps_int n_arm, ps_ctx *ctx) {

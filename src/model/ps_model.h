@@ -45,8 +45,24 @@ typedef struct ps_material {
   double sigma_y;      /* nominal yield stress E eps_y */
 } ps_material;
 
-/* Check the parameters and fill the derived ones. Returns PS_OK or
- * PS_ERR_INPUT with a message naming the parameter. */
+/* The accepted range of Young's modulus, Pa: far beyond any material's
+ * (rubber 1e6, steel 2.1e11, diamond 1.2e12) and any unit system's
+ * rescaling, and far inside what the solver's sums of squares hold (it
+ * converges from E = 1e-120 to 1e150 on tests/data/cli/box_base.yaml;
+ * at 1e170 the residual's square overflowed and Newton "stalled" with
+ * -inf in summary.txt). */
+#define PS_E_MIN 1e-20
+#define PS_E_MAX 1e20
+/* The accepted range of the yield strain eps_y (a strain; steel: 0.002). */
+#define PS_YIELD_STRAIN_MIN 1e-9
+#define PS_YIELD_STRAIN_MAX 1.0
+
+/* Check the parameters (E in [PS_E_MIN, PS_E_MAX], nu in (-1, 0.5), with
+ * plasticity eps_y in [PS_YIELD_STRAIN_MIN, PS_YIELD_STRAIN_MAX], rho >
+ * 0) and fill the derived ones, which must come out finite and positive
+ * (G, K, sigma_y; kappa finite). Returns PS_OK or PS_ERR_INPUT with a
+ * message naming the parameter ("material.E must be ..."), without the
+ * file: the caller adds it. */
 int ps_material_finish(ps_material *m, int dim, ps_ctx *ctx);
 
 /* Per-arm state shared by all models. */

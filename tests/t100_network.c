@@ -6,7 +6,10 @@
  *  3. Eq. 115 sizes on the square and hexagonal lattices.
  *  4. network = O(n^2) brute force (arm set, weights of Eq. 70, families,
  *     n_arm0) on jittered variable-size boxes, 2D and 3D.
- *  5. pre-cracks: no arm crosses a crack; every other arm is present.
+ *  5. pre-cracks: no arm crosses a crack; every other arm is present; the
+ *     crack-tip rule (an arm through a tip is kept, to 1e-13 m shifts);
+ *     networks that cannot be built (no arms, coincident particles, a
+ *     coordinate not finite) and their messages; the size estimate.
  *  6. the elliptic disk of Eq. 114: exact total area, the paper's Table 1
  *     arm count and size ratio, boundary zone flags, Eq. 116 against its
  *     limits (far field, Griffith opening, symmetry) and against the
@@ -157,7 +160,7 @@ static ps_int radius_mismatches(const ps_kdtree *t, const double *x, ps_int n,
     ps_int nr = 0;
     for (ps_int j = 0; j < n; j++)
       if (d2_of(&x[j * dim], &q[i * dim], dim) < radius * radius) ref[nr++] = j;
-    qsort(out, (size_t)cnt, sizeof *out, cmp_int);
+    if (cnt > 0) qsort(out, (size_t)cnt, sizeof *out, cmp_int);
     if (cnt != nr || (nr && memcmp(out, ref, (size_t)nr * sizeof *ref) != 0)) bad++;
     *total += nr;
   }
@@ -555,6 +558,181 @@ static void test_network_crack(ps_ctx *ctx) {
   ps_particles_free(&P);
 }
 
+/* 5b. The crack-tip rule (ps_crack_cuts): a crack ending exactly on a
+ * lattice point (the corner of four cells of a square lattice, where
+ * diagonal arms meet) keeps the arms through its tip, and the same crack
+ * with its tip moved by +-1e-13 m (1e-10 of the spacing; the tolerance
+ * is 1e-9 of an arm's length) cuts exactly the same arms; an arm that
+ * crosses the crack 1e-6 of its length inside the tip is cut. */
+static int same_arms(const ps_network *a, const ps_network *b) {
+  if (a->n_arm != b->n_arm) return 0;
+  for (ps_int i = 0; i < a->n_arm; i++)
+    if (a->a[i] != b->a[i] || a->b[i] != b->b[i]) return 0;
+  return 1;
+}
+
+/* the index of the arm joining particles a < b, or -1 */
+static ps_int arm_of(const ps_network *net, ps_int a, ps_int b) {
+  for (ps_int i = 0; i < net->n_arm; i++)
+    if (net->a[i] == a && net->b[i] == b) return i;
+  return -1;
+}
+
+static void test_crack_tip(ps_ctx *ctx) {
+  const double d = 1e-3;
+  ps_particles P;
+  ps_int counts[3] = {12, 10, 1};
+  if (ps_geom_box(&P, 2, counts, d, "square", 0.0, 1, ctx)) die("ps_geom_box", ctx);
+  ps_geom_sizes_eq44(&P);
+  ps_kernel K;
+  if (ps_kernel_init(&K, 2, 2, 3.5, ctx)) die("ps_kernel_init", ctx);
+  /* particles at ((i + 1/2) d, (j + 1/2) d); the tip at the corner (6d, 5d) */
+  ps_crack cr = {{-1.0 * d, 5.0 * d, 0}, {6.0 * d, 5.0 * d, 0}};
+  ps_network ref;
+  if (ps_network_build(&ref, &P, &K, &cr, 1, ctx)) die("ps_network_build", ctx);
+  int same = 1;
+  const double shift[4][2] = {{1e-13, 0}, {-1e-13, 0}, {0, 1e-13}, {0, -1e-13}};
+  for (int v = 0; v < 4; v++) {
+    ps_crack c2 = cr;
+    c2.p1[0] += shift[v][0];
+    c2.p1[1] += shift[v][1];
+    ps_network net;
+    if (ps_network_build(&net, &P, &K, &c2, 1, ctx)) die("ps_network_build", ctx);
+    same &= same_arms(&ref, &net);
+    ps_network_free(&net);
+  }
+  ps_check(same, "crack tip on a lattice point: the tip moved by +-1e-13 m in x or y "
+                 "cuts the same arms (%lld arms)", (long long)ref.n_arm);
+  /* particle (i, j) is i + 12 j: (5, 4) - (6, 5) and (6, 4) - (5, 5) pass
+   * through the tip, (5, 4) - (5, 5) crosses the crack inside, (6, 4) -
+   * (6, 5) passes beyond the tip */
+  ps_int through = arm_of(&ref, 5 + 12 * 4, 6 + 12 * 5);
+  ps_int through2 = arm_of(&ref, 6 + 12 * 4, 5 + 12 * 5);
+  ps_int inside = arm_of(&ref, 5 + 12 * 4, 5 + 12 * 5);
+  ps_int beyond = arm_of(&ref, 6 + 12 * 4, 6 + 12 * 5);
+  ps_check(through >= 0 && through2 >= 0 && inside < 0 && beyond >= 0,
+           "crack tip rule: the diagonal arms through the tip are kept, the arm across "
+           "the crack 1/2 spacing inside it is cut, the one beyond it kept");
+  /* the rule itself, both directions */
+  const double tip[2] = {6.0 * d, 5.0 * d};
+  double x[2] = {5.5 * d, 4.5 * d}, y[2] = {6.5 * d, 5.5 * d};
+  double xi[2] = {x[0] - 1e-6 * d, x[1]}, yi[2] = {y[0] - 1e-6 * d, y[1]};
+  double xo[2] = {x[0] + 1e-6 * d, x[1]}, yo[2] = {y[0] + 1e-6 * d, y[1]};
+  double on[2] = {3.0 * d, 5.0 * d + 1e-16}, up[2] = {3.0 * d, 6.0 * d};
+  ps_check(!ps_crack_cuts(&cr, x, y) && !ps_crack_cuts(&cr, y, x) &&
+               ps_crack_cuts(&cr, xi, yi) && ps_crack_cuts(&cr, yi, xi) &&
+               !ps_crack_cuts(&cr, xo, yo) && !ps_crack_cuts(&cr, yo, xo) &&
+               !ps_crack_cuts(&cr, tip, up) && !ps_crack_cuts(&cr, on, up),
+           "ps_crack_cuts: through the tip kept, 1e-6 of the arm inside it cut, outside "
+           "kept (both directions); an arm from the tip or from the crack's line kept");
+  int asym = 0;
+  for (ps_int a = 0; a < P.n; a++)
+    for (ps_int b = 0; b < P.n; b++)
+      asym += ps_crack_cuts(&cr, &P.x[2 * a], &P.x[2 * b]) !=
+              ps_crack_cuts(&cr, &P.x[2 * b], &P.x[2 * a]);
+  ps_check(asym == 0, "ps_crack_cuts is symmetric on the lattice (%d pairs differ)", asym);
+  ps_network_free(&ref);
+  ps_particles_free(&P);
+}
+
+/* 5c. Networks that cannot be built: no arm at all, coincident particles
+ * (whatever the size rule; named by index, and by cloud file and line when
+ * the cloud carries them), a coordinate that is not finite. */
+static void test_network_errors(ps_ctx *ctx) {
+  const double d = 1e-3;
+  ps_int counts[3] = {4, 4, 1};
+  ps_kernel K;
+  ps_network net;
+  ps_particles P;
+  ps_ctx q;
+  ps_ctx_init(&q);
+  if (ps_geom_box(&P, 2, counts, d, "square", 0.0, 1, ctx)) die("ps_geom_box", ctx);
+  ps_geom_sizes_eq44(&P);
+  ps_kernel_init(&K, 2, 2, 0.5, ctx); /* 0.5 h = 0.28 d: nobody */
+  int rc = ps_network_build(&net, &P, &K, NULL, 0, &q);
+  ps_check(rc == PS_ERR_INPUT && net.a == NULL &&
+               strstr(q.msg, "no arms: the horizon holds no neighbours; alpha too small "
+                             "or particles too far apart"),
+           "no arms at all: PS_ERR_INPUT, '%s'", q.msg);
+  ps_kernel_init(&K, 2, 2, 3.0, ctx);
+  P.x[2 * 6] = P.x[2 * 5]; /* particle 6 onto particle 5 */
+  P.x[2 * 6 + 1] = P.x[2 * 5 + 1];
+  rc = ps_network_build(&net, &P, &K, NULL, 0, &q);
+  ps_check(rc == PS_ERR_INPUT && net.a == NULL &&
+               strstr(q.msg, "particles 5 and 6 coincide (at (0.0015, 0.0015))"),
+           "coincident particles with Eq. 44 sizes: '%s'", q.msg);
+  P.x[2 * 6] += 1e-13; /* 1e-10 of the spacing: still coincident */
+  rc = ps_network_build(&net, &P, &K, NULL, 0, &q);
+  ps_check(rc == PS_ERR_INPUT && strstr(q.msg, "particles 5 and 6 coincide"),
+           "particles 1e-13 m apart (1e-10 h) coincide too");
+  /* a cloud's file and lines */
+  P.source = ps_calloc(16, 1, ctx);
+  P.line = ps_calloc((size_t)P.n, sizeof *P.line, ctx);
+  if (!P.source || !P.line) die("ps_calloc", ctx);
+  snprintf(P.source, 16, "c.txt");
+  for (ps_int a = 0; a < P.n; a++) P.line[a] = a + 3;
+  rc = ps_network_build(&net, &P, &K, NULL, 0, &q);
+  ps_check(rc == PS_ERR_INPUT &&
+               strstr(q.msg, "c.txt:9: particles 5 and 6 coincide (at (") &&
+               strstr(q.msg, "the first at line 8"),
+           "coincident cloud particles named by file and line: '%s'", q.msg);
+  rc = ps_geom_sizes_eq115(&P, 5, &q);
+  ps_check(rc == PS_ERR_INPUT && strstr(q.msg, "c.txt:9: particles 5 and 6 coincide"),
+           "Eq. 115 names the same pair: '%s'", q.msg);
+  P.x[2 * 6] = INFINITY;
+  rc = ps_network_build(&net, &P, &K, NULL, 0, &q);
+  ps_check(rc == PS_ERR_INPUT && strstr(q.msg, "c.txt:9: particle 6: coordinate x is not "
+                                               "finite"),
+           "a coordinate that is not finite: '%s'", q.msg);
+  ps_particles_free(&P);
+}
+
+/* 5d. The size estimate (estimate.c) against the network it predicts, and
+ * ps_kdtree_count against the listing query. */
+static void test_estimate(ps_ctx *ctx) {
+  const double d = 1e-3;
+  ps_particles P;
+  make_box(&P, 2, 40, 30, 1, d, 9, ctx);
+  ps_kernel K;
+  if (ps_kernel_init(&K, 2, 2, 5.1, ctx)) die("ps_kernel_init", ctx);
+  ps_crack cr = {{8.3 * d, 15.1 * d, 0}, {31.7 * d, 14.9 * d, 0}};
+  ps_network net;
+  if (ps_network_build(&net, &P, &K, &cr, 1, ctx)) die("ps_network_build", ctx);
+  ps_estimate_opts o = {1, 1, 1, 0, 1.0};
+  ps_estimate e;
+  if (ps_estimate_sample(&e, &P, 5.1, &cr, 1, &o, ctx)) die("ps_estimate_sample", ctx);
+  ps_check_rel(e.arms, (double)net.n_arm, 0.03, "estimate of the arms (3%)");
+  ps_check(e.factor_nnz >= e.tangent_nnz && e.mem_run > e.mem_build &&
+               e.mem_build > e.mem_network && e.stage == 2 && e.sampled == 512,
+           "estimate: factor >= tangent, run > info > network memory");
+  ps_kdtree *t;
+  if (ps_kdtree_build(&t, P.x, P.n, 2, ctx)) die("ps_kdtree_build", ctx);
+  ps_int *nb = NULL, cap = 0, cnt, bad = 0;
+  for (ps_int a = 0; a < P.n; a += 7) {
+    double r = (0.5 + (a % 13)) * d;
+    if (ps_kdtree_radius(t, &P.x[2 * a], r, &nb, &cap, &cnt, ctx)) die("radius", ctx);
+    bad += ps_kdtree_count(t, &P.x[2 * a], r, P.n) != cnt;
+    bad += ps_kdtree_count(t, &P.x[2 * a], r, 5) != (cnt < 5 ? cnt : 5);
+  }
+  ps_check(bad == 0 && ps_kdtree_count(t, P.x, 1.0, P.n) == P.n,
+           "ps_kdtree_count = the listing query's count (capped; a ball over everything)");
+  free(nb);
+  ps_kdtree_free(&t);
+  /* a horizon over the whole body is estimated at once: n (n - 1) / 2 arms
+   * (to the sampling error: each sampled particle counts the pairs it
+   * decides), n^2 tangent pairs */
+  double t0 = ps_wtime();
+  if (ps_estimate_sample(&e, &P, 1e6, NULL, 0, &o, ctx)) die("ps_estimate_sample", ctx);
+  double dt = ps_wtime() - t0, n = (double)P.n;
+  ps_check(fabs(e.arms - n * (n - 1) / 2) < 0.01 * n * (n - 1) / 2 && e.pairs == n * n &&
+               dt < 30.0,
+           "estimate of a horizon over the whole body: n(n-1)/2 arms (1%%, sampled), "
+           "n^2 pairs, without building them (%.3f s; hang guard 30 s)",
+           dt);
+  ps_network_free(&net);
+  ps_particles_free(&P);
+}
+
 /* ------------------------------------------------------------------ */
 /* 6. elliptic disk                                                    */
 
@@ -838,6 +1016,9 @@ int main(int argc, char **argv) {
   test_sizes(&ctx);
   test_network_box(&ctx);
   test_network_crack(&ctx);
+  test_crack_tip(&ctx);
+  test_network_errors(&ctx);
+  test_estimate(&ctx);
   test_disk_geometry(&ctx);
   test_disk_crack_row(&ctx);
   test_disk_network(&ctx);

@@ -133,69 +133,130 @@ static int setup_boundary(ps_problem *pb, ps_ctx *ctx) {
   return PS_OK;
 }
 
-int ps_problem_setup(ps_problem *pb, const ps_case *cs, ps_ctx *ctx) {
-  int status = PS_OK;
-  double t0 = ps_wtime();
-  memset(pb, 0, sizeof *pb);
-  pb->cs = *cs;
-  enum { HOLE_SIDES = 64 }; /* arms across a hole cross its inscribed polygon */
-  ps_crack *cracks = ps_calloc((size_t)(cs->n_cracks + 1 + HOLE_SIDES * cs->n_holes),
-                               sizeof *cracks, ctx);
-  if (!cracks) return PS_ERR_NOMEM;
-  int n_cracks = cs->n_cracks;
-  memcpy(cracks, cs->cracks, sizeof(ps_crack) * (size_t)cs->n_cracks);
-  /* the lattice models (bond, state): arms within the horizon delta = m
-   * spacing (state: and the half spacing of partial volumes beyond it) */
-  int lattice = strcmp(cs->model, "fibre") != 0;
-  double reach = !strcmp(cs->model, "state") ? cs->horizon_factor + 0.5 * (1 - 1e-9)
-                                              : cs->horizon_factor * (1 + 1e-9);
-  int dim = cs->geometry == PS_GEOM_DISK ? 2 : cs->dim;
+/* Prefix an input error of geometry, sizes or network (which name the
+ * particle, not the case) with the case file. Returns status. */
+static int in_case(ps_ctx *ctx, int status, const char *path) {
+  if (status != PS_ERR_INPUT) return status;
+  char m[sizeof ctx->msg];
+  snprintf(m, sizeof m, "%s", ctx->msg);
+  return ps_error(ctx, status, "%s: %s", path, m);
+}
+
+/* arms across a hole cross its inscribed polygon of this many sides */
+enum { HOLE_SIDES = 64 };
+
+/* The particles of the case (disk, box with holes, or cloud) and the
+ * cracks the geometry adds (the disk's, the holes' polygons). */
+static int make_particles(ps_problem *pb, const ps_case *cs, int dim, ps_crack *cracks,
+                          int *n_cracks, ps_ctx *ctx) {
   switch (cs->geometry) {
   case PS_GEOM_DISK:
-    PS_CHECK_GOTO(ps_geom_disk(&pb->P, &cs->disk, ctx));
+    PS_CHECK(in_case(ctx, ps_geom_disk(&pb->P, &cs->disk, ctx), cs->path));
     pb->c = cs->disk.c;
-    memset(&cracks[n_cracks], 0, sizeof cracks[0]);
-    cracks[n_cracks].p0[0] = -pb->c; /* the crack between the foci */
-    cracks[n_cracks].p1[0] = pb->c;
-    n_cracks++;
+    memset(&cracks[*n_cracks], 0, sizeof cracks[0]);
+    cracks[*n_cracks].p0[0] = -pb->c; /* the crack between the foci */
+    cracks[*n_cracks].p1[0] = pb->c;
+    ++*n_cracks;
     break;
   case PS_GEOM_BOX:
-    PS_CHECK_GOTO(ps_geom_box(&pb->P, dim, cs->counts, cs->spacing, cs->lattice,
-                              cs->jitter, cs->seed, ctx));
+    PS_CHECK(in_case(ctx, ps_geom_box(&pb->P, dim, cs->counts, cs->spacing, cs->lattice,
+                                      cs->jitter, cs->seed, ctx), cs->path));
     for (ps_int a = 0; a < pb->P.n; a++)
       for (int k = 0; k < dim; k++) pb->P.x[a * dim + k] += cs->origin[k];
-    PS_CHECK_GOTO(ps_geom_cut_holes(&pb->P, (const double(*)[3])cs->holes, cs->n_holes,
-                                    ctx));
+    PS_CHECK(in_case(ctx, ps_geom_cut_holes(&pb->P, (const double(*)[3])cs->holes,
+                                            cs->n_holes, ctx), cs->path));
     for (int i = 0; i < cs->n_holes; i++)
-      for (int j = 0; j < HOLE_SIDES; j++, n_cracks++) {
+      for (int j = 0; j < HOLE_SIDES; j++, ++*n_cracks) {
         double t0 = 2 * M_PI * j / HOLE_SIDES, t1 = 2 * M_PI * (j + 1) / HOLE_SIDES;
         const double *h = cs->holes[i];
-        cracks[n_cracks].p0[0] = h[0] + h[2] * cos(t0);
-        cracks[n_cracks].p0[1] = h[1] + h[2] * sin(t0);
-        cracks[n_cracks].p1[0] = h[0] + h[2] * cos(t1);
-        cracks[n_cracks].p1[1] = h[1] + h[2] * sin(t1);
+        cracks[*n_cracks].p0[0] = h[0] + h[2] * cos(t0);
+        cracks[*n_cracks].p0[1] = h[1] + h[2] * sin(t0);
+        cracks[*n_cracks].p1[0] = h[0] + h[2] * cos(t1);
+        cracks[*n_cracks].p1[1] = h[1] + h[2] * sin(t1);
       }
     break;
-  case PS_GEOM_CLOUD:
-    PS_CHECK_GOTO(ps_cloud_read(&pb->P, cs->cloud_file, dim, ctx));
+  case PS_GEOM_CLOUD: /* its errors name the cloud file and line */
+    PS_CHECK(ps_cloud_read(&pb->P, cs->cloud_file, dim, ctx));
     break;
   default:
-    status = ps_error(ctx, PS_ERR_INPUT, "%s: unknown geometry type", cs->path);
-    goto cleanup;
+    return ps_error(ctx, PS_ERR_INPUT, "%s: unknown geometry type", cs->path);
   }
-  double alpha = cs->alpha;
-  if (lattice) { /* h = spacing, alpha = reach */
-    for (ps_int a = 0; a < pb->P.n; a++) pb->P.h[a] = cs->spacing;
-    alpha = reach;
-  } else if (cs->size_rule == PS_SIZE_EQ44) {
-    ps_geom_sizes_eq44(&pb->P);
-  } else {
-    PS_CHECK_GOTO(ps_geom_sizes_eq115(&pb->P, cs->size_neighbours, ctx));
-  }
-  PS_CHECK_GOTO(ps_kernel_init(&pb->kernel, dim, cs->kernel_k, alpha, ctx));
-  PS_CHECK_GOTO(ps_network_build(&pb->net, &pb->P, &pb->kernel, cracks, n_cracks, ctx));
-  pb->t_network = ps_wtime() - t0;
+  return in_case(ctx, ps_particles_check(&pb->P, ctx), cs->path);
+}
 
+/* What a run of the case builds, for the estimate. */
+static ps_estimate_opts estimate_opts(const ps_case *cs, double free_fraction) {
+  const ps_model_type *type = ps_model_type_find(cs->model);
+  ps_estimate_opts o;
+  o.family_coupling = type ? type->family_coupling : 1;
+  o.majorant = cs->majorant && o.family_coupling && cs->reuse_factor && cs->mat.plastic;
+  o.single_precision = cs->cg_single_precision;
+  o.lu = !strcmp(cs->linear, "umfpack");
+  o.free_fraction = free_fraction;
+  return o;
+}
+
+/* Stage 1 of the estimate, from the case alone: the particle count (box:
+ * product of the counts, holes ignored; disk: n_eta n_xi per_zone^2) and
+ * the particles a horizon holds: Eq. 44 sizes make the horizon alpha h
+ * hold alpha^N particle volumes (Eq. 115 sizes ~0.92 of that in 2D, ~0.52
+ * in 3D on lattices); the lattice models' horizon of m spacings pi m^2
+ * cells (3D: 4/3 pi m^3). Refuses, before anything is allocated, a case
+ * whose particles and network alone exceed the memory limit. */
+static int estimate_counts(const ps_case *cs, int dim, int lattice, double reach,
+                           int purpose, ps_ctx *ctx) {
+  double n = 1, nb;
+  if (purpose == PS_ESTIMATE_NONE || cs->geometry == PS_GEOM_CLOUD) return PS_OK;
+  if (cs->geometry == PS_GEOM_DISK)
+    n = (double)cs->disk.n_eta * cs->disk.n_xi * cs->disk.per_zone * cs->disk.per_zone;
+  else
+    for (int k = 0; k < dim; k++) n *= (double)cs->counts[k];
+  if (lattice) {
+    double cell = !strcmp(cs->lattice, "hex") ? sqrt(3.0) / 2 : 1.0;
+    nb = (dim == 2 ? M_PI * reach * reach : 4.0 / 3.0 * M_PI * pow(reach, 3)) / cell;
+  } else {
+    double f = cs->size_rule == PS_SIZE_EQ44 ? 1.0 : dim == 2 ? 0.92 : 0.52;
+    nb = f * pow(cs->alpha, dim);
+  }
+  ps_estimate e;
+  ps_estimate_opts o = estimate_opts(cs, 1.0);
+  ps_estimate_density(&e, dim, n, nb, &o);
+  return ps_estimate_check(&e, e.mem_particles + e.mem_network, cs->max_memory_gib,
+                           cs->path, "building its particles and arms", ctx);
+}
+
+/* Stage 2, with the particles, sizes and supports, before the network:
+ * print it to report (info) and refuse a case beyond the limit for its
+ * purpose (`jobs` runs at once share the particles and the network). */
+static int estimate_sampled(ps_problem *pb, const ps_case *cs, double alpha,
+                            const ps_crack *cracks, int n_cracks, int purpose, int jobs,
+                            FILE *report, ps_ctx *ctx) {
+  if (purpose == PS_ESTIMATE_NONE) return PS_OK;
+  ps_int nd = (ps_int)pb->P.dim * pb->P.n, nfree = 0;
+  for (ps_int j = 0; j < nd; j++) nfree += !pb->fixed[j];
+  ps_estimate_opts o = estimate_opts(cs, nd > 0 ? (double)nfree / (double)nd : 1.0);
+  ps_estimate e;
+  PS_CHECK(ps_estimate_sample(&e, &pb->P, alpha, cracks, n_cracks, &o, ctx));
+  const char *lw;
+  double limit = ps_memory_limit(cs->max_memory_gib, &lw);
+  if (report) {
+    ps_estimate_print(&e, report);
+    fprintf(report, "memory_limit_MiB: %.0f (%s)\n", floor(limit / 1048576.0), lw);
+    fflush(report);
+  }
+  if (purpose == PS_ESTIMATE_INFO)
+    return ps_estimate_check(&e, e.mem_build, cs->max_memory_gib, cs->path,
+                             "info (particles, arms and the tangent's pattern)", ctx);
+  if (jobs < 1) jobs = 1;
+  double need = e.mem_particles + jobs * (e.mem_run - e.mem_particles);
+  char what[64];
+  snprintf(what, sizeof what, jobs > 1 ? "%d runs at once" : "a run", jobs);
+  return ps_estimate_check(&e, need, cs->max_memory_gib, cs->path, what, ctx);
+}
+
+/* The material, the load factor's delta and the boundary conditions. */
+static int setup_loading(ps_problem *pb, const ps_case *cs, int dim, int lattice,
+                         ps_ctx *ctx) {
   pb->mat = cs->mat;
   if (lattice) {
     pb->mat.horizon = cs->horizon_factor * cs->spacing;
@@ -203,30 +264,63 @@ int ps_problem_setup(ps_problem *pb, const ps_case *cs, ps_ctx *ctx) {
   }
   if (cs->delta_over_c > 0 && pb->c > 0) pb->mat.delta = cs->delta_over_c * pb->c;
   if (!(pb->mat.delta > 0)) pb->mat.delta = INFINITY;
-  if (ps_material_finish(&pb->mat, dim, ctx) < 0) {
-    char m[sizeof ctx->msg];
-    snprintf(m, sizeof m, "%s", ctx->msg);
-    status = ps_error(ctx, PS_ERR_INPUT, "%s: %s", cs->path, m);
-    goto cleanup;
-  }
+  if (ps_material_finish(&pb->mat, dim, ctx) < 0) return in_case(ctx, PS_ERR_INPUT, cs->path);
   ps_int nd = (ps_int)dim * pb->P.n;
   pb->fixed = ps_calloc((size_t)nd, 1, ctx);
   pb->ubar = ps_calloc((size_t)nd, sizeof *pb->ubar, ctx);
   pb->measure = ps_calloc((size_t)nd, sizeof *pb->measure, ctx);
-  if (!pb->fixed || !pb->ubar || !pb->measure) {
-    status = PS_ERR_NOMEM;
-    goto cleanup;
-  }
+  if (!pb->fixed || !pb->ubar || !pb->measure) return PS_ERR_NOMEM;
   if (cs->load_type == PS_LOAD_EQ116) {
-    if (cs->geometry != PS_GEOM_DISK) {
-      status = ps_error(ctx, PS_ERR_INPUT,
-                        "%s: loading.type eq116 needs geometry.type disk", cs->path);
-      goto cleanup;
-    }
-    PS_CHECK_GOTO(setup_eq116(pb, ctx));
-  } else {
-    PS_CHECK_GOTO(setup_boundary(pb, ctx));
+    if (cs->geometry != PS_GEOM_DISK)
+      return ps_error(ctx, PS_ERR_INPUT, "%s: loading.type eq116 needs geometry.type disk",
+                      cs->path);
+    return setup_eq116(pb, ctx);
   }
+  return setup_boundary(pb, ctx);
+}
+
+int ps_problem_setup(ps_problem *pb, const ps_case *cs, ps_ctx *ctx) {
+  return ps_problem_setup_sized(pb, cs, PS_ESTIMATE_RUN, 1, NULL, ctx);
+}
+
+int ps_problem_setup_sized(ps_problem *pb, const ps_case *cs, int purpose, int jobs,
+                           FILE *report, ps_ctx *ctx) {
+  int status = PS_OK;
+  double t0 = ps_wtime();
+  memset(pb, 0, sizeof *pb);
+  pb->cs = *cs;
+  /* the lattice models (bond, state): arms within the horizon delta = m
+   * spacing (state: and the half spacing of partial volumes beyond it) */
+  int lattice = strcmp(cs->model, "fibre") != 0;
+  double reach = !strcmp(cs->model, "state") ? cs->horizon_factor + 0.5 * (1 - 1e-9)
+                                              : cs->horizon_factor * (1 + 1e-9);
+  int dim = cs->geometry == PS_GEOM_DISK ? 2 : cs->dim;
+  PS_CHECK(estimate_counts(cs, dim, lattice, reach, purpose, ctx));
+  ps_crack *cracks = ps_calloc((size_t)(cs->n_cracks + 1 + HOLE_SIDES * cs->n_holes),
+                               sizeof *cracks, ctx);
+  if (!cracks) return PS_ERR_NOMEM;
+  int n_cracks = cs->n_cracks;
+  memcpy(cracks, cs->cracks, sizeof(ps_crack) * (size_t)cs->n_cracks);
+  PS_CHECK_GOTO(make_particles(pb, cs, dim, cracks, &n_cracks, ctx));
+  double alpha = cs->alpha;
+  if (lattice) { /* h = spacing, alpha = reach */
+    for (ps_int a = 0; a < pb->P.n; a++) pb->P.h[a] = cs->spacing;
+    alpha = reach;
+  } else if (cs->size_rule == PS_SIZE_EQ44) {
+    ps_geom_sizes_eq44(&pb->P);
+  } else {
+    PS_CHECK_GOTO(in_case(ctx, ps_geom_sizes_eq115(&pb->P, cs->size_neighbours, ctx),
+                          cs->path));
+  }
+  PS_CHECK_GOTO(in_case(ctx, ps_kernel_init(&pb->kernel, dim, cs->kernel_k, alpha, ctx),
+                        cs->path));
+  /* the supports before the network: the estimate counts the free dofs */
+  PS_CHECK_GOTO(setup_loading(pb, cs, dim, lattice, ctx));
+  PS_CHECK_GOTO(estimate_sampled(pb, cs, alpha, cracks, n_cracks, purpose, jobs, report,
+                                 ctx));
+  PS_CHECK_GOTO(in_case(ctx, ps_network_build(&pb->net, &pb->P, &pb->kernel, cracks,
+                                              n_cracks, ctx), cs->path));
+  pb->t_network = ps_wtime() - t0;
 cleanup:
   free(cracks);
   if (status < 0) ps_problem_free(pb);

@@ -74,6 +74,46 @@ const char *ps_particle_where(const ps_particles *p, ps_int a, char *buf, size_t
   return buf;
 }
 
+const char *ps_particle_at(const ps_particles *p, ps_int a, char *buf, size_t len) {
+  const double *x = &p->x[a * p->dim];
+  if (p->dim == 3)
+    snprintf(buf, len, "(%g, %g, %g)", x[0], x[1], x[2]);
+  else
+    snprintf(buf, len, "(%g, %g)", x[0], x[1]);
+  return buf;
+}
+
+int ps_error_coincide(ps_ctx *ctx, const ps_particles *p, ps_int a, ps_int b) {
+  if (a > b) {
+    ps_int t = a;
+    a = b;
+    b = t;
+  }
+  char at[200];
+  ps_particle_at(p, b, at, sizeof at);
+  if (p->source && p->line)
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "%s:%lld: particles %lld and %lld coincide (at %s), the first at "
+                    "line %lld: remove one",
+                    p->source, (long long)p->line[b], (long long)a, (long long)b, at,
+                    (long long)p->line[a]);
+  return ps_error(ctx, PS_ERR_INPUT,
+                  "particles %lld and %lld coincide (at %s): closer than %g of their "
+                  "size (coordinates too large for their spacing?)",
+                  (long long)a, (long long)b, at, PS_COINCIDE);
+}
+
+int ps_particles_check(const ps_particles *p, ps_ctx *ctx) {
+  char w[1200];
+  for (ps_int a = 0; a < p->n; a++)
+    for (int k = 0; k < p->dim; k++)
+      if (!isfinite(p->x[a * p->dim + k]))
+        return ps_error(ctx, PS_ERR_INPUT, "%s: coordinate %c is not finite (%g)",
+                        ps_particle_where(p, a, w, sizeof w), "xyz"[k],
+                        p->x[a * p->dim + k]);
+  return PS_OK;
+}
+
 int ps_geom_box(ps_particles *p, int dim, const ps_int counts[3], double d,
                 const char *lattice, double jitter, unsigned long seed,
                 ps_ctx *ctx) {
@@ -158,13 +198,13 @@ int ps_geom_disk(ps_particles *p, const ps_disk_params *dp, ps_ctx *ctx) {
   {
     /* the crack (xi = 0) must fall on a sub-cell boundary, else a row of
      * particles straddles it (or sits on it and bridges the crack) */
-    double cells = -dp->xi_min / ((dp->xi_max - dp->xi_min) / (dp->n_xi * m));
+    double cells = -dp->xi_min / ((dp->xi_max - dp->xi_min) / ((double)dp->n_xi * m));
     if (fabs(cells - floor(cells + 0.5)) > 1e-9)
       return ps_error(ctx, PS_ERR_INPUT,
                       "disk: xi = 0 (the crack) must lie on a sub-cell boundary: with "
-                      "xi in (%g, %g), n_xi * per_zone = %d puts it %.3g cells from "
+                      "xi in (%g, %g), n_xi * per_zone = %.0f puts it %.3g cells from "
                       "xi_min (use an even n_xi * per_zone for a symmetric range)",
-                      dp->xi_min, dp->xi_max, dp->n_xi * m, cells);
+                      dp->xi_min, dp->xi_max, (double)dp->n_xi * m, cells);
   }
   ps_int n = (ps_int)dp->n_eta * dp->n_xi * m * m;
   PS_CHECK(ps_particles_alloc(p, 2, n, ctx));
@@ -180,15 +220,15 @@ int ps_geom_disk(ps_particles *p, const ps_disk_params *dp, ps_ctx *ctx) {
     return ps_error(ctx, PS_ERR_NOMEM, "cannot allocate RNG");
   }
   gsl_rng_set(rng, dp->seed);
-  double dxi = (dp->xi_max - dp->xi_min) / (dp->n_xi * m);
-  double deta = M_PI / (dp->n_eta * m);
+  double dxi = (dp->xi_max - dp->xi_min) / ((double)dp->n_xi * m);
+  double deta = M_PI / ((double)dp->n_eta * m);
   double c2 = dp->c * dp->c;
   ps_int a = 0;
   for (int zi = 0; zi < dp->n_xi; zi++)
     for (int zj = 0; zj < dp->n_eta; zj++)
       for (int si = 0; si < m; si++)
         for (int sj = 0; sj < m; sj++, a++) {
-          int ci = zi * m + si, cj = zj * m + sj;
+          ps_int ci = (ps_int)zi * m + si, cj = (ps_int)zj * m + sj;
           double xi0 = dp->xi_min + ci * dxi, eta0 = cj * deta;
           double xi = xi0 + 0.5 * dxi, eta = eta0 + 0.5 * deta;
           if (dp->jitter > 0) {
@@ -241,8 +281,10 @@ int ps_geom_sizes_eq115(ps_particles *p, int n_nearest, ps_ctx *ctx) {
                     n_nearest);
   if (p->n < n_nearest + 1)
     return ps_error(ctx, PS_ERR_INPUT,
-                    "Eq. 115 with n = %d needs at least %d particles (have %lld)",
-                    n_nearest, n_nearest + 1, (long long)p->n);
+                    "%s%sEq. 115 with n = %d needs at least %d particles (have %lld)",
+                    p->source ? p->source : "", p->source ? ": " : "", n_nearest,
+                    n_nearest + 1, (long long)p->n);
+  PS_CHECK(ps_particles_check(p, ctx));
   ps_kdtree *t = NULL;
   PS_CHECK(ps_kdtree_build(&t, p->x, p->n, p->dim, ctx));
   ps_int idx[64];
@@ -253,10 +295,9 @@ int ps_geom_sizes_eq115(ps_particles *p, int n_nearest, ps_ctx *ctx) {
     int f = ps_kdtree_knn(t, a, k, idx, dist);
     double s = 0.0;
     for (int j = 0; j < f; j++) s += dist[j];
-    if (!(dist[0] > 0)) {
-      status = ps_error(ctx, PS_ERR_INPUT,
-                        "particle %lld coincides with particle %lld", (long long)a,
-                        (long long)idx[0]);
+    /* the nearest closer than PS_COINCIDE of the size it would give */
+    if (!(dist[0] > PS_COINCIDE * s / (2.0 * k))) {
+      status = ps_error_coincide(ctx, p, a, idx[0]);
       break;
     }
     p->h[a] = s / (2.0 * k); /* Eq. 115 */

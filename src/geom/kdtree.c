@@ -169,6 +169,37 @@ int ps_kdtree_radius(const ps_kdtree *t, const double *q, double radius,
   return PS_OK;
 }
 
+/* squared distance from q to the farthest corner of the node's box */
+static double box_far_d2(const ps_kdtree *t, const node *nd, const double *q) {
+  double s = 0.0;
+  for (int k = 0; k < t->dim; k++) {
+    double d = fmax(fabs(q[k] - nd->bmin[k]), fabs(nd->bmax[k] - q[k]));
+    s += d * d;
+  }
+  return s;
+}
+
+ps_int ps_kdtree_count(const ps_kdtree *t, const double *q, double radius, ps_int cap) {
+  ps_int stack[128], count = 0;
+  int sp = 0;
+  double r2 = radius * radius;
+  if (t->n == 0 || !(radius > 0)) return 0;
+  stack[sp++] = 0;
+  while (sp > 0 && count < cap) {
+    const node *nd = &t->nodes[stack[--sp]];
+    if (box_d2(t, nd, q) >= r2) continue;
+    if (box_far_d2(t, nd, q) < r2) { /* the whole box is inside the ball */
+      count += nd->hi - nd->lo;
+    } else if (nd->axis < 0) {
+      for (ps_int i = nd->lo; i < nd->hi; i++) count += pt_d2(t, t->perm[i], q) < r2;
+    } else {
+      stack[sp++] = nd->left;
+      stack[sp++] = nd->right;
+    }
+  }
+  return count < cap ? count : cap;
+}
+
 int ps_kdtree_knn(const ps_kdtree *t, ps_int i, int k, ps_int *idx,
                   double *dist) {
   const double *q = &t->x[i * t->dim];

@@ -36,6 +36,24 @@ void ps_particles_free(ps_particles *p);
  * most len bytes to buf and returns buf. */
 const char *ps_particle_where(const ps_particles *p, ps_int a, char *buf, size_t len);
 
+/* "(x, y)" or "(x, y, z)" of particle a (%g), into buf; returns buf. */
+const char *ps_particle_at(const ps_particles *p, ps_int a, char *buf, size_t len);
+
+/* Two particles closer than PS_COINCIDE times their size (the larger h;
+ * Eq. 115: the mean distance of the nearest neighbours) coincide: no arm
+ * can join them (a zero or round-off length), whatever the size rule. */
+#define PS_COINCIDE 1e-9
+
+/* The error for coincident particles a and b, naming the pair (lower
+ * index first) and the point: "particles 12 and 13 coincide (at (x, y))",
+ * for a point cloud "cloud.txt:14: particles 12 and 13 coincide (at (x,
+ * y)), the first at line 13". Returns PS_ERR_INPUT. */
+int ps_error_coincide(ps_ctx *ctx, const ps_particles *p, ps_int a, ps_int b);
+
+/* Every coordinate finite? PS_OK, or PS_ERR_INPUT naming the first particle
+ * that is not (with its cloud file and line). */
+int ps_particles_check(const ps_particles *p, ps_ctx *ctx);
+
 /* Remove the particles inside any of the n circles (cx, cy, R) (2D),
  * keeping the order of the rest. Returns PS_OK, PS_ERR_INPUT (not 2D, or
  * no particle left), PS_ERR_NOMEM. */
@@ -110,6 +128,12 @@ void ps_kdtree_free(ps_kdtree **tree);
  * Returns PS_OK or PS_ERR_NOMEM. */
 int ps_kdtree_radius(const ps_kdtree *t, const double *q, double radius,
                      ps_int **out, ps_int *cap, ps_int *count, ps_ctx *ctx);
+
+/* The number of points within distance < radius of q, counted without
+ * listing them (a box wholly inside the ball counts at once, so a ball
+ * that covers the whole cloud costs O(1)); the count stops at cap (the
+ * result is then cap, a lower bound). Allocates nothing. */
+ps_int ps_kdtree_count(const ps_kdtree *t, const double *q, double radius, ps_int cap);
 
 /* The k nearest points to point index i (itself excluded), distances in
  * dist[0..k-1] ascending, indices in idx. Returns the number found (< k

@@ -39,9 +39,11 @@ int ps_kernel_init(ps_kernel *K, int dim, int k, double alpha, ps_ctx *ctx) {
   int rc = gsl_integration_qag(&F, 0.0, alpha, 0.0, 1e-13, 200,
                                GSL_INTEG_GAUSS61, w, &res, &err);
   gsl_integration_workspace_free(w);
-  if (rc != GSL_SUCCESS || !(res > 0))
-    return ps_error(ctx, PS_ERR_INTERNAL, "kernel: quadrature of Eq. 54 failed: %s",
-                    gsl_strerror(rc));
+  if (rc != GSL_SUCCESS || !(res > 0) || !isfinite(res))
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "kernel.alpha = %g, kernel.k = %d: the normalisation of Eq. 54 "
+                    "(quadrature) failed (%s): alpha or k too large",
+                    alpha, k, rc != GSL_SUCCESS ? gsl_strerror(rc) : "not a finite positive number");
   K->Z = res;
   return PS_OK;
 }
@@ -66,14 +68,23 @@ double ps_kernel_df(const ps_kernel *K, double u) {
 }
 
 int ps_crack_cuts(const ps_crack *cr, const double *x, const double *y) {
-  /* proper intersection of segments x-y and p0-p1 (2D orientation tests) */
   const double *p = cr->p0, *q = cr->p1;
-  double d1 = (q[0] - p[0]) * (x[1] - p[1]) - (q[1] - p[1]) * (x[0] - p[0]);
-  double d2 = (q[0] - p[0]) * (y[1] - p[1]) - (q[1] - p[1]) * (y[0] - p[0]);
-  double d3 = (y[0] - x[0]) * (p[1] - x[1]) - (y[1] - x[1]) * (p[0] - x[0]);
-  double d4 = (y[0] - x[0]) * (q[1] - x[1]) - (y[1] - x[1]) * (q[0] - x[0]);
-  return ((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0)) && d1 != 0 &&
-         d2 != 0;
+  double ux = q[0] - p[0], uy = q[1] - p[1], lu = hypot(ux, uy);
+  double ex = y[0] - x[0], ey = y[1] - x[1];
+  double tol = PS_CRACK_TOUCH * hypot(ex, ey);
+  if (!(lu > 0)) return 0; /* a point: cuts nothing */
+  /* signed distances of the arm's ends from the crack's line: the ends
+   * must lie on opposite sides, each farther than tol */
+  double dx = (ux * (x[1] - p[1]) - uy * (x[0] - p[0])) / lu;
+  double dy = (ux * (y[1] - p[1]) - uy * (y[0] - p[0])) / lu;
+  if (!((dx > tol && dy < -tol) || (dx < -tol && dy > tol))) return 0;
+  /* the arm meets the crack's line at x + t (y - x), t = dx / (dx - dy) in
+   * (0, 1); sigma = that point's distance from p0 along the crack. Cut
+   * when it lies inside the open segment (p0, p1) by more than tol: an
+   * arm through an end point (to round-off) is kept */
+  double t = dx / (dx - dy);
+  double sigma = ((x[0] - p[0] + t * ex) * ux + (x[1] - p[1] + t * ey) * uy) / lu;
+  return sigma > tol && sigma < lu - tol;
 }
 
 typedef struct {
@@ -99,33 +110,37 @@ void ps_network_free(ps_network *net) {
   memset(net, 0, sizeof *net);
 }
 
-int ps_network_build(ps_network *net, const ps_particles *p,
-                     const ps_kernel *K, const ps_crack *cracks, int n_cracks,
-                     ps_ctx *ctx) {
-  int status = PS_OK, dim = p->dim;
-  ps_kdtree *tree = NULL;
-  ps_int *nb = NULL, cap = 0, cnt = 0;
-  pair *pairs = NULL;
-  ps_int np = 0, pcap = 0;
-  memset(net, 0, sizeof *net);
-  if (K->dim != dim)
-    return ps_error(ctx, PS_ERR_INPUT, "kernel dimension %d differs from the cloud's %d",
-                    K->dim, dim);
-  double hmin = INFINITY, hmax = 0;
+/* Sizes, volumes and coordinates must be finite, sizes and volumes > 0. */
+static int check_particles(const ps_particles *p, double *hmin, double *hmax,
+                           ps_ctx *ctx) {
+  char w[1200];
+  *hmin = INFINITY;
+  *hmax = 0;
+  PS_CHECK(ps_particles_check(p, ctx));
   for (ps_int a = 0; a < p->n; a++) {
     if (!(p->h[a] > 0) || !isfinite(p->h[a]))
-      return ps_error(ctx, PS_ERR_INPUT, "particle %lld: size h must be > 0 (got %g)",
-                      (long long)a, p->h[a]);
+      return ps_error(ctx, PS_ERR_INPUT, "%s: size h must be > 0 (got %g)",
+                      ps_particle_where(p, a, w, sizeof w), p->h[a]);
     if (!(p->volume[a] > 0) || !isfinite(p->volume[a]))
-      return ps_error(ctx, PS_ERR_INPUT,
-                      "particle %lld: volume must be > 0 (got %g)", (long long)a,
-                      p->volume[a]);
-    if (p->h[a] < hmin) hmin = p->h[a];
-    if (p->h[a] > hmax) hmax = p->h[a];
+      return ps_error(ctx, PS_ERR_INPUT, "%s: volume must be > 0 (got %g)",
+                      ps_particle_where(p, a, w, sizeof w), p->volume[a]);
+    if (p->h[a] < *hmin) *hmin = p->h[a];
+    if (p->h[a] > *hmax) *hmax = p->h[a];
   }
+  return PS_OK;
+}
+
+/* The arm candidates (a < b, sorted, unique) into *pairs[*np]: every
+ * particle finds the others inside its own horizon alpha h_a; the union
+ * of both directions gives the rule r < alpha max(h_a, h_b). Pairs whose
+ * segment a crack cuts are left out. */
+static int collect_pairs(const ps_particles *p, const ps_kernel *K,
+                         const ps_crack *cracks, int n_cracks, pair **pairs,
+                         ps_int *np_out, ps_ctx *ctx) {
+  int status = PS_OK, dim = p->dim;
+  ps_kdtree *tree = NULL;
+  ps_int *nb = NULL, cap = 0, cnt = 0, np = 0, pcap = 0;
   PS_CHECK_GOTO(ps_kdtree_build(&tree, p->x, p->n, dim, ctx));
-  /* every particle finds the others inside its own horizon alpha h_a; the
-   * union of both directions gives the rule r < alpha max(h_a, h_b) */
   for (ps_int a = 0; a < p->n; a++) {
     PS_CHECK_GOTO(ps_kdtree_radius(tree, &p->x[a * dim], K->alpha * p->h[a], &nb,
                                    &cap, &cnt, ctx));
@@ -138,17 +153,94 @@ int ps_network_build(ps_network *net, const ps_particles *p,
       if (cut) continue;
       if (np >= pcap) {
         pcap = pcap ? 2 * pcap : 1024;
-        PS_CHECK_GOTO(ps_realloc((void **)&pairs, (size_t)pcap, sizeof *pairs, ctx));
+        PS_CHECK_GOTO(ps_realloc((void **)pairs, (size_t)pcap, sizeof **pairs, ctx));
       }
-      pairs[np].a = a < b ? a : b;
-      pairs[np].b = a < b ? b : a;
+      (*pairs)[np].a = a < b ? a : b;
+      (*pairs)[np].b = a < b ? b : a;
       np++;
     }
   }
-  qsort(pairs, (size_t)np, sizeof *pairs, cmp_pair);
+  if (np > 0) qsort(*pairs, (size_t)np, sizeof **pairs, cmp_pair);
   ps_int na = 0;
   for (ps_int i = 0; i < np; i++)
-    if (i == 0 || cmp_pair(&pairs[i], &pairs[i - 1]) != 0) pairs[na++] = pairs[i];
+    if (i == 0 || cmp_pair(&(*pairs)[i], &(*pairs)[i - 1]) != 0) (*pairs)[na++] = (*pairs)[i];
+  *np_out = na;
+cleanup:
+  ps_kdtree_free(&tree);
+  free(nb);
+  return status;
+}
+
+/* The arms of the sorted pairs: lengths, weights (Eq. 70), family counts;
+ * a pair closer than PS_COINCIDE max(h_a, h_b) (or not finite) is an
+ * error naming it. */
+static int fill_arms(ps_network *net, const ps_particles *p, const ps_kernel *K,
+                     const pair *pairs, ps_ctx *ctx) {
+  int dim = p->dim;
+  double N1 = dim + 1;
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    ps_int a = pairs[i].a, b = pairs[i].b;
+    double r2 = 0;
+    for (int k = 0; k < dim; k++) {
+      double d = p->x[b * dim + k] - p->x[a * dim + k];
+      r2 += d * d;
+    }
+    double r = sqrt(r2);
+    if (!(r > PS_COINCIDE * fmax(p->h[a], p->h[b])) || !isfinite(r))
+      return ps_error_coincide(ctx, p, a, b);
+    net->a[i] = a;
+    net->b[i] = b;
+    net->r0[i] = r;
+    /* A_ab = -V_a V_b f'(r/h_a)/h_a^(N+1): Eq. 70 with m = rho V */
+    net->A_ab[i] = -p->volume[a] * p->volume[b] * ps_kernel_df(K, r / p->h[a]) /
+                   pow(p->h[a], N1);
+    net->A_ba[i] = -p->volume[a] * p->volume[b] * ps_kernel_df(K, r / p->h[b]) /
+                   pow(p->h[b], N1);
+    net->fam_ptr[a + 1]++;
+    net->fam_ptr[b + 1]++;
+  }
+  return PS_OK;
+}
+
+/* Families: arms are sorted by (a, b), so for each particle the arms come
+ * ordered by the other end once the "b-side" ones (other end a < b, in
+ * increasing a) are placed first, then those where it is the a end. */
+static int fill_families(ps_network *net, ps_ctx *ctx) {
+  ps_int n = net->n_particle, na = net->n_arm;
+  for (ps_int a = 0; a < n; a++) {
+    net->n_arm0[a] = net->fam_ptr[a + 1];
+    net->fam_ptr[a + 1] += net->fam_ptr[a];
+  }
+  ps_int *pos = ps_calloc((size_t)n, sizeof *pos, ctx);
+  if (!pos) return PS_ERR_NOMEM;
+  for (ps_int a = 0; a < n; a++) pos[a] = net->fam_ptr[a];
+  for (ps_int i = 0; i < na; i++) net->fam_arm[pos[net->b[i]]++] = i;
+  for (ps_int i = 0; i < na; i++) net->fam_arm[pos[net->a[i]]++] = i;
+  free(pos);
+  return PS_OK;
+}
+
+int ps_network_build(ps_network *net, const ps_particles *p,
+                     const ps_kernel *K, const ps_crack *cracks, int n_cracks,
+                     ps_ctx *ctx) {
+  int status = PS_OK, dim = p->dim;
+  pair *pairs = NULL;
+  ps_int na = 0;
+  double hmin, hmax;
+  char w[1200];
+  memset(net, 0, sizeof *net);
+  if (K->dim != dim)
+    return ps_error(ctx, PS_ERR_INPUT, "kernel dimension %d differs from the cloud's %d",
+                    K->dim, dim);
+  PS_CHECK(check_particles(p, &hmin, &hmax, ctx));
+  PS_CHECK_GOTO(collect_pairs(p, K, cracks, n_cracks, &pairs, &na, ctx));
+  if (na == 0) {
+    status = ps_error(ctx, PS_ERR_INPUT,
+                      "no arms: the horizon holds no neighbours; alpha too small or "
+                      "particles too far apart (%lld particles, alpha %g, sizes h %g .. %g)",
+                      (long long)p->n, K->alpha, hmin, hmax);
+    goto cleanup;
+  }
   net->dim = dim;
   net->n_particle = p->n;
   net->n_arm = na;
@@ -166,56 +258,19 @@ int ps_network_build(ps_network *net, const ps_particles *p,
     status = PS_ERR_NOMEM;
     goto cleanup;
   }
-  double N1 = dim + 1;
-  for (ps_int i = 0; i < na; i++) {
-    ps_int a = pairs[i].a, b = pairs[i].b;
-    double r2 = 0;
-    for (int k = 0; k < dim; k++) {
-      double d = p->x[b * dim + k] - p->x[a * dim + k];
-      r2 += d * d;
-    }
-    double r = sqrt(r2);
-    net->a[i] = a;
-    net->b[i] = b;
-    net->r0[i] = r;
-    /* A_ab = -V_a V_b f'(r/h_a)/h_a^(N+1): Eq. 70 with m = rho V */
-    net->A_ab[i] = -p->volume[a] * p->volume[b] * ps_kernel_df(K, r / p->h[a]) /
-                   pow(p->h[a], N1);
-    net->A_ba[i] = -p->volume[a] * p->volume[b] * ps_kernel_df(K, r / p->h[b]) /
-                   pow(p->h[b], N1);
-    net->fam_ptr[a + 1]++;
-    net->fam_ptr[b + 1]++;
-  }
-  for (ps_int a = 0; a < p->n; a++) {
-    net->n_arm0[a] = net->fam_ptr[a + 1];
-    net->fam_ptr[a + 1] += net->fam_ptr[a];
-  }
-  {
-    /* fill families; arms are sorted by (a, b), so for each particle the
-     * arms come ordered by the other end once we fill "b-side" first */
-    ps_int *pos = ps_calloc((size_t)p->n, sizeof *pos, ctx);
-    if (!pos) {
-      status = PS_ERR_NOMEM;
-      goto cleanup;
-    }
-    for (ps_int a = 0; a < p->n; a++) pos[a] = net->fam_ptr[a];
-    /* arms where the particle is the b end have other end a < b, and these
-     * come first in increasing a; then arms where it is the a end */
-    for (ps_int i = 0; i < na; i++) net->fam_arm[pos[net->b[i]]++] = i;
-    for (ps_int i = 0; i < na; i++) net->fam_arm[pos[net->a[i]]++] = i;
-    free(pos);
-  }
+  PS_CHECK_GOTO(fill_arms(net, p, K, pairs, ctx));
+  PS_CHECK_GOTO(fill_families(net, ctx));
   for (ps_int a = 0; a < p->n; a++)
     if (net->n_arm0[a] == 0) {
+      char at[200];
       status = ps_error(ctx, PS_ERR_INPUT,
-                        "particle %lld at (%g, %g) has no arms: it lies farther than "
-                        "alpha h from every other particle",
-                        (long long)a, p->x[a * dim], p->x[a * dim + 1]);
+                        "%s at %s has no arms: it lies farther than alpha h from "
+                        "every other particle",
+                        ps_particle_where(p, a, w, sizeof w),
+                        ps_particle_at(p, a, at, sizeof at));
       goto cleanup;
     }
 cleanup:
-  ps_kdtree_free(&tree);
-  free(nb);
   free(pairs);
   if (status < 0) ps_network_free(net);
   return status;

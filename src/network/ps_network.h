@@ -19,7 +19,9 @@ typedef struct ps_kernel {
 } ps_kernel;
 
 /* Set up the kernel; Z by GSL adaptive quadrature of Eq. 112's denominator.
- * Returns PS_OK, or PS_ERR_INPUT for alpha <= 0, k < 1 or dim not 2/3. */
+ * Returns PS_OK, or PS_ERR_INPUT for alpha <= 0, k < 1, dim not 2/3, or a
+ * quadrature that fails (alpha or k so large that Eq. 54 overflows; the
+ * message names kernel.alpha and kernel.k). */
 int ps_kernel_init(ps_kernel *K, int dim, int k, double alpha, ps_ctx *ctx);
 /* Closed form of Z for k = 2 (Eq. 113 without its stray C):
  * 2 (N-1) pi alpha^N (1/N - 2/(N+2) + 1/(N+4)). */
@@ -28,10 +30,14 @@ double ps_kernel_Z_k2(int dim, double alpha);
 double ps_kernel_f(const ps_kernel *K, double u);
 double ps_kernel_df(const ps_kernel *K, double u);
 
-/* A straight pre-crack: arms whose segment crosses it are not created. */
+/* A straight pre-crack: arms whose segment crosses it are not created
+ * (ps_crack_cuts states the rule at its end points). */
 typedef struct ps_crack {
   double p0[3], p1[3]; /* end points (2D: a segment; 3D: not yet supported) */
 } ps_crack;
+
+/* The tolerance of ps_crack_cuts, relative to the arm's length. */
+#define PS_CRACK_TOUCH 1e-9
 
 /* The arm network. Arm i joins particles a[i] < b[i]. Each particle's
  * family (the arms incident to it) is stored CSR-wise: fam_arm[fam_ptr[p]
@@ -51,14 +57,104 @@ typedef struct ps_network {
 
 /* Build the network: arms r < alpha max(h_a, h_b), none crossing a crack
  * segment, weights of Eq. 70 from the kernel. Returns PS_OK, PS_ERR_INPUT
- * (a particle left without arms, a non-positive size or volume),
- * PS_ERR_NOMEM. */
+ * (no arm at all; a particle left without arms; two particles closer than
+ * PS_COINCIDE max(h_a, h_b), ps_error_coincide; a coordinate not finite;
+ * a non-positive size or volume: each message names the particles, with
+ * their cloud file and line), PS_ERR_NOMEM. */
 int ps_network_build(ps_network *net, const ps_particles *p,
                      const ps_kernel *K, const ps_crack *cracks, int n_cracks,
                      ps_ctx *ctx);
 void ps_network_free(ps_network *net);
 
-/* Is segment x->y crossing the crack (2D)? Exposed for the tests. */
+/* Does the crack cut the arm x-y (2D)? The crack is the open segment
+ * (p0, p1): with tol = PS_CRACK_TOUCH |y - x|, the arm is cut when its
+ * ends lie on opposite sides of the crack's line, each farther than tol
+ * from it, and the point where it meets that line lies inside the segment
+ * by more than tol from either end. So an arm through an end point of the
+ * crack (a crack tip on a lattice point, up to round-off) is kept,
+ * deterministically and whichever way the arm is walked, and an arm with
+ * an end on the crack's line (within tol) is not cut by it. (Tips on
+ * lattice points: the edge-cracked plates of data/cases, whose networks
+ * this rule leaves as they were; the disk's foci hold no particle and no
+ * arm passes within 1e-6 of its length of them. doc/model.md.) Exposed
+ * for the tests. */
 int ps_crack_cuts(const ps_crack *cr, const double *x, const double *y);
+
+/* ---- size estimate before allocation (estimate.c) ---- */
+
+/* What the run will build, for the estimate. */
+typedef struct ps_estimate_opts {
+  int family_coupling;  /* two-horizon tangent (fibre, state); 0: arms only */
+  int majorant;         /* a run also factors the one-horizon majorant */
+  int single_precision; /* float copies of the factors (solver) */
+  int lu;               /* solver.linear umfpack: LU, not Cholesky */
+  double free_fraction; /* free dofs / all dofs (1 when not known) */
+} ps_estimate_opts;
+
+/* Sizes and memory of a case before it is built. Counts are doubles: an
+ * absurd case must not overflow them. Memory in bytes. */
+typedef struct ps_estimate {
+  int dim;
+  int stage;             /* 1: from the counts and a density; 2: sampled */
+  ps_int sampled;        /* particles sampled (stage 2) */
+  double particles, dofs, free_dofs;
+  double neighbours;     /* mean particles within a particle's horizon */
+  double arms;
+  double family_sq;      /* sum over particles of (family size + 1)^2 */
+  double pairs;          /* tangent blocks: coupled particle pairs, both
+                            triangles and the diagonal */
+  double tangent_nnz;    /* free upper triangle of the tangent */
+  double factor_nnz;     /* nnz(L) of its factor (LU: L + U) */
+  double majorant_nnz, majorant_factor_nnz; /* one horizon (0: none) */
+  double mem_particles;  /* the cloud */
+  double mem_network;    /* the network and, while it is built, its k-d
+                            tree and candidate list (the peak) */
+  double mem_pattern;    /* the assembly of the tangent in a run (info
+                            builds its pattern alone, without values) */
+  double mem_solver;     /* the rest of a run: majorant system, arm state,
+                            factors, vectors */
+  double mem_build;      /* peak of `info`: particles, network, pattern
+                            (the memory it writes) */
+  double mem_run;        /* peak of one run */
+} ps_estimate;
+
+/* Stage 1, from the counts alone (nothing allocated): n particles in dim
+ * dimensions, each with about `neighbours` others within its horizon
+ * (e.g. alpha^N for Eq. 44 sizes, pi m^2 for a lattice horizon of m
+ * spacings in 2D; capped at n - 1). */
+void ps_estimate_density(ps_estimate *e, int dim, double n, double neighbours,
+                         const ps_estimate_opts *o);
+
+/* Stage 2, from the particles and their sizes, before the network: the
+ * arms, families and tangent pairs of a deterministic sample of at most
+ * PS_ESTIMATE_SAMPLES particles (k-d tree counts; a horizon that covers
+ * the whole body costs O(log n) per particle), the cracks applied to the
+ * arms; then the factor and memory. Allocates a k-d tree (O(n)) and
+ * small buffers. Returns PS_OK, PS_ERR_NOMEM. */
+#define PS_ESTIMATE_SAMPLES 512
+int ps_estimate_sample(ps_estimate *e, const ps_particles *p, double alpha,
+                       const ps_crack *cracks, int n_cracks,
+                       const ps_estimate_opts *o, ps_ctx *ctx);
+
+/* What a case's estimate is checked for (ps_problem_setup_sized): nothing,
+ * what `info` builds (mem_build), or a run (mem_run). */
+enum ps_estimate_purpose { PS_ESTIMATE_NONE = 0, PS_ESTIMATE_INFO = 1, PS_ESTIMATE_RUN = 2 };
+
+/* The memory limit in bytes: gib GiB when gib > 0, else 80% of the
+ * physical memory (sysconf); *what gets "solver.max_memory_gib" or "80%
+ * of RAM" for messages (may be NULL). */
+double ps_memory_limit(double gib, const char **what);
+
+/* Refuse a need above the limit: PS_OK, or PS_ERR_INPUT with "<where>: this
+ * case needs about 37 GiB (estimate: 1.2e9 arms, factor 3.1e9 nonzeros)
+ * but the limit is 19 GiB (80% of RAM); set solver.max_memory_gib or
+ * --max-memory GIB to raise it". `need` is one of e's mem_ sums (times
+ * the jobs of a sweep); `what` says for what ("a run", "info"). */
+int ps_estimate_check(const ps_estimate *e, double need, double limit_gib,
+                      const char *where, const char *what, ps_ctx *ctx);
+
+/* The estimate as "key: value" lines (estimate_particles, estimate_arms,
+ * estimate_tangent_nnz, estimate_factor_nnz, estimate_memory_MiB, ...). */
+void ps_estimate_print(const ps_estimate *e, FILE *f);
 
 #endif

@@ -2,6 +2,7 @@
  * `peristatic griffith CASE.yaml`, `peristatic info CASE.yaml`, --help. */
 #include <gsl/gsl_errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -30,6 +31,8 @@ static const char *HELP_MAIN =
     "  -j, --jobs N    griffith: N runs at a time, one process each (N cores)\n"
     "  -t, --threads N threads per run (default: the CPUs, shared among -j jobs;\n"
     "                  at most 2 are used; results do not depend on it)\n"
+    "      --max-memory GIB  refuse a case whose estimated memory exceeds GIB\n"
+    "                  (default solver.max_memory_gib, else 80% of the RAM)\n"
     "  -h, --help      this text\n"
     "\n"
     "Each load increment prints one progress line:\n"
@@ -62,11 +65,19 @@ static const char *HELP_MAIN =
     "total or deviatoric), bond (bond-based PD, Fallah et al. 2020), state\n"
     "(ordinary state-based PD); bond and state need a box lattice.\n"
     "\n"
+    "Before it builds the network, peristatic estimates the case's particles, arms,\n"
+    "tangent and factor nonzeros and memory; run and griffith refuse (exit 1) a\n"
+    "case whose estimate exceeds the memory limit (--max-memory), saying what it\n"
+    "needs; info prints the estimate and refuses only what it cannot build.\n"
+    "\n"
     "The case file format and every default: doc/peristatic.md. Exit status: 0 on\n"
-    "success, 1 on bad input, 2 on a solver failure, 3 on an I/O error.\n";
+    "success, 1 on bad input (or a case above the memory limit), 2 on a solver\n"
+    "failure or out of memory, 3 on an I/O error (or an output folder that is not\n"
+    "peristatic's, or that another run is writing), 130/143 when SIGINT/SIGTERM\n"
+    "ended the run (its partial output is in DIR.partial).\n";
 
 static const char *HELP_RUN =
-    "peristatic run [-o DIR] [-q|-v] [-t N] CASE.yaml\n"
+    "peristatic run [-o DIR] [-q|-v] [-t N] [--max-memory GIB] CASE.yaml\n"
     "\n"
     "Solves the case to equilibrium at each increment of the load factor with\n"
     "Newton's method (consistent tangent, CHOLMOD, energy line search), commits\n"
@@ -78,10 +89,14 @@ static const char *HELP_RUN =
     "path.max_load. Reports sigma_failure = the peak boundary stress.\n"
     "A run in which nothing breaks ends with 'no fracture': not an error.\n"
     "Each Newton system is solved by conjugate gradients on two threads (-t N to\n"
-    "choose; the same numbers on one), preconditioned by an earlier factor.\n";
+    "choose; the same numbers on one), preconditioned by an earlier factor.\n"
+    "Refuses (exit 1), before building the network, a case whose estimated\n"
+    "memory (peristatic info: estimate_memory_MiB) exceeds the limit: --max-memory\n"
+    "GIB, else solver.max_memory_gib, else 80% of the RAM.\n";
 
 static const char *HELP_GRIFFITH =
-    "peristatic griffith [-o DIR] [-q|-v] [--resume] [-j N] [-t N] CASE.yaml\n"
+    "peristatic griffith [-o DIR] [-q|-v] [--resume] [-j N] [-t N] [--max-memory GIB]\n"
+    "                    CASE.yaml\n"
     "\n"
     "Runs the case once per value of griffith.delta_over_c (default the paper's\n"
     "c/500 .. c/3250 in steps of 250 in the denominator) on one particle cloud.\n"
@@ -98,7 +113,8 @@ static const char *HELP_GRIFFITH =
     "With -j N the runs are shared among N worker processes, each taking the\n"
     "next run not yet taken, largest delta (longest run) first, and logging to\n"
     "DIR/job-K.log: on N cores the sweep takes about 1/N of the time and N times\n"
-    "the memory of one run; each job gets CPUs/N threads (-t to set them).\n"
+    "the memory of one run (refused when the N runs' estimate exceeds the memory\n"
+    "limit, see run); each job gets CPUs/N threads (-t to set them).\n"
     "\n"
     "A run whose solve fails before the crack runs (Newton increment below\n"
     "path.min_step, or a re-equilibration that fails without the load falling\n"
@@ -106,13 +122,18 @@ static const char *HELP_GRIFFITH =
     "fit), not an error: at large delta the whole plate yields first.\n";
 
 static const char *HELP_INFO =
-    "peristatic info CASE.yaml\n"
+    "peristatic info [--max-memory GIB] CASE.yaml\n"
     "\n"
-    "Reads the case, builds the particle cloud, the arm network and the\n"
-    "tangent's sparsity pattern, and prints particles, arms, arms per particle,\n"
-    "size ratio, free dofs, nonzeros of the tangent (upper triangle, per row),\n"
-    "coupled particle pairs, the assembly's memory and the times: a quick look\n"
-    "at the size of a case before running it.\n";
+    "Reads the case and builds the particle cloud; prints the size estimate\n"
+    "(estimate_* lines: particles, arms, tangent and factor nonzeros, memory of\n"
+    "the network, of info and of a run; memory_limit_MiB) before it builds\n"
+    "anything large; then builds the arm network and the tangent's sparsity\n"
+    "pattern and prints particles, arms, arms per particle, size ratio, free\n"
+    "dofs, nonzeros of the tangent (upper triangle, per row), coupled particle\n"
+    "pairs, the assembly's memory and the times: a quick look at the size of a\n"
+    "case before running it. Refuses (exit 1) only a case whose network and\n"
+    "pattern exceed the memory limit; estimate_memory_MiB above the limit\n"
+    "means run would refuse it.\n";
 
 /* the help text of a command (the general one when NULL or unknown) */
 static const char *help_for(const char *cmd) {
@@ -140,10 +161,18 @@ static void limit_openmp_threads(char **argv) {
   execv("/proc/self/exe", argv); /* no /proc: carry on as we are */
 }
 
+/* the runs a sweep holds at once: -j N, at most one per delta */
+static int sweep_jobs(const ps_case *cs, int jobs) {
+  return cs->n_sweep > 0 && cs->n_sweep < jobs ? cs->n_sweep : jobs;
+}
+
+/* the exit status of a fatal status (doc/peristatic.md EXIT STATUS) */
 static int exit_code(int status) {
   switch (status) {
   case PS_ERR_INPUT: return 1;
   case PS_ERR_IO: return 3;
+  case PS_ERR_INTERRUPTED: /* the shell's 128 + signal number */
+    return 128 + (ps_signal_received() ? ps_signal_received() : SIGINT);
   default: return 2;
   }
 }
@@ -172,6 +201,7 @@ int main(int argc, char **argv) {
 #endif
   const char *cmd = NULL, *file = NULL, *out = NULL;
   int verbosity = -1, resume = 0, jobs = 1, threads = 0;
+  double max_memory = 0; /* --max-memory GIB; 0: the case's */
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
     if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
@@ -193,6 +223,14 @@ int main(int argc, char **argv) {
       if ((jobs = count_arg(argc, argv, &i, "jobs")) < 0) return 1;
     } else if (!strcmp(a, "-t") || !strcmp(a, "--threads")) {
       if ((threads = count_arg(argc, argv, &i, "threads")) < 0) return 1;
+    } else if (!strcmp(a, "--max-memory")) {
+      char *end = NULL;
+      max_memory = ++i < argc ? strtod(argv[i], &end) : 0;
+      if (i >= argc || !end || end == argv[i] || *end || !(max_memory > 0) ||
+          !isfinite(max_memory)) {
+        fprintf(stderr, "peristatic: --max-memory needs a number of GiB > 0\n");
+        return 1;
+      }
     } else if (!strcmp(a, "--version")) {
       puts("peristatic " PACKAGE_VERSION);
       return 0;
@@ -234,6 +272,7 @@ int main(int argc, char **argv) {
     return exit_code(status);
   }
   ctx.verbosity = verbosity >= 0 ? verbosity : cs.verbosity;
+  if (max_memory > 0) cs.max_memory_gib = max_memory;
   char outdir[1100];
   if (out)
     snprintf(outdir, sizeof outdir, "%s", out);
@@ -253,19 +292,24 @@ int main(int argc, char **argv) {
   }
   ps_problem pb;
   double t0 = ps_wtime();
-  status = ps_problem_setup(&pb, &cs, &ctx);
+  int info = !strcmp(cmd, "info");
+  if (info) printf("case: %s\n", cs.name);
+  fflush(stdout);
+  status = ps_problem_setup_sized(&pb, &cs, info ? PS_ESTIMATE_INFO : PS_ESTIMATE_RUN,
+                                  strcmp(cmd, "griffith") ? 1 : sweep_jobs(&cs, jobs),
+                                  info ? stdout : NULL, &ctx);
   if (status < 0) {
     fprintf(stderr, "peristatic: %s\n", ctx.msg);
     return exit_code(status);
   }
   pb.threads = threads;
-  if (!strcmp(cmd, "info")) {
+  if (info) {
     ps_int nfree = 0, nd = (ps_int)pb.P.dim * pb.P.n;
     for (ps_int j = 0; j < nd; j++) nfree += !pb.fixed[j];
-    printf("case: %s\nparticles: %lld\narms: %lld\narms_per_particle: %.2f\n"
+    printf("particles: %lld\narms: %lld\narms_per_particle: %.2f\n"
            "size_ratio_max_over_min: %.1f\nfree_dofs: %lld\ncase_fingerprint: %016llx\n"
            "setup_s: %.3f\n",
-           cs.name, (long long)pb.P.n, (long long)pb.net.n_arm,
+           (long long)pb.P.n, (long long)pb.net.n_arm,
            2.0 * pb.net.n_arm / pb.P.n, pb.net.max_h_ratio, (long long)nfree,
            (unsigned long long)ps_case_fingerprint(&cs), ps_wtime() - t0);
     /* the tangent's pattern (two horizons unless the model has no family

@@ -1,2 +1,316 @@
-/* outdir.c: output folders owned by peristatic (to be written). */
+/* outdir.c: output folders owned by peristatic: the marker and the
+ * ownership rule, staging folders, the commit DIR.partial -> DIR through
+ * DIR.old with its recovery after a kill, and the writer's lock DIR.lock. */
+#define _XOPEN_SOURCE 700
 #include "ps_util.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <ftw.h>
+#include <signal.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "config.h"
+
+/* longest folder name we take: leaves room for ".partial", "/summary.txt" */
+#define PS_DIR_MAX 1000
+
+static int too_long(const char *path, ps_ctx *ctx) {
+  return ps_error(ctx, PS_ERR_IO, "%.200s...: path too long (at most %d characters)", path,
+                  PS_DIR_MAX);
+}
+
+/* 1 when the first line of dir/name starts with head */
+static int file_starts(const char *dir, const char *name, const char *head) {
+  char path[1200], line[64] = "";
+  struct stat sb;
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  if (lstat(path, &sb) != 0 || !S_ISREG(sb.st_mode)) return 0;
+  FILE *f = fopen(path, "r");
+  if (!f) return 0;
+  int ok = fgets(line, sizeof line, f) && !strncmp(line, head, strlen(head));
+  fclose(f);
+  return ok;
+}
+
+static int dir_is_empty(const char *path) {
+  DIR *d = opendir(path);
+  struct dirent *e;
+  int empty = 1;
+  if (!d) return 0;
+  while (empty && (e = readdir(d)))
+    if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) empty = 0;
+  closedir(d);
+  return empty;
+}
+
+int ps_outdir_owned(const char *path, char *why, size_t len) {
+  struct stat sb;
+  char marker[1200];
+  if (lstat(path, &sb) != 0) {
+    if (errno == ENOENT) return 0;
+    snprintf(why, len, "cannot be examined (%s)", strerror(errno));
+    return -1;
+  }
+  if (S_ISLNK(sb.st_mode)) {
+    snprintf(why, len, "is a symbolic link");
+    return -1;
+  }
+  if (!S_ISDIR(sb.st_mode)) {
+    snprintf(why, len, "is a file, not a folder");
+    return -1;
+  }
+  snprintf(marker, sizeof marker, "%s/%s", path, PS_OUTDIR_MARKER);
+  if (lstat(marker, &sb) == 0 && S_ISREG(sb.st_mode)) return 1;
+  if (file_starts(path, "summary.txt", "case: ") ||
+      file_starts(path, "history.csv", "step,load_factor,") ||
+      file_starts(path, "griffith.csv", "delta_over_c,") || dir_is_empty(path))
+    return 1;
+  snprintf(why, len, "is a folder peristatic did not write (no %s marker, no summary.txt "
+                     "or griffith.csv of ours)", PS_OUTDIR_MARKER);
+  return -1;
+}
+
+/* PS_OK when nothing or a folder of ours is at path, else PS_ERR_IO with
+ * the message that refuses it; *ours = 1 for a folder of ours */
+static int check_ours(const char *path, int *ours, ps_ctx *ctx) {
+  char why[200];
+  int o = ps_outdir_owned(path, why, sizeof why);
+  if (ours) *ours = o == 1;
+  if (o >= 0) return PS_OK;
+  return ps_error(ctx, PS_ERR_IO,
+                  "%s %s: peristatic replaces or removes only a folder it wrote itself "
+                  "(holding its %s marker), so it leaves this untouched and stops: choose "
+                  "another output folder (-o) or move %s away",
+                  path, why, PS_OUTDIR_MARKER, path);
+}
+
+int ps_mkdir_p(const char *path, ps_ctx *ctx) {
+  char buf[1200];
+  if (strlen(path) >= sizeof buf) return too_long(path, ctx);
+  strcpy(buf, path);
+  for (char *p = buf + 1; *p; p++)
+    if (*p == '/') {
+      *p = '\0';
+      if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+        return ps_error(ctx, PS_ERR_IO, "%s: cannot create directory: %s", buf,
+                        strerror(errno));
+      *p = '/';
+    }
+  if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+    return ps_error(ctx, PS_ERR_IO, "%s: cannot create directory: %s", buf,
+                    strerror(errno));
+  return PS_OK;
+}
+
+/* everything below the top folder but the top folder's marker */
+static int rm_entry(const char *p, const struct stat *sb, int flag, struct FTW *f) {
+  (void)sb;
+  (void)flag;
+  if (f->level == 0) return 0;
+  if (f->level == 1 && !strcmp(p + f->base, PS_OUTDIR_MARKER)) return 0;
+  return remove(p);
+}
+
+int ps_rm_rf(const char *path, ps_ctx *ctx) {
+  struct stat sb;
+  char marker[1200];
+  if (lstat(path, &sb) != 0) return PS_OK; /* nothing there */
+  if (!S_ISDIR(sb.st_mode)) { /* a file or a link: the entry itself only */
+    if (remove(path) != 0)
+      return ps_error(ctx, PS_ERR_IO, "%s: cannot remove: %s", path, strerror(errno));
+    return PS_OK;
+  }
+  if (nftw(path, rm_entry, 32, FTW_DEPTH | FTW_PHYS) != 0)
+    return ps_error(ctx, PS_ERR_IO, "%s: cannot remove: %s", path, strerror(errno));
+  snprintf(marker, sizeof marker, "%s/%s", path, PS_OUTDIR_MARKER);
+  if ((unlink(marker) != 0 && errno != ENOENT) || rmdir(path) != 0)
+    return ps_error(ctx, PS_ERR_IO, "%s: cannot remove: %s", path, strerror(errno));
+  return PS_OK;
+}
+
+/* write dir/.peristatic */
+static int write_marker(const char *dir, ps_ctx *ctx) {
+  char path[1200];
+  snprintf(path, sizeof path, "%s/%s", dir, PS_OUTDIR_MARKER);
+  FILE *f = fopen(path, "w");
+  if (!f) return ps_error(ctx, PS_ERR_IO, "%s: cannot open for writing: %s", path, strerror(errno));
+  int bad = fprintf(f, "peristatic output folder (version %s): peristatic replaces this "
+                       "folder, and everything in it, when it writes here again\n",
+                    PACKAGE_VERSION) < 0;
+  if (fclose(f) != 0 || bad) return ps_error(ctx, PS_ERR_IO, "%s: write failed", path);
+  return PS_OK;
+}
+
+int ps_outdir_prepare(const char *dir, ps_ctx *ctx) {
+  char old[1200], partial[1200];
+  int dir_ours, old_ours;
+  if (strlen(dir) > PS_DIR_MAX) return too_long(dir, ctx);
+  snprintf(old, sizeof old, "%s.old", dir);
+  snprintf(partial, sizeof partial, "%s.partial", dir);
+  PS_CHECK(check_ours(dir, &dir_ours, ctx));
+  PS_CHECK(check_ours(old, &old_ours, ctx));
+  PS_CHECK(check_ours(partial, NULL, ctx));
+  if (!old_ours) return PS_OK;
+  if (!dir_ours) { /* dir missing (check_ours let it pass) */
+    if (rename(old, dir) != 0)
+      return ps_error(ctx, PS_ERR_IO, "%s: cannot restore from %s: %s", dir, old,
+                      strerror(errno));
+    ps_log(ctx, 0, "peristatic: %s was missing and %s held its results (an earlier run was "
+                   "stopped while replacing them): restored %s\n", dir, old, dir);
+    return PS_OK;
+  }
+  ps_log(ctx, 2, "# removing %s, left over from an earlier run\n", old);
+  return ps_rm_rf(old, ctx);
+}
+
+int ps_outdir_fresh(const char *path, ps_ctx *ctx) {
+  int ours;
+  if (strlen(path) > PS_DIR_MAX + 16) return too_long(path, ctx);
+  PS_CHECK(check_ours(path, &ours, ctx));
+  if (ours) PS_CHECK(ps_rm_rf(path, ctx));
+  PS_CHECK(ps_mkdir_p(path, ctx));
+  return write_marker(path, ctx);
+}
+
+int ps_outdir_open(const char *dir, ps_ctx *ctx) {
+  int ours;
+  if (strlen(dir) > PS_DIR_MAX + 16) return too_long(dir, ctx);
+  PS_CHECK(check_ours(dir, &ours, ctx));
+  if (ours) return PS_OK;
+  PS_CHECK(ps_mkdir_p(dir, ctx));
+  return write_marker(dir, ctx);
+}
+
+/* the two renames of ps_dir_commit; *had = 1 when final went to old */
+static int swap_in(const char *staging, const char *final, const char *old, int *had,
+                   ps_ctx *ctx) {
+  int final_ours, old_ours;
+  *had = 0;
+  PS_CHECK(check_ours(final, &final_ours, ctx));
+  PS_CHECK(check_ours(old, &old_ours, ctx));
+  if (old_ours) PS_CHECK(ps_rm_rf(old, ctx));
+  if (final_ours) {
+    if (rename(final, old) != 0)
+      return ps_error(ctx, PS_ERR_IO, "%s: cannot move aside: %s", final, strerror(errno));
+    *had = 1;
+  }
+  if (rename(staging, final) != 0) {
+    int e = errno;
+    if (*had && rename(old, final) == 0) *had = 0;
+    return ps_error(ctx, PS_ERR_IO, "%s: cannot rename from %s: %s", final, staging,
+                    strerror(e));
+  }
+  return PS_OK;
+}
+
+int ps_dir_commit(const char *staging, const char *final, ps_ctx *ctx) {
+  char old[1200];
+  int had = 0;
+  sigset_t block, saved;
+  if (strlen(final) > PS_DIR_MAX + 16) return too_long(final, ctx);
+  snprintf(old, sizeof old, "%s.old", final);
+  sigemptyset(&block);
+  sigaddset(&block, SIGINT);
+  sigaddset(&block, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &block, &saved);
+  int status = swap_in(staging, final, old, &had, ctx);
+  pthread_sigmask(SIG_SETMASK, &saved, NULL); /* a signal held back arrives now */
+  if (status < 0 || !had) return status;
+  return ps_rm_rf(old, ctx);
+}
+
+/* pid of the holder from the lock file, 0 when unknown */
+static long lock_holder(int fd) {
+  char buf[64] = "";
+  long pid = 0;
+  ssize_t n = pread(fd, buf, sizeof buf - 1, 0);
+  if (n > 0) buf[n] = '\0';
+  if (sscanf(buf, "peristatic lock: pid %ld", &pid) != 1) pid = 0;
+  return pid;
+}
+
+/* open and flock dir.lock; *busy = 1 when another process holds it.
+ * Returns the fd (-1 on error, message in ctx) */
+static int lock_open(const char *lock, const char *dir, int *busy, ps_ctx *ctx) {
+  struct stat sb;
+  *busy = 0;
+  int fd = open(lock, O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0 || fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode)) {
+    ps_error(ctx, PS_ERR_IO, "%s: cannot open the lock file of %s: %s", lock, dir,
+             fd < 0 ? strerror(errno) : "not a regular file");
+    if (fd >= 0) close(fd);
+    return -1;
+  }
+  if (flock(fd, LOCK_EX | LOCK_NB) == 0) return fd;
+  if (errno == EWOULDBLOCK) {
+    long pid = lock_holder(fd);
+    char who[48] = "";
+    if (pid > 0) snprintf(who, sizeof who, " (pid %ld)", pid);
+    ps_error(ctx, PS_ERR_IO,
+             "%s is being written by another peristatic process%s: wait for it to end, "
+             "or write elsewhere with -o (lock %s)",
+             dir, who, lock);
+    *busy = 1;
+  } else {
+    ps_error(ctx, PS_ERR_IO, "%s: cannot lock: %s", lock, strerror(errno));
+  }
+  close(fd);
+  return -1;
+}
+
+int ps_outdir_lock_take(ps_outdir_lock *lk, const char *dir, ps_ctx *ctx) {
+  char parent[1200];
+  struct stat a, b;
+  lk->fd = -1;
+  lk->pid = 0;
+  if (strlen(dir) > PS_DIR_MAX + 16) return too_long(dir, ctx);
+  snprintf(lk->path, sizeof lk->path, "%s.lock", dir);
+  snprintf(parent, sizeof parent, "%s", dir);
+  char *slash = strrchr(parent, '/');
+  if (slash && slash != parent) {
+    *slash = '\0';
+    PS_CHECK(ps_mkdir_p(parent, ctx));
+  }
+  /* a holder removes the file before it lets go: a lock taken on a file
+   * that is no longer at the path is no lock; try again */
+  for (int attempt = 0; attempt < 20; attempt++) {
+    int busy, fd = lock_open(lk->path, dir, &busy, ctx);
+    if (fd < 0) return PS_ERR_IO;
+    if (fstat(fd, &a) == 0 && lstat(lk->path, &b) == 0 && a.st_dev == b.st_dev &&
+        a.st_ino == b.st_ino) {
+      char buf[32] = "";
+      ssize_t n = pread(fd, buf, sizeof buf - 1, 0);
+      if (n > 0 && strncmp(buf, "peristatic lock", 15) != 0) {
+        close(fd);
+        return ps_error(ctx, PS_ERR_IO,
+                        "%s is not a peristatic lock file (it would lock %s): move it away "
+                        "or write elsewhere with -o",
+                        lk->path, dir);
+      }
+      char line[64];
+      int len = snprintf(line, sizeof line, "peristatic lock: pid %ld\n", (long)getpid());
+      if (ftruncate(fd, 0) != 0 || pwrite(fd, line, (size_t)len, 0) != len) {
+        close(fd);
+        return ps_error(ctx, PS_ERR_IO, "%s: write failed", lk->path);
+      }
+      lk->fd = fd;
+      lk->pid = (long)getpid();
+      return PS_OK;
+    }
+    close(fd);
+  }
+  return ps_error(ctx, PS_ERR_IO, "%s: cannot lock (the file keeps changing)", lk->path);
+}
+
+void ps_outdir_lock_release(ps_outdir_lock *lk) {
+  if (lk->fd < 0) return;
+  if (lk->pid == (long)getpid()) unlink(lk->path);
+  close(lk->fd);
+  lk->fd = -1;
+}

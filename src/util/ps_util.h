@@ -21,7 +21,8 @@ enum ps_status {
   PS_ERR_INPUT = -2,  /* bad input: case file, parameter, point cloud */
   PS_ERR_IO = -3,     /* a file could not be read or written */
   PS_ERR_SOLVER = -4, /* the linear or nonlinear solver failed for good */
-  PS_ERR_INTERNAL = -5 /* a bug: an invariant does not hold */
+  PS_ERR_INTERNAL = -5, /* a bug: an invariant does not hold */
+  PS_ERR_INTERRUPTED = -6 /* SIGINT or SIGTERM ended the run early */
 };
 
 /* The run context, passed last to every call that can fail: holds the last
@@ -82,6 +83,9 @@ int ps_realloc(void **p, size_t count, size_t size, ps_ctx *ctx);
  * Process-wide: for the memory-failure test program only. Returns the
  * number of allocations made since the previous call. */
 long ps_alloc_countdown(long n);
+/* The countdown for another library's allocator (the test's SuiteSparse
+ * wrappers): counts one allocation; returns 1 when it must fail. */
+int ps_alloc_countdown_fails(void);
 
 /* Wall-clock seconds since an arbitrary origin (CLOCK_MONOTONIC). */
 double ps_wtime(void);
@@ -100,13 +104,63 @@ int ps_outfile_open(ps_outfile *o, const char *path, ps_ctx *ctx);
 int ps_outfile_commit(ps_outfile *o, ps_ctx *ctx);
 void ps_outfile_abort(ps_outfile *o);
 
+/* Output folders (outdir.c). peristatic replaces or removes only a folder
+ * it wrote itself: one holding its marker file PS_OUTDIR_MARKER (written
+ * into every output folder it creates), or, for folders of earlier
+ * versions, one whose summary.txt starts "case: ", whose history.csv
+ * starts "step,load_factor," or whose griffith.csv starts "delta_over_c,",
+ * or an empty folder. Anything else (another folder, a file, a symbolic
+ * link) is refused, never moved or deleted. */
+#define PS_OUTDIR_MARKER ".peristatic"
+
+/* What is at path: 0 nothing, 1 a folder of ours (rule above), -1
+ * anything else, described in why (e.g. "a regular file"). */
+int ps_outdir_owned(const char *path, char *why, size_t len);
+/* Make the output folder dir ready for a writer (the caller holds its
+ * lock): when dir is missing and dir.old (ours) holds the previous
+ * results, a kill hit the commit's rename window: restore dir.old to dir
+ * and say so on ctx->log; remove a leftover dir.old when dir exists.
+ * Refuses (PS_ERR_IO, naming the path and what to do) when dir, dir.old or
+ * dir.partial is there and not ours. PS_OK, PS_ERR_IO. */
+int ps_outdir_prepare(const char *dir, ps_ctx *ctx);
+/* An empty folder at path with our marker: a folder of ours there is
+ * removed first, anything else refused; parents are created. PS_OK or
+ * PS_ERR_IO. */
+int ps_outdir_fresh(const char *path, ps_ctx *ctx);
+/* The folder dir, created with our marker when missing (a folder of ours
+ * there is kept as it is; anything else refused). PS_OK or PS_ERR_IO. */
+int ps_outdir_open(const char *dir, ps_ctx *ctx);
+/* Replace the folder `final` by `staging`: final (ours, or missing) is
+ * moved to final.old, staging renamed to final, then final.old removed.
+ * SIGINT and SIGTERM are blocked over the two renames, so a signal never
+ * leaves final missing; after a kill -9 between them ps_outdir_prepare
+ * restores final.old. PS_OK or PS_ERR_IO (final untouched). */
+int ps_dir_commit(const char *staging, const char *final, ps_ctx *ctx);
+
+/* The writer's lock of an output folder: flock(LOCK_EX | LOCK_NB) on
+ * dir.lock beside it (created, with its parents, when missing; it holds
+ * "peristatic lock: pid N"). Forked children share the lock (the sweep's
+ * workers); the holder removes dir.lock when it lets go. */
+typedef struct ps_outdir_lock {
+  int fd;          /* -1: not held */
+  long pid;        /* the process that took it (the one that removes it) */
+  char path[1100]; /* dir.lock */
+} ps_outdir_lock;
+/* Take the lock; PS_OK, or PS_ERR_IO when another process holds it ("DIR
+ * is being written by another peristatic process (pid N)") or when
+ * dir.lock is not a peristatic lock file (left untouched). */
+int ps_outdir_lock_take(ps_outdir_lock *lk, const char *dir, ps_ctx *ctx);
+/* Release it (remove dir.lock when this process took it); a lock with
+ * fd -1 is a no-op. */
+void ps_outdir_lock_release(ps_outdir_lock *lk);
+
 /* Create directory `path` and its parents (mkdir -p). PS_OK or PS_ERR_IO. */
 int ps_mkdir_p(const char *path, ps_ctx *ctx);
-/* Remove a directory tree (rm -rf); PS_OK or PS_ERR_IO. */
+/* Remove a directory tree (rm -rf) without following symbolic links; the
+ * marker PS_OUTDIR_MARKER of the top folder goes last, so a folder whose
+ * removal is interrupted is still ours. PS_OK or PS_ERR_IO. Callers check
+ * ownership first (ps_outdir_owned). */
 int ps_rm_rf(const char *path, ps_ctx *ctx);
-/* Replace directory `final` by `staging` (rename; the old tree is removed
- * only after the new one is in place). PS_OK or PS_ERR_IO. */
-int ps_dir_commit(const char *staging, const char *final, ps_ctx *ctx);
 
 /* A sparse symmetric matrix: the upper triangle (diagonal included) in
  * compressed sparse columns, row indices sorted within each column. */

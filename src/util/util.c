@@ -54,8 +54,7 @@ long ps_alloc_countdown(long n) {
   return made;
 }
 
-/* 1 when the countdown says this allocation must fail */
-static int alloc_fails(void) {
+int ps_alloc_countdown_fails(void) {
   alloc_count++;
   if (alloc_left < 0) return 0;
   if (alloc_left == 0) return 1;
@@ -64,7 +63,7 @@ static int alloc_fails(void) {
 }
 
 void *ps_calloc(size_t count, size_t size, ps_ctx *ctx) {
-  void *p = alloc_fails() ? NULL : calloc(count ? count : 1, size ? size : 1);
+  void *p = ps_alloc_countdown_fails() ? NULL : calloc(count ? count : 1, size ? size : 1);
   if (!p)
     ps_error(ctx, PS_ERR_NOMEM, "out of memory allocating %zu x %zu bytes",
              count, size);
@@ -75,7 +74,7 @@ int ps_realloc(void **p, size_t count, size_t size, ps_ctx *ctx) {
   if (size && count > SIZE_MAX / size)
     return ps_error(ctx, PS_ERR_NOMEM, "out of memory: %zu x %zu bytes overflow", count,
                     size);
-  void *q = alloc_fails() ? NULL : realloc(*p, (count ? count : 1) * size);
+  void *q = ps_alloc_countdown_fails() ? NULL : realloc(*p, (count ? count : 1) * size);
   if (!q)
     return ps_error(ctx, PS_ERR_NOMEM, "out of memory growing to %zu x %zu bytes",
                     count, size);
@@ -127,59 +126,4 @@ void ps_outfile_abort(ps_outfile *o) {
   if (o->f) fclose(o->f);
   o->f = NULL;
   unlink(o->tmp);
-}
-
-#include <ftw.h>
-#include <sys/stat.h>
-
-int ps_mkdir_p(const char *path, ps_ctx *ctx) {
-  char buf[1024];
-  if (strlen(path) >= sizeof buf)
-    return ps_error(ctx, PS_ERR_IO, "%s: path too long", path);
-  strcpy(buf, path);
-  for (char *p = buf + 1; *p; p++)
-    if (*p == '/') {
-      *p = '\0';
-      if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-        return ps_error(ctx, PS_ERR_IO, "%s: cannot create directory: %s", buf,
-                        strerror(errno));
-      *p = '/';
-    }
-  if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-    return ps_error(ctx, PS_ERR_IO, "%s: cannot create directory: %s", buf,
-                    strerror(errno));
-  return PS_OK;
-}
-
-static int rm_entry(const char *p, const struct stat *sb, int flag, struct FTW *f) {
-  (void)sb;
-  (void)flag;
-  (void)f;
-  return remove(p);
-}
-
-int ps_rm_rf(const char *path, ps_ctx *ctx) {
-  struct stat sb;
-  if (stat(path, &sb) != 0) return PS_OK; /* nothing there */
-  if (nftw(path, rm_entry, 32, FTW_DEPTH | FTW_PHYS) != 0)
-    return ps_error(ctx, PS_ERR_IO, "%s: cannot remove: %s", path, strerror(errno));
-  return PS_OK;
-}
-
-int ps_dir_commit(const char *staging, const char *final, ps_ctx *ctx) {
-  char old[1100];
-  struct stat sb;
-  snprintf(old, sizeof old, "%s.old", final);
-  PS_CHECK(ps_rm_rf(old, ctx));
-  int had = stat(final, &sb) == 0;
-  if (had && rename(final, old) != 0)
-    return ps_error(ctx, PS_ERR_IO, "%s: cannot move aside: %s", final, strerror(errno));
-  if (rename(staging, final) != 0) {
-    int e = errno;
-    if (had) rename(old, final);
-    return ps_error(ctx, PS_ERR_IO, "%s: cannot rename from %s: %s", final, staging,
-                    strerror(e));
-  }
-  if (had) PS_CHECK(ps_rm_rf(old, ctx));
-  return PS_OK;
 }

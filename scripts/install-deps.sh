@@ -3,8 +3,10 @@
 # Debian (12 or later). Installs only the packages that are missing; needs
 # root (or sudo). Safe to run again.
 set -eu
+# time: the tests measure a refused run's peak memory with /usr/bin/time;
+# gcc's libasan8/libubsan1 (with build-essential) serve make check-sanitize
 PKGS="build-essential autoconf automake libtool pkg-config \
-libsuitesparse-dev libgsl-dev libyaml-dev libopenblas-dev gnuplot-nox"
+libsuitesparse-dev libgsl-dev libyaml-dev libopenblas-dev gnuplot-nox time"
 missing=""
 for p in $PKGS; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" \

@@ -6,23 +6,7 @@ srcdir=${srcdir:-.}
 D="$srcdir/tests/data/cli"
 P=./peristatic
 T=t900_tmp
-pass=0
-fail=0
-ok() { echo "PASS: $1"; pass=$((pass + 1)); }
-ko() { echo "FAIL: $1"; fail=$((fail + 1)); }
-# expect CODE PATTERN -- ARGS: exit status CODE and stderr matching PATTERN
-expect() {
-  code=$1
-  pat=$2
-  shift 3
-  out=$($P "$@" 2>&1 >/dev/null)
-  rc=$?
-  if [ "$rc" -eq "$code" ] && printf '%s' "$out" | grep -q -- "$pat"; then
-    ok "peristatic $* -> exit $rc, '$pat'"
-  else
-    ko "peristatic $* -> exit $rc (want $code), message: $out (want '$pat')"
-  fi
-}
+. "$srcdir/tests/cli_lib.sh"
 rm -rf "$T" "$T.partial"
 mkdir -p "$T"
 

@@ -84,6 +84,16 @@ static void set_header(chol_state *s, const ps_csc *A) {
   h->packed = 1;
 }
 
+/* The status for a failed CHOLMOD call `what`: PS_ERR_NOMEM when CHOLMOD
+ * ran out of memory (or the problem is too large for its integers),
+ * PS_ERR_SOLVER otherwise; the message names the call. */
+static int chol_failed(const chol_state *s, const char *what, ps_ctx *ctx) {
+  if (s->c.status == CHOLMOD_OUT_OF_MEMORY || s->c.status == CHOLMOD_TOO_LARGE)
+    return ps_error(ctx, PS_ERR_NOMEM, "out of memory in CHOLMOD's %s (status %d)", what,
+                    s->c.status);
+  return ps_error(ctx, PS_ERR_SOLVER, "CHOLMOD %s failed (status %d)", what, s->c.status);
+}
+
 static int chol_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st,
                         ps_ctx *ctx) {
   chol_state *s = state;
@@ -92,8 +102,7 @@ static int chol_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st,
   if (s->L) cholmod_l_free_factor(&s->L, &s->c);
   s->L = cholmod_l_analyze(&s->Ah, &s->c);
   if (!s->L || s->c.status < CHOLMOD_OK)
-    return ps_error(ctx, PS_ERR_SOLVER, "CHOLMOD analysis failed (status %d)",
-                    s->c.status);
+    return chol_failed(s, "analysis", ctx);
   s->n = A->n;
   s->parts_current = 0;
   s->Lf_current = 0;
@@ -122,8 +131,7 @@ static int chol_factor(void *state, const ps_csc *A, ps_int *bad_col,
     return PS_NOT_POSDEF;
   }
   if (!ok || s->c.status < CHOLMOD_OK)
-    return ps_error(ctx, PS_ERR_SOLVER, "CHOLMOD factorisation failed (status %d)",
-                    s->c.status);
+    return chol_failed(s, "factorisation", ctx);
   /* CHOLMOD flags only pivots <= 0; a mechanism usually leaves a tiny
    * positive one. Singular when min L_jj^2 / max L_jj^2 < 1e-13. */
   double dmin = INFINITY, dmax = 0.0;
@@ -175,8 +183,7 @@ static int chol_solve(void *state, const double *b, double *x,
   B.dtype = CHOLMOD_DOUBLE;
   int ok = cholmod_l_solve2(CHOLMOD_A, s->L, &B, NULL, &s->X, NULL, &s->Y, &s->E, &s->c);
   if (!ok || !s->X || s->c.status < CHOLMOD_OK)
-    return ps_error(ctx, PS_ERR_SOLVER, "CHOLMOD solve failed (status %d)",
-                    s->c.status);
+    return chol_failed(s, "solve", ctx);
   const double *xx = s->X->x;
   for (ps_int k = 0; k < s->n; k++) x[k] = xx[k];
   st->t_solve += ps_wtime() - t;

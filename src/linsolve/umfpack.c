@@ -36,6 +36,14 @@ static void umf_free_arrays(umf_state *s) {
   if (s->symbolic) umfpack_dl_free_symbolic(&s->symbolic);
 }
 
+/* The status for a failed UMFPACK call `what` that returned rc:
+ * PS_ERR_NOMEM when it ran out of memory, PS_ERR_SOLVER otherwise. */
+static int umf_failed(int rc, const char *what, ps_ctx *ctx) {
+  if (rc == UMFPACK_ERROR_out_of_memory)
+    return ps_error(ctx, PS_ERR_NOMEM, "out of memory in UMFPACK's %s (status %d)", what, rc);
+  return ps_error(ctx, PS_ERR_SOLVER, "UMFPACK %s failed (status %d)", what, rc);
+}
+
 static int umf_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st,
                        ps_ctx *ctx) {
   umf_state *s = state;
@@ -81,8 +89,7 @@ static int umf_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st,
   int rc = umfpack_dl_symbolic(n, n, s->Ap, s->Ai, s->Ax, &s->symbolic,
                                s->control, s->info);
   if (rc != UMFPACK_OK)
-    return ps_error(ctx, PS_ERR_SOLVER, "UMFPACK symbolic analysis failed (status %d)",
-                    rc);
+    return umf_failed(rc, "symbolic analysis", ctx);
   st->t_analyze += ps_wtime() - t;
   st->n_analyze++;
   return PS_OK;
@@ -106,7 +113,7 @@ static int umf_factor(void *state, const ps_csc *A, ps_int *bad_col,
   st->nnz_factor = s->info[UMFPACK_LNZ] + s->info[UMFPACK_UNZ];
   if (rc == UMFPACK_WARNING_singular_matrix) return PS_SINGULAR;
   if (rc != UMFPACK_OK)
-    return ps_error(ctx, PS_ERR_SOLVER, "UMFPACK factorisation failed (status %d)", rc);
+    return umf_failed(rc, "factorisation", ctx);
   /* reciprocal condition estimate: treat as singular below round-off */
   if (s->info[UMFPACK_RCOND] < 1e-15) return PS_SINGULAR;
   return PS_OK;
@@ -119,7 +126,7 @@ static int umf_solve(void *state, const double *b, double *x,
   int rc = umfpack_dl_solve(UMFPACK_A, s->Ap, s->Ai, s->Ax, x, b, s->numeric,
                             s->control, s->info);
   if (rc != UMFPACK_OK)
-    return ps_error(ctx, PS_ERR_SOLVER, "UMFPACK solve failed (status %d)", rc);
+    return umf_failed(rc, "solve", ctx);
   st->t_solve += ps_wtime() - t;
   st->n_solve++;
   return PS_OK;

@@ -679,3 +679,43 @@ const char *ps_newton_reason_text(int reason) {
   }
   return "unknown reason";
 }
+
+void ps_solver_get_stats(const ps_solver *s, ps_solver_stats *st) {
+  memset(st, 0, sizeof *st);
+  st->newton_iterations = s->newton_iterations;
+  st->factorisations = s->ls.stats.n_factor + s->ls_fallback.stats.n_factor;
+  st->n_fallback = s->n_fallback;
+  st->solves = s->ls.stats.n_solve + s->ls_fallback.stats.n_solve;
+  st->pcg_iterations = s->pcg_iterations;
+  st->pcg_failures = s->pcg_failures;
+  st->pcg_skipped = s->pcg_skipped;
+  st->majorant_factorisations = s->ls_pre.stats.n_factor;
+  st->majorant_failures = s->pre_failures;
+  st->shifted_steps = s->n_shifted;
+  st->cg_truncated = s->pcg_truncated;
+  st->stagnated = s->n_stagnated;
+  st->handovers = s->n_handovers;
+  st->line_search_cuts = s->n_line_search_cuts;
+  st->n_free = s->sys.n_free;
+  st->threads = ps_team_size(s->team);
+  st->serial_share = s->sys_pre.net ? s->ls_pre.stats.serial_share : s->ls.stats.serial_share;
+  st->nnz_tangent = s->sys.A.p ? (double)s->sys.A.p[s->sys.n_free] : 0.0;
+  st->nnz_factor = s->ls.stats.nnz_factor;
+  st->flops_factor = s->ls.stats.flops_factor;
+  st->nnz_majorant_factor = s->ls_pre.stats.nnz_factor;
+  st->t_assembly = s->t_assembly;
+  st->t_analyze = s->ls.stats.t_analyze + s->ls_fallback.stats.t_analyze;
+  st->t_factor = s->ls.stats.t_factor + s->ls_fallback.stats.t_factor;
+  st->t_solve = s->ls.stats.t_solve + s->ls_fallback.stats.t_solve;
+  st->t_majorant_factor = s->ls_pre.stats.t_factor;
+  st->t_cg = s->t_pcg;
+}
+
+double ps_solver_lambda(const ps_solver *s) { return s->lambda; }
+const double *ps_solver_u(const ps_solver *s) { return s->u; }
+const double *ps_solver_arm_tension(const ps_solver *s) { return s->sys.T; }
+const double *ps_solver_arm_direction(const ps_solver *s) { return s->sys.q; }
+const double *ps_solver_arm_elongation(const ps_solver *s) { return s->sys.dl; }
+const ps_arm_state *ps_solver_arm_state(const ps_solver *s) { return &s->st; }
+int ps_solver_last_reason(const ps_solver *s) { return s->last_reason; }
+double ps_solver_last_residual(const ps_solver *s) { return s->last_residual; }

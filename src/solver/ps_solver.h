@@ -250,6 +250,52 @@ int ps_solver_evaluate(ps_solver *s, ps_ctx *ctx);
 /* Intact arms on the yield surface in the current state. */
 ps_int ps_solver_count_yielding(const ps_solver *s);
 
+/* What a solver has done since its creation: counts and times. Filled by
+ * ps_solver_get_stats in one call; the reports take it as it is. */
+typedef struct ps_solver_stats {
+  ps_int newton_iterations;   /* Newton iterations of all solves */
+  ps_int factorisations;      /* of the tangent (chosen backend + UMFPACK) */
+  ps_int n_fallback;          /* UMFPACK fallbacks */
+  ps_int solves;              /* direct solves */
+  ps_int pcg_iterations, pcg_failures, pcg_skipped;
+  ps_int majorant_factorisations, majorant_failures; /* opts.majorant */
+  ps_int shifted_steps;       /* Newton directions from a shifted tangent */
+  ps_int cg_truncated;        /* from CG truncated at negative curvature */
+  ps_int stagnated;           /* Newton solves ended as stagnated */
+  ps_int handovers;           /* adaptive CG solves that went on with the
+                                 fixed rule at max_iterations */
+  ps_int line_search_cuts;    /* backtracking steps of the line search */
+  ps_int n_free;              /* free dofs */
+  int threads;                /* threads of the run's CG */
+  double serial_share;        /* share of a preconditioner solve on one
+                                 thread alone (the majorant's factor, else
+                                 the tangent's) */
+  double nnz_tangent;         /* nonzeros of the free tangent (upper) */
+  double nnz_factor, flops_factor; /* of the last factorisation */
+  double nnz_majorant_factor;
+  double t_assembly, t_analyze, t_factor, t_solve, t_majorant_factor;
+  double t_cg;                /* wall seconds in CG (products and
+                                 preconditioner solves) */
+} ps_solver_stats;
+
+/* Fill *st with the solver's statistics so far. */
+void ps_solver_get_stats(const ps_solver *s, ps_solver_stats *st);
+
+/* Read-only views of the current state (valid until the next call that
+ * changes it): load factor; displacements [n_dof], m; arm tensions T,
+ * unit directions q [n_arm * dim] and elongations dl [n_arm], m, of the
+ * last evaluation; the arm states (yielding, broken, plastic strains). */
+double ps_solver_lambda(const ps_solver *s);
+const double *ps_solver_u(const ps_solver *s);
+const double *ps_solver_arm_tension(const ps_solver *s);
+const double *ps_solver_arm_direction(const ps_solver *s);
+const double *ps_solver_arm_elongation(const ps_solver *s);
+const ps_arm_state *ps_solver_arm_state(const ps_solver *s);
+/* How the last Newton solve ended: enum ps_newton_reason, and its
+ * relative residual. */
+int ps_solver_last_reason(const ps_solver *s);
+double ps_solver_last_residual(const ps_solver *s);
+
 /* A short sentence for an enum ps_newton_reason, for messages ("line
  * search failed"); "unknown reason" for any other value. */
 const char *ps_newton_reason_text(int reason);

@@ -43,7 +43,8 @@ void tc_solve(ps_solver *s, const ps_particles *P, const ps_network *net,
     die("solver create", &ctx);
   int st = ps_solver_step(s, lambda, &ctx);
   if (st != PS_OK) {
-    fprintf(stderr, "newton reason %d, residual %g\n", s->last_reason, s->last_residual);
+    fprintf(stderr, "newton reason %d, residual %g\n", ps_solver_last_reason(s),
+            ps_solver_last_residual(s));
     die("solver step", &ctx);
   }
 }

@@ -271,7 +271,7 @@ static void state_poisson(double nu) {
       ps_solver_step(&s, 1.0, &ctx) != PS_OK)
     die_ctx("solve", &ctx);
   double e[4], C11, C12;
-  if (ps_post_fit_strain(&P, s.u, mask, e, &ctx)) die_ctx("fit", &ctx);
+  if (ps_post_fit_strain(&P, ps_solver_u(&s), mask, e, &ctx)) die_ctx("fit", &ctx);
   state_lattice_moduli(&mat, d, m, &C11, &C12);
   double nu_meas = -e[3] / e[0];
   printf("# state, plane stress, input nu %.2f: strip nu = %.4f; the lattice's C12/C11 = "
@@ -327,7 +327,8 @@ static void plate_n(const char *model, double ratio_hi, int n) {
   if (ps_run_keep(&pb, INFINITY, NULL, &res, &s, &ctx)) die_ctx("run", &ctx);
   const ps_particles *P = &pb.P;
   double *sig = malloc(4 * P->n * sizeof *sig);
-  ps_post_stress_tensor(P, &pb.net, s.sys.T, s.sys.q, sig);
+  ps_post_stress_tensor(P, &pb.net, ps_solver_arm_tension(&s), ps_solver_arm_direction(&s),
+                        sig);
   const double p = cs.bc[1].traction[0], dx = cs.spacing, R = cs.holes[0][2];
   const double cx = cs.holes[0][0], cy = cs.holes[0][1], delta = 3 * dx;
   /* equilibrium on two cuts, left and right of the hole */

@@ -62,17 +62,19 @@ static double solve(const ps_case *base, double crack_end, int correction, const
   if (ps_problem_setup(&pb, &cs, &ctx)) die_ctx("setup", &ctx);
   if (ps_run_keep(&pb, INFINITY, NULL, &res, &s, &ctx)) die_ctx("run", &ctx);
   const ps_particles *P = &pb.P;
+  const double *u = ps_solver_u(&s), *T = ps_solver_arm_tension(&s);
+  const double *q = ps_solver_arm_direction(&s);
   double W = 0;
-  for (ps_int j = 0; j < 2 * P->n; j++) W += pb.fext[j] * s.u[j];
+  for (ps_int j = 0; j < 2 * P->n; j++) W += pb.fext[j] * u[j];
   if (J) {
     double *sig = malloc(4 * P->n * sizeof *sig), *H = malloc(4 * P->n * sizeof *H);
-    ps_post_stress_tensor(P, &pb.net, s.sys.T, s.sys.q, sig);
-    ps_post_displacement_gradient(P, &pb.net, &s.st, s.u, H);
+    ps_post_stress_tensor(P, &pb.net, T, q, sig);
+    ps_post_displacement_gradient(P, &pb.net, ps_solver_arm_state(&s), u, H);
     const double tip[2] = {crack_end, cs.cracks[0].p1[1]};
     for (int i = 0; i < nl; i++) J[i] = ps_post_j_domain(P, sig, H, tip, 0.5 * l[i], l[i]);
     if (Jc)
       for (int i = 0; i < nl; i++)
-        Jc[i] = ps_post_j_contour(P, &pb.net, s.sys.T, s.sys.q, sig, H, tip, l[i], cs.spacing);
+        Jc[i] = ps_post_j_contour(P, &pb.net, T, q, sig, H, tip, l[i], cs.spacing);
     free(sig);
     free(H);
   }

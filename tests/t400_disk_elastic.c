@@ -68,9 +68,11 @@ static double run(int n_eta, int n_xi, ps_int *np, double *sig_ratio) {
   }
   ps_solver s;
   tc_solve(&s, &P, &net, &mat, fixed, ubar, lambda);
-  double err = ps_post_rms_error(2, n, s.u, uref, interior);
+  const double *u = ps_solver_u(&s), *T = ps_solver_arm_tension(&s);
+  const double *q = ps_solver_arm_direction(&s);
+  double err = ps_post_rms_error(2, n, u, uref, interior);
   double L = ps_geom_ellipse_perimeter(dp.c, M_PI - 2 * M_PI / n_xi);
-  *sig_ratio = ps_post_boundary_stress(&net, s.sys.T, s.sys.q, meas, L) / (lambda * S);
+  *sig_ratio = ps_post_boundary_stress(&net, T, q, meas, L) / (lambda * S);
   printf("# disk %dx%d: %lld particles, %lld arms, size ratio %.0f, RMS error %.4f, "
          "boundary stress / S %.4f\n",
          n_eta, n_xi, (long long)n, (long long)net.n_arm, net.max_h_ratio, err, *sig_ratio);
@@ -78,8 +80,8 @@ static double run(int n_eta, int n_xi, ps_int *np, double *sig_ratio) {
    * J = pi S^2 c (1 - nu^2) / E (plane strain) for the remote stress
    * lambda S: rings l = 0.2c .. 0.6c (q = 1 inside l/2) */
   double *sig = malloc(4 * (size_t)n * sizeof *sig), *H = malloc(4 * (size_t)n * sizeof *H);
-  ps_post_stress_tensor(&P, &net, s.sys.T, s.sys.q, sig);
-  ps_post_displacement_gradient(&P, &net, &s.st, s.u, H);
+  ps_post_stress_tensor(&P, &net, T, q, sig);
+  ps_post_displacement_gradient(&P, &net, ps_solver_arm_state(&s), u, H);
   double Sr = lambda * S, Jref = M_PI * Sr * Sr * dp.c * (1 - mat.nu * mat.nu) / mat.E;
   double tip[2] = {dp.c, 0.0}, jlo = INFINITY, jhi = -INFINITY;
   j_worst = 0;

@@ -71,7 +71,7 @@ static double measure_nu(int dim, double nu, double alpha, const char *lattice) 
   ps_solver s;
   tc_solve(&s, &P, &net, &mat, fixed, ubar, 1.0);
   double eps[9];
-  ps_post_fit_strain(&P, s.u, mask, eps, &ctx);
+  ps_post_fit_strain(&P, ps_solver_u(&s), mask, eps, &ctx);
   double r = -eps[dim + 1] / eps[0];
   double got = dim == 2 ? r / (1 + r) : r;
   printf("# %s %dD nu = %.2f: eps_xx %.4e eps_yy %.4e -> nu %.4f (%lld particles, %lld arms)\n",

@@ -1,25 +1,29 @@
-/* ps_solver.h: Newton's method on the discrete system and displacement-
- * controlled path following with arm breaking.
+/* ps_solver.h: the nonlinear solver of src/nonlinear: Newton's method on
+ * the discrete system of an arm network, and the steps of a
+ * displacement-controlled path (predictor, commit/restore, a round of arm
+ * breaking) that the path layer drives.
  *
  * A ps_solver owns the state of a run on one network: displacements u (m),
  * the per-arm plastic state, the system (residual/tangent) and the linear
  * solvers. Prescribed dofs follow u_p = lambda * ubar_p (lambda: the load
- * factor). Each increment: a predictor (secant extrapolation of the last
- * two converged states when no arm broke between them, else a solve with
- * the last factor), Newton to ||r_free|| <= tol ||reactions|| with an
- * energy line search (judged by the directional derivatives where the
- * energy change is below its round-off), each Newton system solved by CG
- * on the matrix-free tangent, preconditioned by the last factor, to a
- * tolerance from the Newton residual (inexact Newton); commit of the
- * plastic state (Eq. 111), then rounds
- * of arm breaking (Eq. 118) and re-equilibration at the same load, driven
- * by the caller. Newton failure cuts the increment (restoring the last
- * converged state). */
+ * factor). Newton solves r_free(u) = 0 to ||r_free|| <= tol ||reactions||:
+ *   - the direction du solves K_ff du = -r_free (direction.c: CG on the
+ *     matrix-free tangent preconditioned by the last factor, a fresh
+ *     factor of the one-horizon majorant, a factor of K itself, UMFPACK
+ *     where K is not positive definite, a shifted K where du points
+ *     uphill), CG to the tolerance of the forcing rule (forcing.h);
+ *   - the step along du by the backtracking line search on the energy
+ *     (linesearch.h).
+ * The pieces, one file each: solver.c (lifecycle, predictor, commit,
+ * breaking round, statistics), newton.c (the Newton loop), direction.c,
+ * linesearch.c, forcing.c; solver_impl.h declares what they share. */
 #ifndef PS_SOLVER_H
 #define PS_SOLVER_H
 
 #include "../assembly/ps_assembly.h"
 #include "../linsolve/ps_linsolve.h"
+#include "forcing.h"
+#include "linesearch.h"
 
 /* Why a Newton solve ended (as PETSc's SNESConvergedReason). */
 enum ps_newton_reason {
@@ -33,35 +37,9 @@ enum ps_newton_reason {
                                   opts.max_small_steps iterations in a row */
 };
 
-/* relative round-off of the stored energy below which the line search
- * judges a step by the directional derivatives instead (newton.c) */
-#define PS_ENERGY_RESOLUTION 1e-10
-
 /* a line-search step below this counts towards stagnation (newton.c) */
 #define PS_SMALL_STEP 1e-2
 
-/* the loosest CG tolerance of the fixed forcing rule (opts.cg_forcing > 0,
- * cg_forcing_adaptive = 0) */
-#define PS_CG_FORCING_MAX 1e-2
-
-/* Eisenstat and Walker's choice 2 (SIAM J. Sci. Comput. 17, 1996):
- * eta_k = gamma (|r_k| / |r_k-1|)^alpha, not below gamma eta_k-1^alpha
- * when that exceeds PS_EW_SAFEGUARD (newton.c) */
-#define PS_EW_GAMMA 0.9
-#define PS_EW_ALPHA 2.0
-#define PS_EW_SAFEGUARD 0.1
-/* the default cg_forcing of the fixed rule, also the rule a solve under
- * the adaptive one hands over to at max_iterations (newton.c) */
-#define PS_CG_FORCING_FIXED 100.0
-
-/* the share of the Newton tolerance that the last CG solve of a Newton
- * solve leaves as linear residual (newton.c: CG does not solve tighter
- * than PS_CG_OVERSOLVE x tolerance / the relative Newton residual) */
-#define PS_CG_OVERSOLVE 0.1
-
-/* the work of a CG iteration is split into two parts (assembly.c,
- * cholmod.c), so more threads than this do not help */
-#define PS_MAX_THREADS 2
 
 /* Settings of the nonlinear solve and the path. */
 typedef struct ps_solver_opts {
@@ -71,35 +49,36 @@ typedef struct ps_solver_opts {
                              many line-search steps in a row below
                              PS_SMALL_STEP that cut the residual by less
                              than 10% together (0: never; default 5) */
-  int line_search;        /* energy backtracking (default 1) */
+  int line_search;        /* 1: the energy line search (linesearch.h;
+                             default); 0: the first finite step of the
+                             halvings from the full step */
   const ps_linsolve_type *linear; /* default CHOLMOD, UMFPACK as fallback */
   int reuse_factor;       /* 1 (default): solve each Newton system by CG
                              preconditioned with the last factor, and
                              refactor only when CG does not converge within
-                             pcg_max_iterations (see doc/performance.md) */
+                             pcg_max_iterations (doc/performance.md);
+                             0: a fresh factor per Newton iteration */
   double pcg_rtol;        /* relative tolerance of that CG (default 1e-6) */
-  int cg_forcing_adaptive; /* inexact Newton, 1: CG stops at Eisenstat and
-                             Walker's choice-2 forcing term eta_k = 0.9
-                             (|r_k| / |r_k-1|)^2 (safeguarded;
-                             cg_forcing_max at the first iteration of a
-                             solve and at most): rough CG solves while
-                             Newton converges slowly, tight ones once it
-                             converges fast; a solve that reaches
-                             max_iterations goes on with the fixed rule
-                             (cg_forcing, default PS_CG_FORCING_FIXED)
-                             for max_iterations more. 1 (default since version 8): 40% off
-                             the paper-size run at c/1000; 0: the fixed
-                             rule below (doc/performance.md) */
+  int cg_forcing_adaptive; /* inexact Newton (forcing.h), 1 (default): CG
+                             stops at Eisenstat and Walker's choice-2
+                             forcing term eta_k = 0.9 (|r_k| / |r_k-1|)^2
+                             (safeguarded; cg_forcing_max at the first
+                             iteration of a solve and at most): rough CG
+                             solves while Newton converges slowly, tight
+                             ones once it converges fast; a solve that
+                             reaches max_iterations goes on with the fixed
+                             rule (cg_forcing) for max_iterations more.
+                             0: the fixed rule */
   double cg_forcing_max;  /* its loosest CG tolerance (default 0.5) */
-  double cg_forcing;      /* with cg_forcing_adaptive = 0: CG stops at the
-                             relative residual max(pcg_rtol,
-                             min(PS_CG_FORCING_MAX, cg_forcing x the
-                             relative Newton residual)) (sessions 4-7);
+  double cg_forcing;      /* the fixed rule: CG stops at the relative
+                             residual max(pcg_rtol, min(PS_CG_FORCING_MAX,
+                             cg_forcing x the relative Newton residual));
                              0: always pcg_rtol (exact Newton). Both
                              rules (but cg_forcing 0) stop CG no tighter
                              than PS_CG_OVERSOLVE x tolerance / the
-                             relative Newton residual (default 100; with
-                             the adaptive rule, used after a handover) */
+                             relative Newton residual (default
+                             PS_CG_FORCING_FIXED; with the adaptive rule,
+                             used after a handover) */
   int pcg_max_iterations; /* default 25 */
   int pcg_skip_arms;      /* skip CG when at least this many arms changed
                              state (yield, break) since the last
@@ -124,17 +103,21 @@ typedef struct ps_solver_opts {
   int threads;            /* threads of the CG products and preconditioner
                              solves (ps_team): 0 (default) as many as the
                              CPUs this process may use, at most
-                             PS_MAX_THREADS; the numbers a run gives do
+                             PS_PARTS (ps_util.h); the numbers a run gives do
                              not depend on it */
   int majorant;           /* 1: for models with family terms, when CG with
                              the old factor fails, factor the one-horizon
                              majorant of the tangent
-                             (ps_system_assemble_majorant, ~3x cheaper)
+                             (ps_system_assemble_majorant, fewer nonzeros)
                              and run CG with it before factoring the
-                             two-horizon tangent itself (default 1:
-                             1.5x faster at 20k, doc/performance.md) */
+                             two-horizon tangent itself (default 1,
+                             doc/performance.md) */
 } ps_solver_opts;
 
+/* The solver's state. Internal: other layers read it through the
+ * accessors and ps_solver_get_stats below (src/app/run.c still reads some
+ * fields directly, so the definition stays in this header until it no
+ * longer does; then it moves to solver_impl.h). */
 typedef struct ps_solver {
   const ps_particles *P;
   const ps_network *net;
@@ -144,7 +127,10 @@ typedef struct ps_solver {
   ps_linsolve ls;           /* the chosen backend */
   ps_linsolve ls_fallback;  /* UMFPACK, created on first need */
   const ps_linsolve *ls_last; /* which one holds the current factor */
-  ps_system sys_pre;        /* one-horizon majorant (opts.majorant) */
+  int have_majorant;        /* 1: the direction strategy uses a majorant
+                               (opts.majorant, a model with family terms,
+                               opts.reuse_factor); sys_pre and ls_pre exist */
+  ps_system sys_pre;        /* one-horizon majorant of sys's tangent */
   ps_linsolve ls_pre;       /* its CHOLMOD factor */
   ps_team *team;            /* opts.threads threads (NULL: one) */
   int have_factor;          /* a factor of a recent tangent is available */
@@ -209,9 +195,17 @@ void ps_solver_free(ps_solver *s);
  * factor reuse on (CG tolerance 1e-6, 25 iterations). */
 void ps_solver_opts_default(ps_solver_opts *o);
 
-/* Newton at the current prescribed values, from the current u. Returns
- * PS_OK (s->last_reason says converged or why not: a non-converged solve
- * is PS_DIVERGED, recoverable) or a fatal status. */
+/* Newton at the current prescribed values (and forces), from the current
+ * u: u and the arm states' trial values end at the last accepted
+ * iterate. Stops converged when ||r_free|| <= opts.tolerance ||r_fixed||
+ * (or ||r_free|| when there are no reactions, or r_free = 0); fails at
+ * max_iterations (under the adaptive forcing rule: it then hands over to
+ * the fixed rule for max_iterations more), on a residual or energy that
+ * is not finite, a singular tangent, a line search without a step, or
+ * opts.max_small_steps steps in a row below PS_SMALL_STEP that cut the
+ * residual by less than 10% together. Returns PS_OK (converged),
+ * PS_DIVERGED (recoverable; s->last_reason says why) or a fatal status;
+ * s->last_iterations and s->last_residual say where it ended. */
 int ps_newton_solve(ps_solver *s, ps_ctx *ctx);
 
 /* Move the load factor to `lambda` with a predictor and Newton. The

@@ -1,0 +1,242 @@
+/* direction.c: the Newton direction du = K_ff^-1 rhs (rhs = -r_free) and
+ * the factors behind it. In order of cost:
+ *   1. CG on K (matrix-free), preconditioned by the last factor, of an
+ *      earlier tangent or of its majorant: K changes between Newton
+ *      iterations by one rank-one term per arm that yielded, unloaded or
+ *      broke, so an old factor is a good preconditioner;
+ *   2. (models with family terms) CG preconditioned by a fresh factor of
+ *      the one-horizon majorant P >= K (ps_system_assemble_majorant;
+ *      its spectrum bound is in ps_assembly.h);
+ *   3. a fresh factor of K itself, by UMFPACK where CHOLMOD finds K not
+ *      positive definite;
+ * and, when du points uphill in energy (K indefinite), the shifted
+ * tangent K + mu diag K (ps_nl_shifted_direction). CG that meets negative
+ * curvature returns Steihaug's truncated iterate, a descent direction
+ * (opts.cg_truncate). */
+#include "solver_impl.h"
+
+/* the arm's tangent-changing state: yielding | 2 broken */
+static inline unsigned char arm_state(const ps_arm_state *st, ps_int i) {
+  return (unsigned char)(st->yielding[i] | (st->broken[i] << 1));
+}
+
+/* the count of arms changed since the last factor is needed only by
+ * opts.pcg_skip_arms and the verbose log */
+static int tracks_arm_state(const ps_solver *s, const ps_ctx *ctx) {
+  return s->opts.pcg_skip_arms > 0 || ctx->verbosity >= 2;
+}
+
+/* record the arm states at a new factor */
+static void snapshot_arm_state(ps_solver *s, const ps_ctx *ctx) {
+  if (!tracks_arm_state(s, ctx)) return;
+  for (ps_int i = 0; i < s->net->n_arm; i++) s->arm_state_at_factor[i] = arm_state(&s->st, i);
+}
+
+/* arms whose state differs from the snapshot, counting up to limit */
+static ps_int arms_changed(const ps_solver *s, ps_int limit) {
+  ps_int n = 0;
+  for (ps_int i = 0; i < s->net->n_arm && n <= limit; i++)
+    n += s->arm_state_at_factor[i] != arm_state(&s->st, i);
+  return n;
+}
+
+/* assemble the tangent of the last evaluation into sys.A (timed as
+ * assembly) */
+static int assemble(ps_solver *s, ps_ctx *ctx) {
+  if (s->sys.assembled) return PS_OK;
+  double t = ps_wtime();
+  int status = ps_system_assemble(&s->sys, ctx);
+  s->t_assembly += ps_wtime() - t;
+  return status;
+}
+
+int ps_nl_factor_tangent(ps_solver *s, ps_ctx *ctx) {
+  ps_int bad = -1;
+  PS_CHECK(assemble(s, ctx));
+  snapshot_arm_state(s, ctx);
+  char name[256] = "unknown dof";
+  int status = ps_linsolve_factor(&s->ls, &s->sys.A, &bad, ctx);
+  if (status < 0) return status;
+  if (status == PS_OK) {
+    s->ls_last = &s->ls;
+    s->have_factor = 1;
+    return PS_OK;
+  }
+  if (bad >= 0 && bad < s->sys.n_free)
+    ps_system_dof_name(&s->sys, s->P->x, s->sys.dof_of_free[bad], name, sizeof name);
+  if (s->ls.type != ps_linsolve_umfpack) {
+    ps_log(ctx, 1, "  note: tangent %s at %s: UMFPACK for this system\n",
+           status == PS_NOT_POSDEF ? "not positive definite" : "singular", name);
+    if (!s->ls_fallback.type)
+      PS_CHECK(ps_linsolve_create(&s->ls_fallback, ps_linsolve_umfpack, ctx));
+    status = ps_linsolve_factor(&s->ls_fallback, &s->sys.A, &bad, ctx);
+    if (status < 0) return status;
+    s->n_fallback++;
+    if (status == PS_OK) {
+      s->ls_last = &s->ls_fallback;
+      s->have_factor = 1;
+      return PS_OK;
+    }
+  }
+  s->have_factor = 0;
+  return ps_error(ctx, PS_SINGULAR, "tangent stiffness is singular (%s)", name);
+}
+
+/* du = K_ff^-1 rhs by CG preconditioned by the factor held by ls, to the
+ * relative residual s->cg_rtol in at most maxit iterations (counted and
+ * timed). Returns PS_OK, PS_NOT_POSDEF (negative curvature: du is CG's
+ * truncated iterate), PS_DIVERGED (not converged), or fatal. */
+static int pcg(ps_solver *s, ps_linsolve *ls, int maxit, int *its, ps_ctx *ctx) {
+  double t0 = ps_wtime();
+  *its = 0;
+  ps_operator K = s->opts.matrix_free ? ps_system_operator(&s->sys) : ps_csc_operator(&s->sys.A);
+  int status = ps_linsolve_pcg(ls, &K, s->rhs, s->du, s->cg_rtol, maxit,
+                               s->pcg_work, its, ctx);
+  s->t_pcg += ps_wtime() - t0;
+  s->pcg_iterations += *its;
+  return status;
+}
+
+/* 1 when CG met negative curvature (status PS_NOT_POSDEF) and
+ * opts.cg_truncate takes its iterate as the direction (counted, logged),
+ * else 0. Steihaug: the iterate before the direction of negative
+ * curvature is a descent direction for the line search, where a factor
+ * of the indefinite K would fail in CHOLMOD. */
+static int truncated(ps_solver *s, int status, int its, const char *with, ps_ctx *ctx) {
+  if (status != PS_NOT_POSDEF || !s->opts.cg_truncate) return 0;
+  s->pcg_truncated++;
+  ps_log(ctx, 2, "    CG with %s met negative curvature at iteration %d: truncated "
+                 "direction\n", with, its + 1);
+  return 1;
+}
+
+/* Factor the one-horizon majorant of the tangent of the last evaluation;
+ * on success it is the factor CG reuses. Returns PS_OK, PS_DIVERGED (not
+ * positive definite: the caller factors the tangent), or fatal. */
+static int factor_majorant(ps_solver *s, ps_ctx *ctx) {
+  ps_int bad = -1;
+  PS_CHECK(ps_system_assemble_majorant(&s->sys_pre, &s->sys, ctx));
+  int status = ps_linsolve_factor(&s->ls_pre, &s->sys_pre.A, &bad, ctx);
+  if (status < 0) return status;
+  if (status != PS_OK) {
+    ps_log(ctx, 2, "    majorant not positive definite: factoring the tangent\n");
+    return PS_DIVERGED;
+  }
+  s->ls_last = &s->ls_pre;
+  s->have_factor = 1;
+  snapshot_arm_state(s, ctx);
+  return PS_OK;
+}
+
+int ps_nl_fresh_factor(ps_solver *s, ps_ctx *ctx) {
+  int status = s->have_majorant ? factor_majorant(s, ctx) : PS_DIVERGED;
+  if (status > 0) status = ps_nl_factor_tangent(s, ctx);
+  return status;
+}
+
+/* du = K_ff^-1 rhs by CG preconditioned by a fresh factor of the majorant,
+ * at most pcg_max_iterations. Returns PS_OK, PS_DIVERGED when the
+ * majorant is not positive definite or CG does not converge (the caller
+ * factors K), or fatal. */
+static int solve_by_majorant(ps_solver *s, ps_ctx *ctx) {
+  int status = factor_majorant(s, ctx);
+  if (status != PS_OK) return status;
+  int its;
+  status = pcg(s, &s->ls_pre, s->opts.pcg_max_iterations, &its, ctx);
+  if (status < 0) return status;
+  if (truncated(s, status, its, "a fresh majorant factor", ctx)) status = PS_OK;
+  if (status == PS_OK) {
+    ps_log(ctx, 2, "    CG with a fresh majorant factor: %d iterations\n", its);
+    return PS_OK;
+  }
+  s->pre_failures++;
+  ps_log(ctx, 2, "    CG with a fresh majorant factor did not converge in %d iterations: "
+                 "factoring the tangent\n", its);
+  return PS_DIVERGED;
+}
+
+/* The iteration cap of CG with the old factor. Without a majorant, a
+ * failed CG is followed by a factorisation of K, so CG pays while its
+ * iterations cost less than one: the cap is min(pcg_max_iterations,
+ * max(2, mean factorisation time / mean CG iteration time)). With a
+ * majorant the next step is CG again, with a fresh majorant factor, which
+ * needs about as many iterations: the cap is pcg_max_iterations. */
+static int old_factor_cap(const ps_solver *s) {
+  int maxit = s->opts.pcg_max_iterations;
+  const ps_linsolve_stats *ls = &s->ls_last->stats;
+  if (!s->have_majorant && s->pcg_iterations > 0 && ls->n_factor > 0) {
+    double t_it = s->t_pcg / (double)s->pcg_iterations;
+    double t_fac = ls->t_factor / (double)ls->n_factor;
+    double cap = t_fac / t_it;
+    if (cap < maxit) maxit = cap < 2 ? 2 : (int)cap;
+  }
+  return maxit;
+}
+
+/* Steps 1 and 2 of the strategy. Returns PS_OK (du found), PS_DIVERGED
+ * (factor K), or fatal. Each arm that changed state since the last factor
+ * changes K by a rank-one term; with opts.pcg_skip_arms = n > 0, CG is not
+ * tried when n or more did. */
+static int solve_with_old_factor(ps_solver *s, ps_ctx *ctx) {
+  int maxit = old_factor_cap(s);
+  ps_int limit = s->opts.pcg_skip_arms, changed = -1;
+  if (tracks_arm_state(s, ctx)) changed = arms_changed(s, limit > 0 ? limit : s->net->n_arm);
+  if (limit > 0 && changed >= limit) {
+    s->pcg_skipped++;
+    ps_log(ctx, 2, "    %lld+ arms changed state since the last factorisation: "
+                   "refactoring\n", (long long)changed);
+    return PS_DIVERGED;
+  }
+  int its;
+  int status = pcg(s, (ps_linsolve *)s->ls_last, maxit, &its, ctx);
+  if (status < 0) return status;
+  s->pcg_solves++;
+  if (truncated(s, status, its, "the old factor", ctx)) return PS_OK;
+  if (status == PS_OK) {
+    ps_log(ctx, 2, "    CG with the old factor: %d iterations (%lld arms changed state)\n",
+           its, (long long)changed);
+    return PS_OK;
+  }
+  s->pcg_failures++;
+  ps_log(ctx, 2, "    CG with the old factor did not converge in %d iterations (%lld "
+                 "arms changed state): refactoring\n", its, (long long)changed);
+  if (s->have_majorant) return solve_by_majorant(s, ctx); /* also when the old
+                                                  factor was a majorant's */
+  return PS_DIVERGED;
+}
+
+int ps_nl_direction(ps_solver *s, ps_ctx *ctx) {
+  if (s->opts.reuse_factor && s->have_factor) {
+    int status = solve_with_old_factor(s, ctx);
+    if (status <= 0) return status;
+  }
+  int status = ps_nl_factor_tangent(s, ctx);
+  if (status != PS_OK) return status;
+  return ps_linsolve_solve((ps_linsolve *)s->ls_last, s->rhs, s->du, ctx);
+}
+
+int ps_nl_shifted_direction(ps_solver *s, ps_ctx *ctx) {
+  ps_csc *A = &s->sys.A;
+  ps_int n = A->n, bad;
+  PS_CHECK(assemble(s, ctx));
+  for (ps_int k = 0; k < n; k++) s->diag_saved[k] = A->x[A->p[k + 1] - 1];
+  int status = PS_SINGULAR;
+  for (double mu = 1e-4; mu <= 10.0 && status != PS_OK; mu *= 10.0) {
+    for (ps_int k = 0; k < n; k++) /* a zero diagonal entry shifted to 1 */
+      A->x[A->p[k + 1] - 1] = s->diag_saved[k] * (1.0 + mu) + (s->diag_saved[k] == 0.0);
+    status = ps_linsolve_factor(&s->ls, A, &bad, ctx);
+    if (status < 0) break;
+    if (status == PS_OK) ps_log(ctx, 2, "    indefinite tangent: shifted by %.0e diag\n", mu);
+  }
+  for (ps_int k = 0; k < n; k++) A->x[A->p[k + 1] - 1] = s->diag_saved[k];
+  if (status != PS_OK) {
+    s->have_factor = 0;
+    return status < 0 ? status
+                      : ps_error(ctx, PS_SINGULAR, "no positive definite shift of the tangent");
+  }
+  s->ls_last = &s->ls;
+  s->have_factor = 1;
+  s->n_shifted++;
+  snapshot_arm_state(s, ctx);
+  return ps_linsolve_solve(&s->ls, s->rhs, s->du, ctx);
+}

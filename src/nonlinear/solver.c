@@ -1,0 +1,314 @@
+/* solver.c: the solver's lifecycle (options, create with the support
+ * check, free), the system's evaluation at a trial u, the path steps
+ * (predictor and Newton for an increment, commit/restore of the plastic
+ * state, one round of arm breaking, Eq. 118) and the read-only views:
+ * statistics and accessors. */
+#include "solver_impl.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void ps_solver_opts_default(ps_solver_opts *o) {
+  o->tolerance = 1e-8;
+  o->max_iterations = 30;
+  o->max_small_steps = 5;
+  o->line_search = 1;
+  o->linear = ps_linsolve_cholmod;
+  o->reuse_factor = 1;
+  o->pcg_rtol = 1e-6;
+  o->pcg_max_iterations = 25;
+  o->pcg_skip_arms = 0;
+  o->reanalyze = 0;
+  o->majorant = 1;
+  o->cg_forcing_adaptive = 1;
+  o->cg_forcing_max = 0.5;
+  o->cg_forcing = PS_CG_FORCING_FIXED;
+  o->matrix_free = 1;
+  o->cg_single_precision = 1;
+  o->cg_truncate = 1;
+  o->threads = 0;
+}
+
+void ps_solver_free(ps_solver *s) {
+  ps_linsolve_destroy(&s->ls);
+  ps_linsolve_destroy(&s->ls_fallback);
+  ps_linsolve_destroy(&s->ls_pre);
+  ps_system_free(&s->sys_pre);
+  ps_system_free(&s->sys);
+  ps_arm_state_free(&s->st);
+  ps_arm_state_free(&s->st_saved);
+  ps_model_free(&s->model);
+  ps_team_free(s->team);
+  free(s->u);
+  free(s->u_saved);
+  free(s->u_prev);
+  free(s->ubar);
+  free(s->f);
+  free(s->rhs);
+  free(s->du);
+  free(s->work);
+  free(s->pcg_work);
+  free(s->u_trial);
+  free(s->work_dof);
+  free(s->diag_saved);
+  free(s->arm_state_at_factor);
+  free(s->f_trial);
+  memset(s, 0, sizeof *s);
+}
+
+int ps_nl_eval(ps_solver *s, const double *u, double *f, double *energy, int tangent,
+               ps_ctx *ctx) {
+  double t = ps_wtime();
+  int want = !tangent ? PS_EVAL_FORCES
+             : s->opts.reuse_factor && s->opts.matrix_free ? PS_EVAL_OPERATOR
+                                                            : PS_EVAL_TANGENT;
+  int status = ps_system_eval(&s->sys, &s->model, &s->st, s->P->x, u, f,
+                              energy, want, ctx);
+  if (s->fext && status == PS_OK)
+    for (ps_int j = 0; j < s->sys.n_dof; j++) {
+      f[j] -= s->lambda * s->fext[j];
+      *energy -= s->lambda * s->fext[j] * u[j];
+    }
+  s->t_assembly += ps_wtime() - t;
+  return status;
+}
+
+void ps_solver_set_forces(ps_solver *s, const double *fext) { s->fext = fext; }
+
+/* a quick necessary condition of support: each direction has a
+ * prescribed dof. Returns PS_OK or PS_ERR_INPUT. */
+static int check_directions(const ps_network *net, const unsigned char *fixed, ps_ctx *ctx) {
+  int d = net->dim;
+  for (int k = 0; k < d; k++) {
+    int any = 0;
+    for (ps_int a = 0; a < net->n_particle && !any; a++) any = fixed[a * d + k];
+    if (!any)
+      return ps_error(ctx, PS_ERR_INPUT,
+                      "the model has no supports in direction %c: no particle has "
+                      "a prescribed %c displacement (see loading.boundary)",
+                      "xyz"[k], "xyz"[k]);
+  }
+  return PS_OK;
+}
+
+/* the linear solvers and their threads; the majorant's system and
+ * factor when the direction strategy uses one */
+static int create_linear(ps_solver *s, const ps_model_type *type,
+                         const unsigned char *fixed, ps_ctx *ctx) {
+  const ps_solver_opts *opts = &s->opts;
+  int threads = opts->threads > 0 ? opts->threads : ps_cpu_count();
+  PS_CHECK(ps_team_create(&s->team, threads < PS_PARTS ? threads : PS_PARTS, ctx));
+  s->sys.team = s->team;
+  PS_CHECK(ps_linsolve_create(&s->ls, opts->linear, ctx));
+  s->ls.team = s->team;
+  s->ls.reanalyze = opts->reanalyze;
+  s->ls.single_precision = opts->cg_single_precision;
+  if (opts->majorant && type->family_coupling && opts->reuse_factor) {
+    PS_CHECK(ps_system_create_pattern(&s->sys_pre, s->net, fixed, 0, ctx));
+    PS_CHECK(ps_linsolve_create(&s->ls_pre, ps_linsolve_cholmod, ctx));
+    s->ls_pre.single_precision = opts->cg_single_precision;
+    s->ls_pre.team = s->team;
+    /* a majorant's factor serves the CG solves of many Newton systems:
+     * its single-precision copy is made from the first one */
+    s->ls_pre.single_after = 0;
+    s->have_majorant = 1;
+  }
+  return PS_OK;
+}
+
+/* the work arrays; PS_OK or PS_ERR_NOMEM */
+static int alloc_work(ps_solver *s, ps_ctx *ctx) {
+  ps_int nd = (ps_int)s->net->dim * s->net->n_particle, nf = s->sys.n_free;
+  s->u = ps_calloc((size_t)nd, sizeof *s->u, ctx);
+  s->u_saved = ps_calloc((size_t)nd, sizeof *s->u, ctx);
+  s->u_prev = ps_calloc((size_t)nd, sizeof *s->u, ctx);
+  s->work_dof = ps_calloc((size_t)nd, sizeof *s->u, ctx);
+  s->ubar = ps_calloc((size_t)nd, sizeof *s->u, ctx);
+  s->f = ps_calloc((size_t)nd, sizeof *s->u, ctx);
+  s->u_trial = ps_calloc((size_t)nd, sizeof *s->u, ctx);
+  s->f_trial = ps_calloc((size_t)nd, sizeof *s->u, ctx);
+  s->rhs = ps_calloc((size_t)nf, sizeof *s->u, ctx);
+  s->du = ps_calloc((size_t)nf, sizeof *s->u, ctx);
+  s->work = ps_calloc((size_t)nf, sizeof *s->u, ctx);
+  s->diag_saved = ps_calloc((size_t)nf, sizeof *s->u, ctx);
+  s->arm_state_at_factor = ps_calloc((size_t)s->net->n_arm + 1, 1, ctx);
+  s->pcg_work = ps_calloc((size_t)(4 * nf), sizeof *s->u, ctx);
+  if (!s->pcg_work || !s->u_prev || !s->work_dof || !s->u || !s->u_saved || !s->ubar ||
+      !s->f || !s->u_trial || !s->f_trial || !s->rhs || !s->du || !s->work ||
+      !s->diag_saved || !s->arm_state_at_factor)
+    return PS_ERR_NOMEM;
+  return PS_OK;
+}
+
+int ps_solver_create(ps_solver *s, const ps_particles *P,
+                     const ps_network *net, const ps_model_type *type,
+                     const ps_material *mat, const unsigned char *fixed,
+                     const double *ubar, const ps_solver_opts *opts,
+                     ps_ctx *ctx) {
+  int status = PS_OK;
+  memset(s, 0, sizeof *s);
+  s->P = P;
+  s->net = net;
+  s->opts = *opts;
+  if ((status = check_directions(net, fixed, ctx)) != PS_OK) return status;
+  PS_CHECK_GOTO(ps_model_create(&s->model, type, P, net, mat, ctx));
+  PS_CHECK_GOTO(ps_system_create_pattern(&s->sys, net, fixed, type->family_coupling, ctx));
+  PS_CHECK_GOTO(ps_arm_state_alloc(&s->st, net->n_arm, ctx));
+  PS_CHECK_GOTO(ps_arm_state_alloc(&s->st_saved, net->n_arm, ctx));
+  if ((status = create_linear(s, type, fixed, ctx)) < 0) goto cleanup; /* traced */
+  if ((status = alloc_work(s, ctx)) != PS_OK) goto cleanup;
+  for (ps_int j = 0; j < s->sys.n_dof; j++) s->ubar[j] = fixed[j] ? ubar[j] : 0.0;
+  /* support check: the tangent at rest must be nonsingular */
+  PS_CHECK_GOTO(ps_nl_eval(s, s->u, s->f, &s->energy, 1, ctx));
+  status = ps_nl_factor_tangent(s, ctx);
+  if (status > 0) {
+    char msg[sizeof ctx->msg];
+    snprintf(msg, sizeof msg, "%s", ctx->msg);
+    status = ps_error(ctx, PS_ERR_INPUT,
+                      "the model is not properly supported: %s at rest. A rigid-body "
+                      "motion is free or a particle is held by no arm; check "
+                      "loading.boundary",
+                      msg);
+    goto cleanup;
+  }
+  if (status < 0) goto cleanup;
+  ps_solver_commit(s);
+cleanup:
+  if (status < 0) ps_solver_free(s);
+  return status;
+}
+
+void ps_solver_commit(ps_solver *s) {
+  ps_int na = s->net->n_arm;
+  memcpy(s->st.eps_p, s->st.eps_p_trial, (size_t)(2 * na) * sizeof *s->st.eps_p);
+  ps_arm_state_copy(&s->st_saved, &s->st);
+  memcpy(s->u_saved, s->u, (size_t)s->sys.n_dof * sizeof *s->u);
+}
+
+void ps_solver_restore(ps_solver *s) {
+  ps_arm_state_copy(&s->st, &s->st_saved);
+  memcpy(s->u, s->u_saved, (size_t)s->sys.n_dof * sizeof *s->u);
+}
+
+/* The predictor of the increment lambda0 -> lambda (dl = lambda -
+ * lambda0) from the converged u at lambda0 (copied to u_prev):
+ *   secant, when the last increment converged with no break since:
+ *     u_f += dl / (lambda0 - lambda_prev) (u_f - u_prev,f);
+ *   else tangent, with the last factor:
+ *     K_ff du_f = -(r_f + K_fp du_p) + dl fext_f;
+ * then u_p = lambda ubar_p. Returns PS_OK or fatal. */
+static int predict(ps_solver *s, double lambda, ps_ctx *ctx) {
+  const ps_system *sys = &s->sys;
+  double lambda0 = s->lambda, dl = lambda - lambda0;
+  ps_int nd = sys->n_dof, nf = sys->n_free;
+  int secant = s->have_prev && lambda0 > s->lambda_prev;
+  double *u_start = s->u_trial; /* the start, for the secant history */
+  memcpy(u_start, s->u, (size_t)nd * sizeof *s->u);
+  if (secant) {
+    double r = dl / (lambda0 - s->lambda_prev);
+    for (ps_int k = 0; k < nf; k++) {
+      ps_int j = sys->dof_of_free[k];
+      s->u[j] += r * (s->u[j] - s->u_prev[j]);
+    }
+  } else if (s->have_factor) {
+    for (ps_int j = 0; j < nd; j++) s->work_dof[j] = sys->fixed[j] ? dl * s->ubar[j] : 0.0;
+    ps_system_coupling(&s->sys, s->work_dof, s->work);
+    for (ps_int k = 0; k < nf; k++) {
+      ps_int j = sys->dof_of_free[k];
+      s->rhs[k] = -(s->f[j] + s->work[k]) + (s->fext ? dl * s->fext[j] : 0.0);
+    }
+    PS_CHECK(ps_linsolve_solve((ps_linsolve *)s->ls_last, s->rhs, s->du, ctx));
+    for (ps_int k = 0; k < nf; k++) s->u[sys->dof_of_free[k]] += s->du[k];
+  }
+  for (ps_int j = 0; j < nd; j++)
+    if (sys->fixed[j]) s->u[j] = lambda * s->ubar[j];
+  s->lambda = lambda;
+  memcpy(s->u_prev, u_start, (size_t)nd * sizeof *s->u); /* u_trial is reused */
+  return PS_OK;
+}
+
+int ps_solver_step(ps_solver *s, double lambda, ps_ctx *ctx) {
+  double lambda0 = s->lambda;
+  int status = predict(s, lambda, ctx);
+  if (status < 0) return status; /* traced */
+  status = ps_newton_solve(s, ctx);
+  if (status == PS_OK) {
+    s->lambda_prev = lambda0;
+    s->have_prev = 1;
+  } else {
+    s->have_prev = 0;
+  }
+  if (status == PS_DIVERGED) {
+    /* back to the last commit, with a fresh factor there for the next
+     * try (the majorant's when there is one: it preconditions CG as well
+     * as the tangent's own factor, at a fraction of its cost) */
+    ps_solver_restore(s);
+    s->lambda = lambda0;
+    PS_CHECK(ps_nl_eval(s, s->u, s->f, &s->energy, 1, ctx));
+    int st2 = ps_nl_fresh_factor(s, ctx);
+    if (st2 < 0) return st2;
+  }
+  return status;
+}
+
+int ps_solver_break_round(ps_solver *s, ps_int max_count, ps_int *n_broken,
+                          ps_ctx *ctx) {
+  PS_CHECK(s->model.type->break_arms(&s->model, &s->st, max_count, n_broken, ctx));
+  if (*n_broken == 0) return PS_OK;
+  s->have_prev = 0; /* no secant predictor across a break */
+  ps_log(ctx, 2, "    %lld arms broke, re-equilibrating\n", (long long)*n_broken);
+  int status = ps_newton_solve(s, ctx);
+  if (status != PS_OK) return status;
+  ps_solver_commit(s);
+  return PS_OK;
+}
+
+int ps_solver_evaluate(ps_solver *s, ps_ctx *ctx) {
+  return ps_nl_eval(s, s->u, s->f, &s->energy, 0, ctx);
+}
+
+ps_int ps_solver_count_yielding(const ps_solver *s) {
+  ps_int n = 0;
+  for (ps_int i = 0; i < s->net->n_arm; i++) n += s->st.yielding[i] && !s->st.broken[i];
+  return n;
+}
+
+void ps_solver_get_stats(const ps_solver *s, ps_solver_stats *st) {
+  memset(st, 0, sizeof *st);
+  st->newton_iterations = s->newton_iterations;
+  st->factorisations = s->ls.stats.n_factor + s->ls_fallback.stats.n_factor;
+  st->n_fallback = s->n_fallback;
+  st->solves = s->ls.stats.n_solve + s->ls_fallback.stats.n_solve;
+  st->pcg_iterations = s->pcg_iterations;
+  st->pcg_failures = s->pcg_failures;
+  st->pcg_skipped = s->pcg_skipped;
+  st->majorant_factorisations = s->ls_pre.stats.n_factor;
+  st->majorant_failures = s->pre_failures;
+  st->shifted_steps = s->n_shifted;
+  st->cg_truncated = s->pcg_truncated;
+  st->stagnated = s->n_stagnated;
+  st->handovers = s->n_handovers;
+  st->line_search_cuts = s->n_line_search_cuts;
+  st->n_free = s->sys.n_free;
+  st->threads = ps_team_size(s->team);
+  st->serial_share = s->have_majorant ? s->ls_pre.stats.serial_share : s->ls.stats.serial_share;
+  st->nnz_tangent = s->sys.A.p ? (double)s->sys.A.p[s->sys.n_free] : 0.0;
+  st->nnz_factor = s->ls.stats.nnz_factor;
+  st->flops_factor = s->ls.stats.flops_factor;
+  st->nnz_majorant_factor = s->ls_pre.stats.nnz_factor;
+  st->t_assembly = s->t_assembly;
+  st->t_analyze = s->ls.stats.t_analyze + s->ls_fallback.stats.t_analyze;
+  st->t_factor = s->ls.stats.t_factor + s->ls_fallback.stats.t_factor;
+  st->t_solve = s->ls.stats.t_solve + s->ls_fallback.stats.t_solve;
+  st->t_majorant_factor = s->ls_pre.stats.t_factor;
+  st->t_cg = s->t_pcg;
+}
+
+double ps_solver_lambda(const ps_solver *s) { return s->lambda; }
+const double *ps_solver_u(const ps_solver *s) { return s->u; }
+const double *ps_solver_arm_tension(const ps_solver *s) { return s->sys.T; }
+const double *ps_solver_arm_direction(const ps_solver *s) { return s->sys.q; }
+const double *ps_solver_arm_elongation(const ps_solver *s) { return s->sys.dl; }
+const ps_arm_state *ps_solver_arm_state(const ps_solver *s) { return &s->st; }
+int ps_solver_last_reason(const ps_solver *s) { return s->last_reason; }
+double ps_solver_last_residual(const ps_solver *s) { return s->last_residual; }

@@ -290,10 +290,12 @@ int ps_problem_setup_sized(ps_problem *pb, const ps_case *cs, int purpose, int j
   memset(pb, 0, sizeof *pb);
   pb->cs = *cs;
   /* the lattice models (bond, state): arms within the horizon delta = m
-   * spacing (state: and the half spacing of partial volumes beyond it) */
-  int lattice = strcmp(cs->model, "fibre") != 0;
-  double reach = !strcmp(cs->model, "state") ? cs->horizon_factor + 0.5 * (1 - 1e-9)
-                                              : cs->horizon_factor * (1 + 1e-9);
+   * spacing (and the model's reach beyond it) */
+  const ps_model_type *type = ps_model_type_find(cs->model);
+  if (!type)
+    return ps_error(ctx, PS_ERR_INPUT, "%s: unknown material.model %s", cs->path, cs->model);
+  int lattice = type->lattice;
+  double reach = ps_model_lattice_reach(type, cs->horizon_factor);
   int dim = cs->geometry == PS_GEOM_DISK ? 2 : cs->dim;
   PS_CHECK(estimate_counts(cs, dim, lattice, reach, purpose, ctx));
   ps_crack *cracks = ps_calloc((size_t)(cs->n_cracks + 1 + HOLE_SIDES * cs->n_holes),

@@ -9,7 +9,11 @@
  * The same K is also applied without assembling it (ps_system_apply: arm
  * terms plus the rank-one family terms, O(arms + family members) per
  * product), which is what CG uses; the matrix is assembled only to be
- * factored (ps_system_assemble). */
+ * factored (ps_system_assemble).
+ * Files: pattern.c (create, free: dof map, pattern, slot maps),
+ * evaluate.c (ps_system_eval), assemble.c (ps_system_assemble),
+ * operator.c (apply, apply_free, operator, coupling), majorant.c
+ * (ps_system_assemble_majorant); assembly_internal.h is theirs alone. */
 #ifndef PS_ASSEMBLY_H
 #define PS_ASSEMBLY_H
 
@@ -150,8 +154,9 @@ ps_operator ps_system_operator(ps_system *sys);
  * definite, and for the elastic fibre model in [min(r, 1/r), 1] with
  * r = G(N+2)/(NK) (0.8 for nu = 0.3 in plane strain; doc/performance.md).
  * Needs K evaluated with the tangent (either want; K need not be
- * assembled). Returns PS_OK, PS_ERR_INPUT when the
- * systems do not match. */
+ * assembled). pre's tangent arm stiffnesses pre->tan.D receive the
+ * majorant's (pre is never evaluated itself); its Kfull and A the matrix.
+ * Returns PS_OK, PS_ERR_INPUT when the systems do not match. */
 int ps_system_assemble_majorant(ps_system *pre, const ps_system *K, ps_ctx *ctx);
 
 /* out[n_free] = K_fp du_p: the coupling of prescribed increments du[n_dof]

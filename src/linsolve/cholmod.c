@@ -23,9 +23,8 @@ typedef struct {
    * (make_single), in single precision, for chol_precondition: made on its
    * first call after a factorisation (ps_linsolve_precondition calls it
    * once the factor has served ps_linsolve.single_after solves: making
-   * the copy costs a few of the factor's solves,
-   * which a short CG, e.g. an elastic solve's 3 iterations, never earns
-   * back: at 80k particles 2.5 s against 0.5 s of CG) */
+   * the copy costs a few of the factor's solves, which a short CG, e.g.
+   * an elastic solve's 3 iterations, never earns back) */
   float *Lf;
   size_t Lf_size;
   int Lf_current; /* 1: Lf is of the current factor; 0: not made yet; -1:
@@ -194,8 +193,7 @@ static int chol_solve(void *state, const double *b, double *x,
 /* supernodes of at most this many columns have their diagonal block
  * inverted for the single-precision solve (make_single); wider ones, few
  * and large, keep L: strsv is blocked and efficient there, and inverting
- * them doubled the cost of making the float copy of the two-horizon factor
- * at 20k (0.38 -> 0.76 s) for no faster CG */
+ * them would double the cost of making the float copy for no faster CG */
 #define PS_INVERT_MAX_COLUMNS 64
 
 /* BLAS and LAPACK (OpenBLAS; 32-bit integers, as CHOLMOD's own calls) */
@@ -285,8 +283,10 @@ static int make_single(chol_state *s, ps_ctx *ctx) {
  * a fixed order afterwards, so the sums are the same with one thread or
  * two. */
 enum { PS_PART_LOW = 0, PS_PART_HIGH = 1, PS_PART_TOP = 2 };
-/* the parts solved at the same time: LOW and HIGH */
-#define PS_TREE_PARTS 2
+/* the parts solved at the same time, LOW and HIGH: the run's PS_PARTS */
+#define PS_TREE_PARTS PS_PARTS
+_Static_assert(PS_TREE_PARTS == PS_PART_TOP,
+               "the tree splits into two parts below the top (LOW, HIGH)");
 
 /* the top is grown from the roots down, a heaviest subtree at a time,
  * at most this many times, and the cheapest split seen is kept */

@@ -18,13 +18,19 @@
 #include <math.h>
 #include <stdlib.h>
 
+/* bond-based PD has a single material constant: nu = 1/3 in plane
+ * stress, 1/4 in plane strain and 3D */
+static double bond_fixed_poisson(int dim, int plane) {
+  return dim == 2 && plane == PS_PLANE_STRESS ? 1.0 / 3.0 : 0.25;
+}
+
 static int bond_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
   const ps_network *net = m->net;
   const ps_material *mat = &m->mat;
   int N = net->dim;
   double delta = mat->horizon, dx = mat->spacing;
   PS_CHECK(ps_lattice_model_check(mat, N, P, "bond", ctx));
-  double nu_fixed = (N == 2 && mat->plane == PS_PLANE_STRESS) ? 1.0 / 3.0 : 0.25;
+  double nu_fixed = bond_fixed_poisson(N, mat->plane);
   if (fabs(mat->nu - nu_fixed) > 1e-3)
     return ps_error(ctx, PS_ERR_INPUT,
                     "material.nu = %g: bond-based peridynamics has nu = %s in %s "
@@ -102,6 +108,12 @@ static int bond_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
   return PS_OK;
 }
 
-static const ps_model_type bond_type = {"bond", bond_evaluate, ps_model_never_breaks,
-                                        bond_prepare, 0};
+static const ps_model_type bond_type = {.name = "bond",
+                                        .evaluate = bond_evaluate,
+                                        .break_arms = ps_model_never_breaks,
+                                        .prepare = bond_prepare,
+                                        .family_coupling = 0,
+                                        .lattice = 1,
+                                        .reach_extra_spacings = 0.0,
+                                        .fixed_poisson = bond_fixed_poisson};
 const ps_model_type *const ps_model_bond = &bond_type;

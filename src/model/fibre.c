@@ -79,7 +79,7 @@ static int fibre_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
     /* Eq. 111. An arm left on the yield surface by the last commit (a
      * re-equilibration after breaking starts there) counts as yielding:
      * psi is C1 at eps_y, so only the tangent differs, and the plastic one
-     * saves Newton iterations (435 vs 463 at 5k, doc/performance.md) */
+     * needs fewer Newton iterations (doc/performance.md) */
     if (plastic && fabs(e) > ey * (1.0 - 1e-9)) {
       ee = e > 0 ? ey : -ey;
       yielding = 1;
@@ -124,8 +124,8 @@ static int fibre_evaluate_deviatoric(const ps_model *m, const double *dl, ps_arm
   ps_int na = net->n_arm, np = net->n_particle;
   double Gc = mat->G * (N + 2), NK = N * mat->K, ey = mat->yield_strain;
   double *R = m->R, *eb = m->epsbar;
-  double *dpsi = m->arm_k, *d2psi = m->arm_k + 2 * na; /* [2 na] each: side a, b */
-  double *mean = m->arm_k + 4 * na, *cmean = mean + np; /* [np] each */
+  double *dpsi = m->work, *d2psi = m->work + 2 * na; /* [2 na] each: side a, b */
+  double *mean = m->work + 4 * na, *cmean = mean + np; /* [np] each */
   double psi = 0.0;
   mean_strains(m, dl, st);
   for (ps_int a = 0; a < np; a++) psi += 0.5 * NK * R[a] * eb[a] * eb[a];
@@ -198,10 +198,10 @@ static int fibre_evaluate_deviatoric(const ps_model *m, const double *dl, ps_arm
 static int fibre_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
   (void)P;
   if (m->mat.yield_rule != PS_YIELD_DEVIATORIC) return PS_OK;
-  /* workspace: psi', psi'' per half-arm, family means */
-  m->arm_k = ps_calloc((size_t)(4 * m->net->n_arm + 2 * m->net->n_particle),
-                       sizeof *m->arm_k, ctx);
-  return m->arm_k ? PS_OK : PS_ERR_NOMEM;
+  /* the deviatoric rule's scratch: psi', psi'' per half-arm, family means */
+  m->work = ps_calloc((size_t)(4 * m->net->n_arm + 2 * m->net->n_particle),
+                      sizeof *m->work, ctx);
+  return m->work ? PS_OK : PS_ERR_NOMEM;
 }
 
 typedef struct {
@@ -254,6 +254,11 @@ static int fibre_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_coun
   return PS_OK;
 }
 
-static const ps_model_type fibre_type = {"fibre", fibre_evaluate, fibre_break_arms,
-                                         fibre_prepare, 1};
+static const ps_model_type fibre_type = {.name = "fibre",
+                                         .evaluate = fibre_evaluate,
+                                         .break_arms = fibre_break_arms,
+                                         .prepare = fibre_prepare,
+                                         .family_coupling = 1,
+                                         .lattice = 0,
+                                         .reach_extra_spacings = 0.0};
 const ps_model_type *const ps_model_fibre = &fibre_type;

@@ -159,6 +159,11 @@ const ps_model_type *ps_model_type_find(const char *name) {
   return NULL;
 }
 
+double ps_model_lattice_reach(const ps_model_type *type, double horizon_factor) {
+  double e = type->reach_extra_spacings;
+  return e > 0 ? horizon_factor + e * (1 - 1e-9) : horizon_factor * (1 + 1e-9);
+}
+
 int ps_model_create(ps_model *m, const ps_model_type *type,
                     const ps_particles *P, const ps_network *net,
                     const ps_material *mat, ps_ctx *ctx) {
@@ -184,5 +189,6 @@ void ps_model_free(ps_model *m) {
   free(m->R);
   free(m->epsbar);
   free(m->arm_k);
+  free(m->work);
   memset(m, 0, sizeof *m);
 }

@@ -47,10 +47,8 @@ typedef struct ps_material {
 
 /* The accepted range of Young's modulus, Pa: far beyond any material's
  * (rubber 1e6, steel 2.1e11, diamond 1.2e12) and any unit system's
- * rescaling, and far inside what the solver's sums of squares hold (it
- * converges from E = 1e-120 to 1e150 on tests/data/cli/box_base.yaml;
- * at 1e170 the residual's square overflowed and Newton "stalled" with
- * -inf in summary.txt). */
+ * rescaling, and far inside what the solver's sums of squares of forces
+ * hold without overflow (E up to about 1e150). */
 #define PS_E_MIN 1e-20
 #define PS_E_MAX 1e20
 /* The accepted range of the yield strain eps_y (a strain; steel: 0.002). */
@@ -119,12 +117,31 @@ typedef struct ps_model_type {
   int (*break_arms)(const ps_model *m, ps_arm_state *st, ps_int max_count,
                     ps_int *n_broken, ps_ctx *ctx);
   /* Optional (NULL: nothing to do): check the parameters against the
-   * network and precompute per-arm data into m->arm_k. Returns PS_OK,
-   * PS_ERR_INPUT (message names the parameter), PS_ERR_NOMEM. */
+   * network, precompute per-arm data into m->arm_k and allocate m->work.
+   * Returns PS_OK, PS_ERR_INPUT (message names the parameter),
+   * PS_ERR_NOMEM. */
   int (*prepare)(ps_model *m, const ps_particles *P, ps_ctx *ctx);
-  /* 1: the tangent has rank-one family terms (c != 0), so the assembly
-   * needs the two-horizon pattern; 0: arms only (one horizon) */
+  /* The reach of the tangent's coupling: 1 when it has rank-one family
+   * terms (c != 0; fibre, state), which couple every two particles of a
+   * family, so the assembly needs the two-horizon pattern; 0: arms only,
+   * the one-horizon pattern (bond). */
   int family_coupling;
+  /* 1: the model is defined on a box lattice (bond, state): every
+   * particle's size h is the lattice spacing, the horizon is
+   * material.horizon_factor spacings, and arms reach
+   * ps_model_lattice_reach spacings (the kernel's alpha); 0: sizes from
+   * Eq. 115 or Eq. 44 and the case's alpha (fibre). */
+  int lattice;
+  /* Lattice models: how far past the horizon arms reach, in spacings:
+   * 1/2 when the partial volumes of Li & Hao (2023) Eq. A.2 carry arms up
+   * to the horizon plus half a cell (state), 0 when an arm ends at the
+   * horizon (bond: c(xi) = 0 there). */
+  double reach_extra_spacings;
+  /* Optional (NULL: nu is free): the Poisson's ratio the model fixes in
+   * dim dimensions (plane: enum ps_plane), for the check that refuses
+   * another one when the case is read (bond: 1/3 in plane stress, 1/4 in
+   * plane strain and 3D, Fallah et al. 2020 section 5). */
+  double (*fixed_poisson)(int dim, int plane);
 } ps_model_type;
 
 struct ps_model {
@@ -133,8 +150,14 @@ struct ps_model {
   ps_material mat;
   double *R;       /* [n_particle] workspace: sum_b A_ab r0_ab */
   double *epsbar;  /* [n_particle] mean strain of the last evaluate */
-  double *arm_k;   /* [n_arm] per-arm data of models that prepare it (bond:
-                      stiffness dT/dl, N/m), else NULL */
+  double *arm_k;   /* [n_arm] per-arm constants of models that prepare
+                      them (bond: stiffness dT/dl, N/m; state: w v V_a
+                      V_b), else NULL; read-only after prepare */
+  double *work;    /* scratch of evaluate for models that need it
+                      (deviatoric fibre rule: [4 n_arm + 2 n_particle],
+                      psi' and psi'' per half-arm, their family means),
+                      else NULL; like R and epsbar, written by evaluate
+                      through the const model */
 };
 
 /* The virtual-fibre model: Eq. 110 force flux density with the
@@ -180,6 +203,14 @@ int ps_lattice_model_check(const ps_material *mat, int dim, const ps_particles *
 
 /* Look a model type up by name ("fibre", "bond", "state"); NULL if unknown. */
 const ps_model_type *ps_model_type_find(const char *name);
+
+/* The reach of a lattice model's arms, in spacings, for a horizon of
+ * horizon_factor spacings: m + e with m = horizon_factor, e =
+ * reach_extra_spacings; for e > 0 just short of it, m + e (1 - 1e-9) (an
+ * arm of exactly that length carries nothing: its partial volume is 0),
+ * for e = 0 just beyond it, m (1 + 1e-9) (an arm of exactly the
+ * horizon's length is in), so that lattice round-off does not decide. */
+double ps_model_lattice_reach(const ps_model_type *type, double horizon_factor);
 
 /* Create a model on a network of the particles P (and run the type's
  * prepare). Returns PS_OK, PS_ERR_INPUT (from prepare), PS_ERR_NOMEM. */

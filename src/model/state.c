@@ -95,6 +95,11 @@ static int state_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
   return PS_OK;
 }
 
-static const ps_model_type state_type = {"state", state_evaluate, ps_model_never_breaks,
-                                         state_prepare, 1};
+static const ps_model_type state_type = {.name = "state",
+                                         .evaluate = state_evaluate,
+                                         .break_arms = ps_model_never_breaks,
+                                         .prepare = state_prepare,
+                                         .family_coupling = 1,
+                                         .lattice = 1,
+                                         .reach_extra_spacings = 0.5};
 const ps_model_type *const ps_model_state = &state_type;

@@ -179,8 +179,19 @@ typedef struct ps_csc {
  * thread is member 0. A NULL team runs the parts in order on the caller.
  * Create a team only after any fork() (threads do not survive it). */
 typedef struct ps_team ps_team;
-/* *team = a team of n_threads (NULL for n_threads <= 1; fewer members if
- * the system refuses threads). PS_OK or PS_ERR_NOMEM. */
+
+/* The number of parts a parallel loop of a run is split into (the
+ * assembly's halves of the arms and particles, the two disjoint subtrees
+ * of the preconditioner's triangular solves): fixed by the data, not by
+ * the machine, so a run gives the same numbers on any number of threads.
+ * More threads than parts would idle: a team has at most PS_PARTS
+ * members. The loops are written for two parts (a part-0 and a part-1
+ * output, a low and a high subtree) and check it at compile time. */
+#define PS_PARTS 2
+
+/* *team = a team of min(n_threads, PS_PARTS) members (NULL when that is
+ * <= 1; fewer members if the system refuses threads). PS_OK or
+ * PS_ERR_NOMEM. */
 int ps_team_create(ps_team **team, int n_threads, ps_ctx *ctx);
 void ps_team_free(ps_team *team);
 /* the number of members (1 for NULL) */

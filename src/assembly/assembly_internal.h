@@ -1,0 +1,74 @@
+/* assembly_internal.h: what the files of src/assembly share and nothing
+ * outside it may use: the layout of Kfull (kpos), the d x d block of an
+ * arm, a particle's rank-one family term, the split of a loop into
+ * PS_PARTS parts, and the functions one file provides to another.
+ *   pattern.c   dof map, block pattern, slot maps (symbolic, once)
+ *   evaluate.c  arm lengths, tensions (the model), forces, tangent data
+ *   assemble.c  the tangent's data into Kfull and the free-free A
+ *   operator.c  y = K x without the matrix; the diagonal of K
+ *   majorant.c  the one-horizon majorant of K */
+#ifndef PS_ASSEMBLY_INTERNAL_H
+#define PS_ASSEMBLY_INTERNAL_H
+
+#include "ps_assembly.h"
+
+/* The loops over arms and particles of an evaluation and of the
+ * matrix-free product run in PS_PARTS parts on the system's team: part 0
+ * writes sums over arms into the caller's vector, part 1 into a vector of
+ * its own (f_part, yw_part) added afterwards (ps_asm_add_second_part), so
+ * the sums are formed in the same order on one thread or two. */
+_Static_assert(PS_PARTS == 2, "assembly splits its loops into a first and a second part");
+
+/* [*lo, *hi): part `part`'s share of n items */
+static inline void ps_asm_part_range(ps_int n, int part, ps_int *lo, ps_int *hi) {
+  *lo = n * part / PS_PARTS;
+  *hi = n * (part + 1) / PS_PARTS;
+}
+
+/* y[n] += the second part's sums */
+static inline void ps_asm_add_second_part(double *y, const double *second, ps_int n) {
+  for (ps_int k = 0; k < n; k++) y[k] += second[k];
+}
+
+/* position in Kfull of entry (al, be) of block blk of column Q (the
+ * layout of ps_system's Kfull) */
+static inline ps_int ps_asm_kpos(const ps_system *s, ps_int Q, ps_int blk, int al, int be) {
+  int d = s->dim;
+  ps_int len = s->bptr[Q + 1] - s->bptr[Q];
+  return (ps_int)d * d * s->bptr[Q] + (ps_int)be * d * len + (blk - s->bptr[Q]) * d + al;
+}
+
+/* kmat (d x d, column-major) = the arm stiffness D q q^T + (T/l)(I - q q^T) */
+static inline void ps_asm_arm_block(int d, const double *q, double D, double Tl,
+                                    double *kmat) {
+  for (int be = 0; be < d; be++)
+    for (int al = 0; al < d; al++)
+      kmat[be * d + al] = D * q[al] * q[be] + Tl * ((al == be) - q[al] * q[be]);
+}
+
+/* particle c's rank-one family term `term` (0: c w, 1: c2 w2) of the
+ * tangent, c_c g g^T: returns its coefficient (0: no such term), its m
+ * members M and their gradient g[m x dim] (in G[term]) */
+static inline double ps_asm_family_term(const ps_system *s, ps_int c, int term, ps_int *m,
+                                        const ps_int **M, const double **g) {
+  double cc = term == 0 ? s->tan.c[c] : s->tan.c2[c];
+  if (cc == 0.0) return 0.0;
+  *m = s->fam_members_ptr[c + 1] - s->fam_members_ptr[c];
+  *M = &s->fam_members[s->fam_members_ptr[c]];
+  *g = &s->G[term][(ps_int)s->dim * s->fam_members_ptr[c]];
+  return cc;
+}
+
+/* assemble.c: zero dst's Kfull and add the arm terms of src's tangent
+ * (geometry src->tq, src->tTl) with arm stiffnesses D[n_arm] */
+void ps_asm_assemble_arms(ps_system *dst, const ps_system *src, const double *D);
+
+/* assemble.c: finish Kfull (a spring on each free body's diagonal; spring
+ * < 0: the largest diagonal entry of Kfull) and gather the free upper
+ * triangle into s->A */
+void ps_asm_finish_tangent(ps_system *s, const unsigned char *free_body, double spring);
+
+/* operator.c: diag[n_dof] = the diagonal of the tangent K (no springs) */
+void ps_asm_tangent_diagonal(const ps_system *s, double *diag);
+
+#endif

@@ -1,0 +1,215 @@
+/* evaluate.c: one evaluation of the system at displacements u: per arm the
+ * rounded length l = sqrt(|y_b - y_a|^2 + (e r0)^2) (PS_ARM_LENGTH_ROUNDING),
+ * the elongation dl = l - sqrt(r0^2 + (e r0)^2) and the direction q =
+ * (y_b - y_a)/l; the tensions T and energy from the model; the internal
+ * forces f = dPsi/dy = sum_arms T (dl/dy), dl/dy_a = -q, dl/dy_b = q; and,
+ * when asked, the tangent's data: the model's stiffnesses (D, c, w, c2,
+ * w2), the arm geometry q and T/l, the family gradients
+ *   g_a = sum_{i in family a} w_{a,i} dl_i/dy
+ * of the rank-one terms, the free bodies and their spring. The loops over
+ * arms and particles run in PS_PARTS parts on the system's team. */
+#include "assembly_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct {
+  ps_system *s;
+  const ps_arm_state *st;
+  const double *X, *u;
+  double *f;
+  int phase;           /* 0 geometry, 1 forces, 2 the tangent's data */
+  ps_int bad[PS_PARTS]; /* phase 0: the first arm of a part whose length
+                           is not finite, or -1 */
+} eval_job;
+
+/* arms [i0, i1): l, dl, q at y = X + u; the first arm whose length is not
+ * finite into j->bad[part] */
+static void arm_geometry(eval_job *j, int part, ps_int i0, ps_int i1) {
+  ps_system *s = j->s;
+  const ps_network *net = s->net;
+  const int d = s->dim;
+  const double *X = j->X, *u = j->u;
+  j->bad[part] = -1;
+  for (ps_int i = i0; i < i1; i++) {
+    ps_int a = net->a[i], b = net->b[i];
+    double l2 = 0.0, dXdu = 0.0, du2 = 0.0;
+    double *q = &s->q[i * d];
+    for (int k = 0; k < d; k++) {
+      double dX = X[b * d + k] - X[a * d + k], du = u[b * d + k] - u[a * d + k];
+      q[k] = dX + du;
+      l2 += q[k] * q[k];
+      dXdu += dX * du;
+      du2 += du * du;
+    }
+    double r0 = net->r0[i], e2 = PS_ARM_LENGTH_ROUNDING * PS_ARM_LENGTH_ROUNDING * r0 * r0;
+    double l = sqrt(l2 + e2);
+    if (!isfinite(l) && j->bad[part] < 0) j->bad[part] = i;
+    s->l[i] = l;
+    /* l - l(r0) = (2 dX.du + du.du)/(l + l(r0)): no cancellation at
+     * small strain */
+    s->dl[i] = (2.0 * dXdu + du2) / (l + sqrt(r0 * r0 + e2));
+    for (int k = 0; k < d; k++) q[k] /= l;
+  }
+}
+
+/* f = sum over arms [i0, i1) of T (dl/dy), into j->f (part 0) or
+ * s->f_part (part 1) */
+static void arm_forces(eval_job *j, int part, ps_int i0, ps_int i1) {
+  ps_system *s = j->s;
+  const ps_network *net = s->net;
+  const int d = s->dim;
+  double *f = part == 0 ? j->f : s->f_part;
+  memset(f, 0, (size_t)s->n_dof * sizeof *f);
+  for (ps_int i = i0; i < i1; i++) {
+    double T = s->T[i];
+    if (T == 0.0) continue;
+    const double *q = &s->q[i * d];
+    for (int k = 0; k < d; k++) {
+      f[net->a[i] * d + k] -= T * q[k]; /* dl/dy_a = -q */
+      f[net->b[i] * d + k] += T * q[k];
+    }
+  }
+}
+
+/* the tangent's arm geometry of arms [i0, i1): tq = q, tTl = T/l (0 for a
+ * broken arm) */
+static void arm_tangent(eval_job *j, ps_int i0, ps_int i1) {
+  ps_system *s = j->s;
+  const int d = s->dim;
+  for (ps_int i = i0; i < i1; i++) {
+    for (int k = 0; k < d; k++) s->tq[i * d + k] = s->q[i * d + k];
+    s->tTl[i] = j->st->broken[i] ? 0.0 : s->T[i] / s->l[i];
+  }
+}
+
+static void eval_part(void *arg, int part) {
+  eval_job *j = arg;
+  ps_int i0, i1;
+  ps_asm_part_range(j->s->net->n_arm, part, &i0, &i1);
+  if (j->phase == 0)
+    arm_geometry(j, part, i0, i1);
+  else if (j->phase == 1)
+    arm_forces(j, part, i0, i1);
+  else
+    arm_tangent(j, i0, i1);
+}
+
+/* g[m x dim] = the gradient of sum_k w[k] l_k (k over particle c's
+ * family positions) with respect to the positions of c's m members
+ * (fam_members, in that order), with the tangent's directions tq: w q
+ * for a member b (q from c to b), minus their sum for c itself */
+static void family_gradient(const ps_system *s, ps_int c, const double *wt, double *g) {
+  const ps_network *net = s->net;
+  int d = s->dim;
+  const ps_int *Mk = &s->fam_member_arm[s->fam_members_ptr[c]];
+  ps_int m = s->fam_members_ptr[c + 1] - s->fam_members_ptr[c], self = -1;
+  for (ps_int p = 0; p < m; p++) {
+    double *gp = &g[p * d];
+    if (Mk[p] < 0) {
+      self = p;
+      continue;
+    }
+    ps_int i = net->fam_arm[Mk[p]];
+    double w = wt[Mk[p]];
+    double sgn = net->a[i] == c ? 1.0 : -1.0; /* unit vector c -> other */
+    for (int k = 0; k < d; k++) gp[k] = w * sgn * s->tq[i * d + k];
+  }
+  double *gs = &g[self * d];
+  for (int k = 0; k < d; k++) gs[k] = 0.0;
+  for (ps_int p = 0; p < m; p++)
+    if (p != self)
+      for (int k = 0; k < d; k++) gs[k] -= g[p * d + k];
+}
+
+/* the family gradients of the rank-one terms of the particles of one
+ * part (they need tq of every arm; G allocated by the caller) */
+static void gradient_part(void *arg, int part) {
+  eval_job *j = arg;
+  ps_system *s = j->s;
+  ps_int c0, c1;
+  ps_asm_part_range(s->net->n_particle, part, &c0, &c1);
+  for (ps_int c = c0; c < c1; c++)
+    for (int term = 0; term < 2; term++) {
+      double cc = term == 0 ? s->tan.c[c] : s->tan.c2[c];
+      if (cc == 0.0) continue;
+      family_gradient(s, c, term == 0 ? s->tan.w : s->tan.w2,
+                      &s->G[term][(ps_int)s->dim * s->fam_members_ptr[c]]);
+    }
+}
+
+/* free_body[a] = 1 for a particle whose arms have all broken; returns
+ * how many there are */
+static ps_int mark_free_bodies(ps_system *s, const ps_arm_state *st) {
+  const ps_network *net = s->net;
+  ps_int any_free = 0;
+  for (ps_int a = 0; a < net->n_particle; a++) {
+    int intact = 0;
+    for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1] && !intact; k++)
+      intact = !st->broken[net->fam_arm[k]];
+    s->free_body[a] = (unsigned char)!intact;
+    any_free += !intact;
+  }
+  return any_free;
+}
+
+/* G[term] for each rank-one term some particle has (allocated on first
+ * use); PS_ERR_INPUT when the pattern has no room for family terms */
+static int family_storage(ps_system *s, ps_ctx *ctx) {
+  const ps_network *net = s->net;
+  for (int term = 0; term < 2; term++) {
+    const double *cc = term == 0 ? s->tan.c : s->tan.c2;
+    ps_int any = 0;
+    for (ps_int c = 0; cc && c < net->n_particle && !any; c++) any = cc[c] != 0.0;
+    if (!any) continue;
+    if (!s->family_coupling)
+      return ps_error(ctx, PS_ERR_INPUT,
+                      "the model has family terms but the tangent pattern has none "
+                      "(ps_system_create_pattern with family_coupling 0)");
+    if (!s->G[term]) {
+      s->G[term] = ps_calloc((size_t)s->dim * (size_t)s->fam_members_ptr[net->n_particle],
+                             sizeof *s->G[term], ctx);
+      if (!s->G[term]) return PS_ERR_NOMEM;
+    }
+  }
+  return PS_OK;
+}
+
+int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
+                   const double *X, const double *u, double *f,
+                   double *energy, int want, ps_ctx *ctx) {
+  const ps_network *net = s->net;
+  int want_tangent = want != PS_EVAL_FORCES;
+  eval_job job = {s, st, X, u, f, 0, {-1, -1}};
+  ps_team_run(s->team, PS_PARTS, eval_part, &job);
+  for (int p = 0; p < PS_PARTS; p++)
+    if (job.bad[p] >= 0) {
+      ps_int i = job.bad[p];
+      return ps_error(ctx, PS_ERR_SOLVER, "arm %lld: particles %lld and %lld: length %g",
+                      (long long)i, (long long)net->a[i], (long long)net->b[i], s->l[i]);
+    }
+  PS_CHECK(model->type->evaluate(model, s->dl, st, s->T, energy,
+                                 want_tangent ? &s->tan : NULL, ctx));
+  job.phase = 1;
+  ps_team_run(s->team, PS_PARTS, eval_part, &job);
+  ps_asm_add_second_part(f, s->f_part, s->n_dof);
+  if (!want_tangent) return PS_OK;
+
+  /* keep the tangent's geometry, free bodies and family gradients */
+  s->assembled = 0;
+  job.phase = 2;
+  ps_team_run(s->team, PS_PARTS, eval_part, &job);
+  ps_int any_free = mark_free_bodies(s, st);
+  PS_CHECK(family_storage(s, ctx));
+  ps_team_run(s->team, PS_PARTS, gradient_part, &job);
+  /* the free bodies' spring: the stiffest diagonal entry of K */
+  s->spring = 0.0;
+  if (any_free) {
+    double *diag = s->yw;
+    ps_asm_tangent_diagonal(s, diag);
+    for (ps_int j = 0; j < s->n_dof; j++) s->spring = fmax(s->spring, diag[j]);
+  }
+  if (want == PS_EVAL_TANGENT) return ps_system_assemble(s, ctx);
+  return PS_OK;
+}

@@ -44,8 +44,8 @@ int main(void) {
     printf("# delta = c/%4.0f: sigma_failure/sigma_y = %.4f, %s (%s), %lld increments, "
            "%lld Newton iterations, %lld arms broken, %lld fallbacks, %.2f s\n",
            1 / dc[i], r.sigma_peak / r.sigma_y, r.fractured ? "fractured" : "no fracture",
-           r.stop_reason, (long long)r.increments, (long long)r.newton_iterations,
-           (long long)r.arms_broken, (long long)r.n_fallback, r.wall);
+           r.stop_reason, (long long)r.increments, (long long)r.solver.newton_iterations,
+           (long long)r.arms_broken, (long long)r.solver.n_fallback, r.wall);
     if (!r.fractured) continue;
     xs[nf] = sqrt(dc[i]);
     ys[nf] = r.sigma_peak / r.sigma_y;

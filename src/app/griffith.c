@@ -19,84 +19,31 @@
 
 #include "config.h"
 
-/* value of "key: value" in a summary.txt, NAN if absent or "n/a" */
-static double summary_value(const char *path, const char *key, char *text, size_t len) {
-  FILE *f = fopen(path, "r");
-  char line[512];
-  double v = NAN;
-  size_t kl = strlen(key);
-  if (!f) return NAN;
-  while (fgets(line, sizeof line, f))
-    if (!strncmp(line, key, kl) && line[kl] == ':') {
-      char *end;
-      v = strtod(line + kl + 1, &end);
-      if (end == line + kl + 1) v = NAN; /* "n/a" */
-      if (text) {
-        snprintf(text, len, "%s", line + kl + 2);
-        text[strcspn(text, "\n")] = '\0';
-      }
-      break;
-    }
-  fclose(f);
-  return v;
-}
-
-/* Did the run in dir end on an unconverged state (last row of
- * history.csv with converged = 0)? Then *sig = its boundary stress, Pa. */
-static int last_attempt_failed(const char *dir, double *sig) {
-  char path[1400], line[512], last[512] = "";
-  snprintf(path, sizeof path, "%s/history.csv", dir);
-  FILE *f = fopen(path, "r");
-  if (!f) return 0;
-  while (fgets(line, sizeof line, f)) snprintf(last, sizeof last, "%s", line);
-  fclose(f);
-  int step, its, converged;
-  double lambda, stress, ratio, res;
-  if (sscanf(last, "%d,%lf,%lf,%lf,%d,%lf,%d", &step, &lambda, &stress, &ratio, &its, &res,
-             &converged) != 7)
-    return 0;
-  *sig = stress;
-  return converged == 0;
-}
-
-/* A finished run of this sweep in dir (same particles, arms and delta)?
- * Then fill *r from its summary.txt. */
+/* A finished run of this sweep in dir (same case fingerprint, particles,
+ * arms and delta)? Then *r is its record, read back from its summary.txt
+ * (ps_report_read_summary). */
 static int reuse_run(const ps_problem *pb, const char *dir, double delta,
                      ps_run_result *r) {
-  char path[1400], yes[16] = "", fp[32] = "", want[32];
   double sig_last = NAN;
-  snprintf(path, sizeof path, "%s/summary.txt", dir);
-  snprintf(want, sizeof want, "%016llx", (unsigned long long)ps_case_fingerprint(&pb->cs));
-  summary_value(path, "case_fingerprint", fp, sizeof fp);
-  if (strcmp(fp, want) != 0) return 0;
-  if (summary_value(path, "particles", NULL, 0) != (double)pb->P.n ||
-      summary_value(path, "arms", NULL, 0) != (double)pb->net.n_arm ||
-      fabs(summary_value(path, "delta_m", NULL, 0) - delta) > 1e-9 * delta)
+  if (ps_report_read_summary(dir, r) != 0) return 0;
+  if (r->fingerprint != ps_case_fingerprint(&pb->cs) || r->particles != pb->P.n ||
+      r->arms != pb->net.n_arm || fabs(r->delta - delta) > 1e-9 * delta)
     return 0;
-  memset(r, 0, sizeof *r);
-  r->sigma_y = summary_value(path, "sigma_y_Pa", NULL, 0);
-  r->sigma_peak = summary_value(path, "sigma_failure_Pa", NULL, 0);
-  summary_value(path, "fractured", yes, sizeof yes);
-  r->fractured = !strcmp(yes, "yes");
-  summary_value(path, "stalled", yes, sizeof yes); /* absent in older runs */
-  r->stalled = !strcmp(yes, "yes");
-  if (r->fractured && last_attempt_failed(dir, &sig_last) &&
-      !ps_failed_attempt_is_fracture(1, sig_last, r->sigma_peak)) {
+  if (r->fractured && ps_report_last_attempt_failed(dir, &sig_last) &&
+      !ps_path_failed_attempt_is_fracture(1, sig_last, r->sigma_peak)) {
     r->fractured = 0; /* an older run labelled by the former rule */
     r->stalled = 1;
   }
-  r->increments = (ps_int)summary_value(path, "increments", NULL, 0);
-  r->newton_iterations = (ps_int)summary_value(path, "newton_iterations", NULL, 0);
-  r->arms_broken = (ps_int)summary_value(path, "arms_broken", NULL, 0);
-  r->wall = summary_value(path, "wall_s", NULL, 0);
   return isfinite(r->sigma_peak) && isfinite(r->sigma_y) && r->sigma_y > 0;
 }
 
 /* Run i of the sweep in staging/delta_cNNNN, or reuse it there when
  * try_reuse and it matches (reuse_run). With may_run = 0 (another process
  * holds the run) only a finished run will do. job > 0 labels a worker's
- * log. Returns ps_run's status, or PS_ERR_SOLVER when the run may not be
- * run here and is not finished. */
+ * log. A stalled run is kept as a result when it has a peak, else it is
+ * the error `run` would report. Returns PS_OK, ps_run's fatal status, or
+ * PS_ERR_SOLVER when the run stalled before any peak or may not be run
+ * here and is not finished. */
 static int sweep_run(ps_problem *pb, const char *staging, int i, int try_reuse, int may_run,
                      int job, ps_run_result *res, ps_ctx *ctx) {
   const ps_case *cs = &pb->cs;
@@ -115,7 +62,14 @@ static int sweep_run(ps_problem *pb, const char *staging, int i, int try_reuse, 
                     path);
   ps_log(ctx, 1, "## griffith run %d/%d%s: delta = c/%.6g\n", i + 1, cs->n_sweep, label,
          1.0 / dc);
-  return ps_run_unlocked(pb, dc * pb->c, path, res, ctx); /* the sweep holds the lock */
+  int status = ps_run_unlocked(pb, dc * pb->c, path, res, ctx); /* the sweep holds the lock */
+  /* a run whose Newton solve stalls before the crack runs (the paper's
+   * delta = c/500: the plate yields) is a row of the table, not an error,
+   * once a settled state set a peak */
+  if (status == PS_RUN_STALLED)
+    status = isfinite(res->sigma_peak) ? ps_run_commit(path, ctx)
+                                       : ps_run_stalled_error(path, ctx);
+  return status;
 }
 
 static void claim_path(const ps_problem *pb, const char *staging, int i, char *path,
@@ -285,7 +239,7 @@ static int write_tables(const ps_problem *pb, const char *dir, const ps_run_resu
     fprintf(o.f, "%.8g,%.8g,%s,%s,%lld,%lld,%lld,%.3f\n", dc, sqrt(dc),
             ps_fmt_or_na(res[i].sigma_peak / res[i].sigma_y, 8, b1, sizeof b1),
             res[i].fractured ? "yes" : res[i].stalled ? "stalled" : "no",
-            (long long)res[i].increments, (long long)res[i].newton_iterations,
+            (long long)res[i].increments, (long long)res[i].solver.newton_iterations,
             (long long)res[i].arms_broken, res[i].wall);
   }
   PS_CHECK(ps_outfile_commit(&o, ctx));
@@ -410,9 +364,6 @@ static int griffith_sweep(ps_problem *pb, const char *out_dir, int resume, int j
   char staging[1200], b1[32], b2[32], b3[32];
   PS_CHECK(ps_outdir_prepare(out_dir, ctx));
   PS_CHECK(sweep_folder(out_dir, resume, staging, sizeof staging, &commit, ctx));
-  /* a run whose Newton solve stalls before the crack runs (the paper's
-   * delta = c/500: the plate yields) is a row of the table, not an error */
-  pb->stall_is_result = 1;
   if (jobs > n) jobs = n;
   if (jobs > 64) jobs = 64;
   if (jobs > 1) status = run_workers(pb, staging, jobs, ctx); /* then all reused */

@@ -336,6 +336,9 @@ int main(int argc, char **argv) {
   } else if (!strcmp(cmd, "run")) {
     ps_run_result res;
     status = ps_run(&pb, pb.mat.delta, outdir, &res, &ctx);
+    /* a stalled solve is an error for `run` (exit 2); the outputs stay
+     * in the partial folder */
+    if (status == PS_RUN_STALLED) status = ps_run_stalled_error(outdir, &ctx);
     if (status >= 0)
       ps_log(&ctx, 1, "# results in %s/ (summary.txt, history.csv, *.vtk)\n", outdir);
   } else {

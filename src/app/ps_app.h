@@ -6,8 +6,10 @@
 #define PS_APP_H
 
 #include "../io/ps_io.h"
+#include "../io/ps_report.h"
+#include "../nonlinear/ps_solver.h"
+#include "../path/ps_path.h"
 #include "../post/ps_post.h"
-#include "../solver/ps_solver.h"
 
 typedef struct ps_problem {
   ps_case cs;             /* the case (copy) */
@@ -26,10 +28,6 @@ typedef struct ps_problem {
   int threads;            /* threads per run (ps_solver_opts.threads; 0:
                              the CPUs this process may use, shared among
                              griffith's jobs) */
-  int stall_is_result;    /* set by the Griffith sweep: a stalled run
-                             (ps_run_result.stalled) ends as a result, no
-                             fracture, instead of an error
-                             (doc/griffith.md) */
 } ps_problem;
 
 /* Build the particle cloud, sizes, network and boundary conditions of a
@@ -47,56 +45,30 @@ int ps_problem_setup_sized(ps_problem *pb, const ps_case *cs, int purpose, int j
                            FILE *report, ps_ctx *ctx);
 void ps_problem_free(ps_problem *pb);
 
-/* Outcome of one run along the load path. */
-typedef struct ps_run_result {
-  double sigma_peak;        /* peak boundary stress, Pa: sigma_failure */
-  double lambda_peak;       /* load factor at the peak */
-  double sigma_y;           /* E eps_y, Pa */
-  int fractured;            /* 1: the crack ran (tip or load-drop stop) */
-  int stalled;              /* 1: the solve failed before the crack ran
-                               (fractured = 0): Newton below path.min_step,
-                               or a re-equilibration that failed without
-                               the load falling below its peak */
-  int interrupted;          /* SIGINT or SIGTERM that ended the run before
-                               its end, 0 if none */
-  char stop_reason[160];
-  ps_int increments, newton_iterations, factorisations, arms_broken;
-  ps_int n_fallback, step_cuts;
-  ps_int gentle_rounds;     /* breaking rounds retried with fewer arms */
-  ps_int pcg_iterations, pcg_failures, pcg_skipped, solves;
-  ps_int majorant_factorisations, majorant_failures; /* solver.majorant */
-  ps_int shifted_steps;     /* Newton directions from a shifted tangent */
-  ps_int cg_truncated;      /* from CG truncated at negative curvature */
-  ps_int stagnated;         /* Newton solves ended as stagnated */
-  ps_int handovers;         /* adaptive CG solves that went on with the
-                               fixed rule at max_iterations */
-  int threads;              /* threads of the run's CG */
-  double serial_share;      /* share of a preconditioner solve on one
-                               thread alone (the majorant's factor, else
-                               the tangent's) */
-  ps_int line_search_cuts;  /* backtracking steps of the line search */
-  double t_majorant_factor, nnz_majorant_factor;
-  double t_cg;              /* wall seconds in CG (products and
-                               preconditioner solves) */
-  double nnz_tangent;       /* nonzeros of the free tangent (upper) */
-  double nnz_factor, flops_factor; /* of the last factorisation */
-  double crack_tip;         /* in units of c (disk) */
-  double wall, t_assembly, t_analyze, t_factor, t_solve;
-} ps_run_result;
+/* ps_run's status for a run whose solve stalled before the crack ran
+ * (res->stalled = 1: Newton below path.min_step, or a re-equilibration
+ * that failed with the load not below its peak). Positive: the run ended
+ * as a result, and the caller decides whether it is an error. ctx->msg
+ * says what was seen and what can help; the outputs, summary.txt
+ * included, are complete but left in out_dir.partial: ps_run_commit
+ * keeps them as the result (the sweep's "stalled" rows),
+ * ps_run_stalled_error makes the stall the error `peristatic run`
+ * reports (exit 2). */
+#define PS_RUN_STALLED PS_DIVERGED
 
-/* Run the case's load path with elongation limit delta (m; inf: no
- * breaking). When out_dir is not NULL, first takes out_dir's lock
- * (ps_outdir_lock_take: another writer is refused) and checks the folders
- * (ps_outdir_prepare: only a folder of ours is replaced), then writes
- * through out_dir.partial, renamed to out_dir at the end so a failed run
- * leaves earlier results intact: history.csv, particles.csv, summary.txt
- * and VTK files (particles_NNNN.vtk, arms_NNNN.vtk); non-finite numbers are
- * written as n/a. SIGINT or SIGTERM (ps_signal_received) ends the run
- * after the increment or breaking round under way: the outputs so far
- * stay in out_dir.partial and the status is PS_ERR_INTERRUPTED.
- * Returns PS_OK, or a fatal status (e.g. PS_ERR_SOLVER when Newton fails
- * below the smallest increment; the message says what was seen and what
- * can help). */
+/* Run the case's load path (src/path) with elongation limit delta (m;
+ * inf: no breaking); the record of the run in *res (ps_run_result,
+ * src/io/ps_report.h). When out_dir is not NULL, first takes out_dir's
+ * lock (ps_outdir_lock_take: another writer is refused) and checks the
+ * folders (ps_outdir_prepare: only a folder of ours is replaced), then
+ * writes through out_dir.partial, renamed to out_dir at the end so a
+ * failed run leaves earlier results intact: history.csv, particles.csv,
+ * summary.txt and VTK files (particles_NNNN.vtk, arms_NNNN.vtk); non-finite
+ * numbers are written as n/a. SIGINT or SIGTERM (ps_signal_received) ends
+ * the run after the increment or breaking round under way: the outputs so
+ * far stay in out_dir.partial and the status is PS_ERR_INTERRUPTED.
+ * Returns PS_OK, PS_RUN_STALLED (above), or a fatal status (e.g.
+ * PS_ERR_SOLVER when arms still break after path.max_break_rounds). */
 int ps_run(ps_problem *pb, double delta, const char *out_dir,
            ps_run_result *res, ps_ctx *ctx);
 
@@ -105,19 +77,21 @@ int ps_run(ps_problem *pb, double delta, const char *out_dir,
 int ps_run_unlocked(ps_problem *pb, double delta, const char *out_dir,
                     ps_run_result *res, ps_ctx *ctx);
 
-/* A re-equilibration that failed after arms broke counts as the crack
- * running only when arms broke and the failed attempt's boundary stress
- * fell below the peak of the settled states. */
-int ps_failed_attempt_is_fracture(ps_int broken_total, double sig, double peak);
-
-/* v with `digits` significant digits ("%.*g") in buf, or "n/a" when v is
- * not finite (no nan or inf in outputs); returns buf. */
-const char *ps_fmt_or_na(double v, int digits, char *buf, size_t len);
-
 /* Keep the solver of the last ps_run alive for inspection (tests): when
- * keep != NULL, ps_run_keep hands the solver over instead of freeing it. */
+ * keep != NULL and the status is not fatal, ps_run_keep hands the solver
+ * over (the caller frees it) instead of freeing it. */
 int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
                 ps_run_result *res, ps_solver *keep, ps_ctx *ctx);
+
+/* After PS_RUN_STALLED: the error PS_ERR_SOLVER with ctx->msg's stall
+ * message and, when out_dir is not NULL, where the outputs are (out_dir
+ * untouched, the partial output in out_dir.partial). */
+int ps_run_stalled_error(const char *out_dir, ps_ctx *ctx);
+
+/* After PS_RUN_STALLED: keep the run as a result, its outputs renamed from
+ * out_dir.partial to out_dir (ps_dir_commit; the caller holds out_dir's
+ * lock). Returns PS_OK or a fatal status of ps_dir_commit. */
+int ps_run_commit(const char *out_dir, ps_ctx *ctx);
 
 /* Griffith sweep over the case's delta/c values on one particle cloud:
  * writes griffith.csv, griffith_fit.txt, griffith.gp and (with gnuplot,
@@ -130,8 +104,11 @@ int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
  * one there (and replaces out_dir at the end), otherwise works in out_dir
  * itself; either way it reuses every run folder whose summary.txt matches
  * this cloud (particles, arms) and delta, so a long sweep can be
- * continued. SIGINT/SIGTERM end the run under way as in ps_run and the
- * sweep with PS_ERR_INTERRUPTED. Returns PS_OK or a fatal status; fit
+ * continued. A run that stalls (PS_RUN_STALLED) after a settled peak is
+ * kept as a row marked stalled (ps_run_commit), one that stalls before
+ * any peak ends the sweep with ps_run_stalled_error's message.
+ * SIGINT/SIGTERM end the run under way as in ps_run and the sweep with
+ * PS_ERR_INTERRUPTED. Returns PS_OK or a fatal status; fit
  * results in *slope, *intercept, *r2 (NAN when fewer than two runs
  * fractured). */
 int ps_griffith(ps_problem *pb, const char *out_dir, int resume, double *slope,

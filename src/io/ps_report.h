@@ -1,0 +1,110 @@
+/* ps_report.h: the files a run writes, in one place: summary.txt (the
+ * run's record, ps_run_result, as "key: value" lines), history.csv (one
+ * row per increment), particles.csv and the VTK files of a state, and
+ * the reading back of summary.txt and history.csv (griffith --resume).
+ * The keys of summary.txt and the columns of history.csv are each
+ * defined once, in a table in report.c that both the writer and the
+ * reader walk. Numbers that are not finite are written as n/a. */
+#ifndef PS_REPORT_H
+#define PS_REPORT_H
+
+#include "../post/ps_post.h"
+#include "../nonlinear/ps_solver.h" /* ps_solver_stats */
+#include "ps_io.h"
+
+/* Outcome of one run along the load path: what summary.txt holds. */
+typedef struct ps_run_result {
+  /* what was run */
+  char case_name[128];
+  ps_int particles, arms;
+  double delta;             /* elongation limit, m (inf: no breaking) */
+  double sigma_y;           /* E eps_y, Pa */
+  uint64_t fingerprint;     /* ps_case_fingerprint of the case */
+  /* the path */
+  double sigma_peak;        /* peak boundary stress, Pa: sigma_failure */
+  double lambda_peak;       /* load factor at the peak */
+  int fractured;            /* 1: the crack ran (tip or load-drop stop) */
+  int stalled;              /* 1: the solve failed before the crack ran
+                               (fractured = 0): Newton below path.min_step,
+                               or a re-equilibration that failed without
+                               the load falling below its peak */
+  int interrupted;          /* SIGINT or SIGTERM that ended the run before
+                               its end, 0 if none */
+  char stop_reason[160];
+  ps_int increments, step_cuts;
+  ps_int gentle_rounds;     /* breaking rounds retried with fewer arms */
+  ps_int arms_broken;
+  double crack_tip;         /* of the last converged state, in units of c
+                               (disk) */
+  /* the cost */
+  ps_solver_stats solver;   /* ps_solver_get_stats at the end of the run */
+  double wall;              /* wall seconds of the run */
+  double t_network;         /* wall seconds of geometry + network */
+  double peak_memory_mib;   /* ps_peak_mib when the summary was written */
+} ps_run_result;
+
+/* v with `digits` significant digits ("%.*g") in buf, or "n/a" when v is
+ * not finite (no nan or inf in outputs); returns buf. */
+const char *ps_fmt_or_na(double v, int digits, char *buf, size_t len);
+
+/* A state to write or to take the J-integral of: read-only views. */
+typedef struct ps_report_state {
+  const ps_particles *P;
+  const ps_network *net;
+  const ps_material *mat;   /* with the run's delta */
+  const double *u;          /* [n_dof] displacements, m */
+  const double *T, *q, *dl; /* arm tensions, unit directions, elongations */
+  const ps_arm_state *st;   /* yielding, broken, plastic strains */
+} ps_report_state;
+
+/* dir/summary.txt from res (through FILE.tmp, renamed): every key of the
+ * table in order, then, when cs has output.j_integral rings and the case
+ * is 2D, J of `state` per ring (Eq. 39 and Eq. 36, also logged). Returns
+ * PS_OK, PS_ERR_IO, PS_ERR_NOMEM. */
+int ps_report_write_summary(const char *dir, const ps_run_result *res, const ps_case *cs,
+                            const ps_report_state *state, ps_ctx *ctx);
+
+/* Read dir/summary.txt into *res: the keys of the table (the first line
+ * of each; unknown keys are skipped). Absent keys leave numbers NAN
+ * (-1 for counts), flags 0, strings "" and the fingerprint 0; "n/a"
+ * reads as NAN. Returns 0, or -1 when the file cannot be read. */
+int ps_report_read_summary(const char *dir, ps_run_result *res);
+
+/* One row of history.csv. */
+typedef struct ps_history_row {
+  ps_int step;
+  double load_factor;
+  double boundary_stress;     /* Pa */
+  double stress_over_sigma_y;
+  ps_int newton_iterations;
+  double relative_residual;
+  ps_int converged;           /* 1, or 0 for a final failed re-equilibration */
+  ps_int arms_yielding, arms_broken;
+  double crack_tip;           /* c */
+  double wall;                /* s since the start of the run */
+} ps_history_row;
+
+/* history.csv, written a row at a time (flushed, so tail -f follows). */
+typedef struct ps_report_history {
+  FILE *f;                    /* NULL: not open, rows are dropped */
+  char dir[1300];
+} ps_report_history;
+
+/* Create dir/history.csv with its header. Returns PS_OK or PS_ERR_IO. */
+int ps_report_history_open(ps_report_history *h, const char *dir, ps_ctx *ctx);
+void ps_report_history_row(ps_report_history *h, const ps_history_row *row);
+/* Close it (nothing when not open). Returns PS_OK, or PS_ERR_IO when a
+ * write failed. */
+int ps_report_history_close(ps_report_history *h, ps_ctx *ctx);
+
+/* Did the run in dir end on an unconverged state (the last row of
+ * history.csv has converged = 0)? Then *sigma = its boundary stress, Pa. */
+int ps_report_last_attempt_failed(const char *dir, double *sigma);
+
+/* dir/particles_NNNN.vtk and dir/arms_NNNN.vtk of the state (NNNN = step),
+ * and with final != 0 also dir/particles.csv (doc/peristatic.md, OUTPUT
+ * FILES). Returns PS_OK, PS_ERR_IO, PS_ERR_NOMEM. */
+int ps_report_write_fields(const char *dir, int step, int final, const ps_report_state *state,
+                           ps_ctx *ctx);
+
+#endif

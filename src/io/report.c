@@ -1,0 +1,428 @@
+/* report.c: the files of a run: summary.txt and history.csv, each from a
+ * table of keys/columns that the writer and the reader share, and the
+ * fields of a state (VTK, particles.csv) with damage (Eq. 119), arm
+ * strains and the PD stress tensor (Fallah et al. Eq. 24); J of the final
+ * state (Eq. 39, Eq. 36) in summary.txt. */
+#include "ps_report.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+const char *ps_fmt_or_na(double v, int digits, char *buf, size_t len) {
+  if (isfinite(v))
+    snprintf(buf, len, "%.*g", digits, v);
+  else
+    snprintf(buf, len, "n/a");
+  return buf;
+}
+
+/* How a value is stored and written. */
+enum value_kind {
+  V_STR,   /* char array: "%s" */
+  V_I64,   /* ps_int: "%lld" */
+  V_INT,   /* int: "%d" */
+  V_YESNO, /* int flag: "yes" / "no" */
+  V_G,     /* double: "%.*g" with `digits` significant digits, n/a */
+  V_F,     /* double: "%.*f" with `digits` decimals, n/a */
+  V_HEX,   /* uint64_t: "%016llx" */
+  V_RATIO  /* derived, written only: sigma_peak / sigma_y, as V_G */
+};
+
+typedef struct value_spec {
+  const char *key;
+  int kind;     /* enum value_kind */
+  int digits;   /* V_G, V_F, V_RATIO */
+  size_t offset;/* into the record */
+  size_t size;  /* V_STR: the array's size */
+} value_spec;
+
+/* "key: value" with the value as written (buf of 64 or more bytes; a
+ * string is returned as it is). */
+static const char *format_value(const value_spec *k, const void *rec, char *buf, size_t len) {
+  const char *p = (const char *)rec + k->offset;
+  double v;
+  switch (k->kind) {
+  case V_STR: return p;
+  case V_I64: snprintf(buf, len, "%lld", (long long)*(const ps_int *)p); return buf;
+  case V_INT: snprintf(buf, len, "%d", *(const int *)p); return buf;
+  case V_YESNO: return *(const int *)p ? "yes" : "no";
+  case V_HEX:
+    snprintf(buf, len, "%016llx", (unsigned long long)*(const uint64_t *)p);
+    return buf;
+  case V_RATIO: {
+    const ps_run_result *r = rec;
+    return ps_fmt_or_na(r->sigma_peak / r->sigma_y, k->digits, buf, len);
+  }
+  case V_G: return ps_fmt_or_na(*(const double *)p, k->digits, buf, len);
+  default: /* V_F */
+    v = *(const double *)p;
+    if (isfinite(v))
+      snprintf(buf, len, "%.*f", k->digits, v);
+    else
+      snprintf(buf, len, "n/a");
+    return buf;
+  }
+}
+
+/* Store text (a value as written, or "" when absent) into the record. */
+static void parse_value(const value_spec *k, const char *text, int present, void *rec) {
+  char *p = (char *)rec + k->offset, *end;
+  double v = NAN;
+  if (present) {
+    v = strtod(text, &end);
+    if (end == text) v = NAN; /* "n/a" */
+  }
+  switch (k->kind) {
+  case V_STR: snprintf(p, k->size, "%s", present ? text : ""); break;
+  case V_I64: *(ps_int *)p = isfinite(v) ? (ps_int)v : -1; break;
+  case V_INT: *(int *)p = isfinite(v) ? (int)v : -1; break;
+  case V_YESNO: *(int *)p = present && !strcmp(text, "yes"); break;
+  case V_HEX: *(uint64_t *)p = present ? (uint64_t)strtoull(text, NULL, 16) : 0; break;
+  case V_RATIO: break; /* derived */
+  default: *(double *)p = v; break;
+  }
+}
+
+#define R(field) offsetof(ps_run_result, field)
+#define S(field) offsetof(ps_run_result, solver.field)
+
+/* summary.txt, in this order (bench/run.sh and doc/peristatic.md name
+ * these keys) */
+static const value_spec summary_keys[] = {
+    {"case", V_STR, 0, R(case_name), sizeof(((ps_run_result *)0)->case_name)},
+    {"particles", V_I64, 0, R(particles), 0},
+    {"arms", V_I64, 0, R(arms), 0},
+    {"free_dofs", V_I64, 0, S(n_free), 0},
+    {"delta_m", V_G, 10, R(delta), 0},
+    {"sigma_y_Pa", V_G, 10, R(sigma_y), 0},
+    {"sigma_failure_Pa", V_G, 10, R(sigma_peak), 0},
+    {"sigma_failure_over_sigma_y", V_RATIO, 8, 0, 0},
+    {"load_factor_at_peak", V_G, 8, R(lambda_peak), 0},
+    {"fractured", V_YESNO, 0, R(fractured), 0},
+    {"stalled", V_YESNO, 0, R(stalled), 0},
+    {"stop_reason", V_STR, 0, R(stop_reason), sizeof(((ps_run_result *)0)->stop_reason)},
+    {"increments", V_I64, 0, R(increments), 0},
+    {"newton_iterations", V_I64, 0, S(newton_iterations), 0},
+    {"factorisations", V_I64, 0, S(factorisations), 0},
+    {"umfpack_fallbacks", V_I64, 0, S(n_fallback), 0},
+    {"step_cuts", V_I64, 0, R(step_cuts), 0},
+    {"gentle_rounds", V_I64, 0, R(gentle_rounds), 0},
+    {"arms_broken", V_I64, 0, R(arms_broken), 0},
+    {"crack_tip_over_c", V_G, 6, R(crack_tip), 0},
+    {"wall_s", V_F, 3, R(wall), 0},
+    {"assembly_s", V_F, 3, S(t_assembly), 0},
+    {"analyze_s", V_F, 3, S(t_analyze), 0},
+    {"factor_s", V_F, 3, S(t_factor), 0},
+    {"solve_s", V_F, 3, S(t_solve), 0},
+    {"network_s", V_F, 3, R(t_network), 0},
+    {"peak_memory_MiB", V_F, 1, R(peak_memory_mib), 0},
+    {"cg_iterations", V_I64, 0, S(pcg_iterations), 0},
+    {"cg_failures", V_I64, 0, S(pcg_failures), 0},
+    {"cg_skipped", V_I64, 0, S(pcg_skipped), 0},
+    {"solves", V_I64, 0, S(solves), 0},
+    {"nnz_tangent_upper", V_F, 0, S(nnz_tangent), 0},
+    {"nnz_factor", V_F, 0, S(nnz_factor), 0},
+    {"flops_factor", V_G, 4, S(flops_factor), 0},
+    {"majorant_factorisations", V_I64, 0, S(majorant_factorisations), 0},
+    {"majorant_cg_failures", V_I64, 0, S(majorant_failures), 0},
+    {"majorant_factor_s", V_F, 3, S(t_majorant_factor), 0},
+    {"majorant_nnz_factor", V_F, 0, S(nnz_majorant_factor), 0},
+    {"cg_s", V_F, 3, S(t_cg), 0},
+    {"shifted_steps", V_I64, 0, S(shifted_steps), 0},
+    {"cg_truncated", V_I64, 0, S(cg_truncated), 0},
+    {"newton_stagnated", V_I64, 0, S(stagnated), 0},
+    {"line_search_cuts", V_I64, 0, S(line_search_cuts), 0},
+    {"newton_handovers", V_I64, 0, S(handovers), 0},
+    {"threads", V_INT, 0, S(threads), 0},
+    {"preconditioner_serial_share", V_F, 3, S(serial_share), 0},
+    {"case_fingerprint", V_HEX, 0, R(fingerprint), 0},
+};
+#define N_SUMMARY_KEYS (sizeof summary_keys / sizeof summary_keys[0])
+
+#undef R
+#undef S
+#define H(field) offsetof(ps_history_row, field)
+
+/* history.csv's columns, in order */
+static const value_spec history_columns[] = {
+    {"step", V_I64, 0, H(step), 0},
+    {"load_factor", V_G, 10, H(load_factor), 0},
+    {"boundary_stress_Pa", V_G, 10, H(boundary_stress), 0},
+    {"stress_over_sigma_y", V_G, 10, H(stress_over_sigma_y), 0},
+    {"newton_iterations", V_I64, 0, H(newton_iterations), 0},
+    {"relative_residual", V_G, 4, H(relative_residual), 0},
+    {"converged", V_I64, 0, H(converged), 0},
+    {"arms_yielding", V_I64, 0, H(arms_yielding), 0},
+    {"arms_broken", V_I64, 0, H(arms_broken), 0},
+    {"crack_tip_over_c", V_G, 6, H(crack_tip), 0},
+    {"wall_s", V_F, 4, H(wall), 0},
+};
+#define N_HISTORY_COLUMNS (sizeof history_columns / sizeof history_columns[0])
+#undef H
+
+/* J of the final state (Eq. 39 and 36) around cs->j_tip, per ring */
+static int write_j_integral(const ps_report_state *s, const ps_case *cs, FILE *f,
+                            ps_ctx *ctx) {
+  double *sig = ps_calloc(4 * (size_t)s->P->n, sizeof *sig, ctx);
+  double *H = ps_calloc(4 * (size_t)s->P->n, sizeof *H, ctx);
+  char b[40];
+  if (!sig || !H) {
+    free(sig);
+    free(H);
+    return ps_error(ctx, PS_ERR_NOMEM, "J-integral: out of memory");
+  }
+  ps_post_stress_tensor(s->P, s->net, s->T, s->q, sig);
+  ps_post_displacement_gradient(s->P, s->net, s->st, s->u, H);
+  for (int i = 0; i < cs->n_j_rings; i++) {
+    double l = cs->j_rings[i];
+    double J = ps_post_j_domain(s->P, sig, H, cs->j_tip, 0.5 * l, l);
+    double Jc = ps_post_j_contour(s->P, s->net, s->T, s->q, sig, H, cs->j_tip, l, cs->spacing);
+    fprintf(f, "j_domain_ring_%.6gm_N_per_m: %s\n", l, ps_fmt_or_na(J, 8, b, sizeof b));
+    fprintf(f, "j_contour_%.6gm_N_per_m: %s\n", l, ps_fmt_or_na(Jc, 8, b, sizeof b));
+    ps_log(ctx, 1, "# J-integral around (%.6g, %.6g), square of half-width %.4g m: "
+                   "%.6g N/m (domain form, Eq. 39, q from l/2 to l), %.6g N/m (contour "
+                   "form, Eq. 36)\n",
+           cs->j_tip[0], cs->j_tip[1], l, J, Jc);
+  }
+  free(sig);
+  free(H);
+  return PS_OK;
+}
+
+int ps_report_write_summary(const char *dir, const ps_run_result *res, const ps_case *cs,
+                            const ps_report_state *state, ps_ctx *ctx) {
+  char path[1400], buf[64];
+  ps_outfile o;
+  snprintf(path, sizeof path, "%s/summary.txt", dir);
+  PS_CHECK(ps_outfile_open(&o, path, ctx));
+  for (size_t i = 0; i < N_SUMMARY_KEYS; i++)
+    fprintf(o.f, "%s: %s\n", summary_keys[i].key,
+            format_value(&summary_keys[i], res, buf, sizeof buf));
+  if (cs->n_j_rings > 0 && state->P->dim == 2) {
+    int status = write_j_integral(state, cs, o.f, ctx);
+    if (status < 0) {
+      ps_outfile_abort(&o);
+      return status;
+    }
+  }
+  return ps_outfile_commit(&o, ctx);
+}
+
+int ps_report_read_summary(const char *dir, ps_run_result *res) {
+  char path[1400], line[512];
+  unsigned char found[N_SUMMARY_KEYS] = {0};
+  snprintf(path, sizeof path, "%s/summary.txt", dir);
+  memset(res, 0, sizeof *res);
+  FILE *f = fopen(path, "r");
+  if (f) {
+    while (fgets(line, sizeof line, f))
+      for (size_t i = 0; i < N_SUMMARY_KEYS; i++) {
+        size_t kl = strlen(summary_keys[i].key);
+        if (found[i] || strncmp(line, summary_keys[i].key, kl) || line[kl] != ':') continue;
+        char *text = line + kl + 1;
+        if (*text == ' ') text++;
+        text[strcspn(text, "\n")] = '\0';
+        parse_value(&summary_keys[i], text, 1, res);
+        found[i] = 1;
+        break;
+      }
+    fclose(f);
+  }
+  for (size_t i = 0; i < N_SUMMARY_KEYS; i++)
+    if (!found[i]) parse_value(&summary_keys[i], "", 0, res);
+  return f ? 0 : -1;
+}
+
+int ps_report_history_open(ps_report_history *h, const char *dir, ps_ctx *ctx) {
+  char path[1400];
+  snprintf(h->dir, sizeof h->dir, "%s", dir);
+  snprintf(path, sizeof path, "%s/history.csv", dir);
+  h->f = fopen(path, "w");
+  if (!h->f) return ps_error(ctx, PS_ERR_IO, "%s: cannot open for writing", path);
+  for (size_t i = 0; i < N_HISTORY_COLUMNS; i++)
+    fprintf(h->f, "%s%s", i ? "," : "", history_columns[i].key);
+  fprintf(h->f, "\n");
+  return PS_OK;
+}
+
+void ps_report_history_row(ps_report_history *h, const ps_history_row *row) {
+  char buf[64];
+  if (!h->f) return;
+  for (size_t i = 0; i < N_HISTORY_COLUMNS; i++)
+    fprintf(h->f, "%s%s", i ? "," : "", format_value(&history_columns[i], row, buf, sizeof buf));
+  fprintf(h->f, "\n");
+  fflush(h->f); /* tail -f history.csv follows the run */
+}
+
+int ps_report_history_close(ps_report_history *h, ps_ctx *ctx) {
+  if (!h->f) return PS_OK;
+  int bad = ferror(h->f);
+  bad |= fclose(h->f) != 0;
+  h->f = NULL;
+  if (bad) return ps_error(ctx, PS_ERR_IO, "%s/history.csv: write failed", h->dir);
+  return PS_OK;
+}
+
+/* The leading columns of a history.csv line that read as numbers, into
+ * *row; returns how many. */
+static size_t parse_history_row(const char *line, ps_history_row *row) {
+  const char *p = line;
+  size_t n = 0;
+  for (; n < N_HISTORY_COLUMNS; n++) {
+    char *end, text[64];
+    size_t w = strcspn(p, ",\n");
+    if (w >= sizeof text) break;
+    memcpy(text, p, w);
+    text[w] = '\0';
+    strtod(text, &end);
+    if (end == text) break; /* empty, or n/a */
+    parse_value(&history_columns[n], text, 1, row);
+    if (p[w] != ',') {
+      n++;
+      break;
+    }
+    p += w + 1;
+  }
+  return n;
+}
+
+int ps_report_last_attempt_failed(const char *dir, double *sigma) {
+  char path[1400], line[512], last[512] = "";
+  ps_history_row row;
+  snprintf(path, sizeof path, "%s/history.csv", dir);
+  FILE *f = fopen(path, "r");
+  if (!f) return 0;
+  while (fgets(line, sizeof line, f)) snprintf(last, sizeof last, "%s", line);
+  fclose(f);
+  memset(&row, 0, sizeof row);
+  size_t need = 0; /* the columns up to `converged` must be there */
+  while (history_columns[need].offset != offsetof(ps_history_row, converged)) need++;
+  if (parse_history_row(last, &row) <= need) return 0;
+  *sigma = row.boundary_stress;
+  return row.converged == 0;
+}
+
+/* Per-particle and per-arm quantities of a state for the field files. */
+typedef struct fields {
+  double *phi;     /* [n] damage, Eq. 119 */
+  double *pstrain; /* [n] arm strain of largest magnitude / eps_y */
+  double *pplast;  /* [n] largest plastic elongation / delta */
+  double *astrain, *aplast, *abroken; /* [n_arm] */
+  double *scomp;   /* [6 n] stress components, component-major */
+} fields;
+
+static const char *const stress_name[6] = {"stress_xx", "stress_yy", "stress_xy",
+                                           "stress_zz", "stress_yz", "stress_xz"};
+
+static void fields_free(fields *F) {
+  free(F->phi);
+  free(F->pstrain);
+  free(F->pplast);
+  free(F->astrain);
+  free(F->aplast);
+  free(F->abroken);
+  free(F->scomp);
+}
+
+static int fields_compute(fields *F, const ps_report_state *s, ps_ctx *ctx) {
+  const ps_network *net = s->net;
+  const ps_particles *P = s->P;
+  int d = P->dim, ncomp = d == 2 ? 3 : 6; /* xx yy xy [zz yz xz] */
+  static const int cij[6][2] = {{0, 0}, {1, 1}, {0, 1}, {2, 2}, {1, 2}, {0, 2}};
+  ps_int n = P->n, na = net->n_arm;
+  F->phi = ps_calloc((size_t)n, sizeof(double), ctx);
+  F->pstrain = ps_calloc((size_t)n, sizeof(double), ctx);
+  F->pplast = ps_calloc((size_t)n, sizeof(double), ctx);
+  F->astrain = ps_calloc((size_t)na, sizeof(double), ctx);
+  F->aplast = ps_calloc((size_t)na, sizeof(double), ctx);
+  F->abroken = ps_calloc((size_t)na, sizeof(double), ctx);
+  double *sigma = ps_calloc((size_t)(n * d * d), sizeof(double), ctx);
+  F->scomp = ps_calloc((size_t)(n * 6), sizeof(double), ctx);
+  if (!F->phi || !F->pstrain || !F->pplast || !F->astrain || !F->aplast || !F->abroken ||
+      !sigma || !F->scomp) {
+    free(sigma);
+    return PS_ERR_NOMEM;
+  }
+  ps_post_damage(net, s->st, F->phi);
+  double ey = s->mat->yield_strain, delta = s->mat->delta;
+  for (ps_int i = 0; i < na; i++) {
+    F->astrain[i] = s->dl[i] / net->r0[i] / ey;
+    F->aplast[i] = isfinite(delta) ? ps_arm_plastic_strain(s->st, i, s->mat->yield_rule) *
+                                         net->r0[i] / delta
+                                   : 0.0;
+    F->abroken[i] = s->st->broken[i];
+    if (s->st->broken[i]) continue;
+    ps_int e[2] = {net->a[i], net->b[i]};
+    for (int k = 0; k < 2; k++) {
+      if (fabs(F->astrain[i]) > fabs(F->pstrain[e[k]])) F->pstrain[e[k]] = F->astrain[i];
+      if (F->aplast[i] > F->pplast[e[k]]) F->pplast[e[k]] = F->aplast[i];
+    }
+  }
+  /* PD stress tensor, Eq. 24 of Fallah et al. (2020) */
+  ps_post_stress_tensor(P, net, s->T, s->q, sigma);
+  for (int c = 0; c < ncomp; c++)
+    for (ps_int a = 0; a < n; a++)
+      F->scomp[c * n + a] = sigma[a * d * d + cij[c][0] * d + cij[c][1]];
+  free(sigma);
+  return PS_OK;
+}
+
+static int write_particles_csv(const char *dir, const ps_report_state *s, const fields *F,
+                               ps_ctx *ctx) {
+  const ps_particles *P = s->P;
+  int d = P->dim, ncomp = d == 2 ? 3 : 6;
+  ps_int n = P->n;
+  char path[1400];
+  ps_outfile o;
+  snprintf(path, sizeof path, "%s/particles.csv", dir);
+  PS_CHECK(ps_outfile_open(&o, path, ctx));
+  fprintf(o.f, d == 2 ? "id,x,y,ux,uy,damage,volume,mass,h,block"
+                      : "id,x,y,z,ux,uy,uz,damage,volume,mass,h,block");
+  for (int c = 0; c < ncomp; c++) fprintf(o.f, ",%s_Pa", stress_name[c]);
+  fprintf(o.f, "\n");
+  for (ps_int a = 0; a < n; a++) {
+    fprintf(o.f, "%lld", (long long)a);
+    for (int k = 0; k < d; k++) fprintf(o.f, ",%.10g", P->x[a * d + k]);
+    for (int k = 0; k < d; k++) fprintf(o.f, ",%.10g", s->u[a * d + k]);
+    fprintf(o.f, ",%.6g,%.6g,%.6g,%.6g,%d", F->phi[a], P->volume[a],
+            s->mat->rho * P->volume[a], P->h[a], P->block[a]);
+    for (int c = 0; c < ncomp; c++) fprintf(o.f, ",%.6g", F->scomp[c * n + a]);
+    fprintf(o.f, "\n");
+  }
+  return ps_outfile_commit(&o, ctx);
+}
+
+int ps_report_write_fields(const char *dir, int step, int final, const ps_report_state *s,
+                           ps_ctx *ctx) {
+  const ps_particles *P = s->P;
+  const ps_network *net = s->net;
+  int d = P->dim, ncomp = d == 2 ? 3 : 6, status = PS_OK;
+  ps_int n = P->n, na = net->n_arm;
+  char path[1400];
+  fields F;
+  memset(&F, 0, sizeof F);
+  PS_CHECK_GOTO(fields_compute(&F, s, ctx));
+  ps_field pf[11] = {{"displacement", 3, s->u, d},
+                     {"damage", 1, F.phi, 1},
+                     {"arm_strain_over_eps_y", 1, F.pstrain, 1},
+                     {"plastic_elongation_over_delta", 1, F.pplast, 1},
+                     {"h", 1, P->h, 1}};
+  int npf = 5;
+  for (int c = 0; c < ncomp; c++) {
+    ps_field fc = {stress_name[c], 1, &F.scomp[c * n], 1};
+    pf[npf++] = fc;
+  }
+  ps_field af[3] = {{"arm_strain_over_eps_y", 1, F.astrain, 1},
+                    {"plastic_elongation_over_delta", 1, F.aplast, 1},
+                    {"broken", 1, F.abroken, 1}};
+  snprintf(path, sizeof path, "%s/particles_%04d.vtk", dir, step);
+  PS_CHECK_GOTO(ps_vtk_write(path, d, n, P->x, 0, NULL, NULL, pf, npf, NULL, 0, ctx));
+  snprintf(path, sizeof path, "%s/arms_%04d.vtk", dir, step);
+  PS_CHECK_GOTO(ps_vtk_write(path, d, n, P->x, na, net->a, net->b, pf, npf, af, 3, ctx));
+  if (final) PS_CHECK_GOTO(write_particles_csv(dir, s, &F, ctx));
+cleanup:
+  fields_free(&F);
+  return status;
+}

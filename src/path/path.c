@@ -1,0 +1,161 @@
+/* path.c: the load path as init / iterate / test: one increment per
+ * iterate (attempts cut by the step controller, the commit, the breaking
+ * rounds), the peak of the settled states, and the stop rules. */
+#include "ps_path.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+int ps_path_init(ps_path *p, ps_solver *s, const ps_path_problem *pb, const ps_path_opts *o,
+                 const ps_step_control_type *control, ps_ctx *ctx) {
+  memset(p, 0, sizeof *p);
+  p->s = s;
+  p->pb = *pb;
+  p->o = *o;
+  p->control = control;
+  p->peak = -INFINITY;
+  p->control_state = ps_calloc(1, control->size, ctx);
+  if (!p->control_state) return PS_ERR_NOMEM;
+  control->init(p->control_state, &p->o);
+  return PS_OK;
+}
+
+void ps_path_free(ps_path *p) {
+  free(p->control_state);
+  p->control_state = NULL;
+}
+
+/* Asks problem.interrupted; when it says stop, the path ends here. */
+static int check_interrupt(ps_path *p) {
+  char why[96] = "interrupted";
+  if (!p->pb.interrupted) return 0;
+  int v = p->pb.interrupted(p->pb.interrupted_data, why, sizeof why);
+  if (!v) return 0;
+  p->interrupted = v;
+  p->end = PS_PATH_INTERRUPTED;
+  snprintf(p->stop_reason, sizeof p->stop_reason, "%s at load factor %.6g", why,
+           ps_solver_lambda(p->s));
+  return 1;
+}
+
+/* Attempts at the controller's targets until Newton converges: returns
+ * PS_OK with *its0 = the Newton iterations before the successful attempt,
+ * or PS_OK with p->end set (a stall below min_step, an interruption
+ * between attempts), or a fatal status. */
+static int attempt(ps_path *p, ps_int *its0, ps_ctx *ctx) {
+  ps_solver *s = p->s;
+  for (;;) {
+    ps_solver_stats st;
+    double target = p->control->target(p->control_state, ps_solver_lambda(s), &p->o);
+    ps_solver_get_stats(s, &st);
+    *its0 = st.newton_iterations;
+    int status = ps_solver_step(s, target, ctx);
+    if (status < 0) return status;
+    if (status != PS_DIVERGED) return PS_OK;
+    p->step_cuts++;
+    double dl = p->control->cut(p->control_state, &p->o);
+    ps_log(ctx, 1, "  step %d: Newton did not converge at load factor %.6g (%s, "
+                   "residual %.2e); cutting the increment to %.4g\n",
+           (int)(p->increments + 1), target, ps_newton_reason_text(ps_solver_last_reason(s)),
+           ps_solver_last_residual(s), dl);
+    if (dl < p->o.min_step) {
+      /* the path ends here: an error for `run` (after the summary is
+       * written to the partial output), a result for the sweep */
+      ps_path_newton_stalled(p, target);
+      return PS_OK;
+    }
+    if (check_interrupt(p)) return PS_OK;
+  }
+}
+
+int ps_path_iterate(ps_path *p, ps_ctx *ctx) {
+  ps_solver *s = p->s;
+  ps_int its0, nb;
+  int settle, settled = 0;
+  if (p->end) return PS_OK;
+  PS_CHECK(attempt(p, &its0, ctx));
+  if (p->end) return PS_OK;
+  ps_solver_commit(s);
+  p->tip_start = ps_path_crack_tip(p);
+  PS_CHECK(ps_path_break_rounds(p, its0, &nb, &settle, &settled, ctx));
+  p->broken_total += nb;
+  p->control->accept(p->control_state, p->broken_total, &p->o);
+  int converged = settle == PS_OK;
+  if (!converged) /* make T, q, dl those of u (a rejected trial may linger) */
+    PS_CHECK(ps_solver_evaluate(s, ctx));
+  ps_solver_stats st;
+  ps_solver_get_stats(s, &st);
+  ps_path_increment *last = &p->last;
+  last->step = ++p->increments;
+  last->lambda = ps_solver_lambda(s);
+  last->sigma = ps_path_boundary_stress(p);
+  last->tip = ps_path_crack_tip(p);
+  last->residual = ps_solver_last_residual(s);
+  last->converged = converged;
+  last->newton_iterations = (int)(st.newton_iterations - its0);
+  last->yielding = ps_solver_count_yielding(s);
+  /* only a state that is converged and settled (no arm left past delta;
+   * the rounds may end early once the crack has run) sets the peak */
+  if (converged && settled && last->sigma > p->peak) {
+    p->peak = last->sigma;
+    p->lambda_peak = last->lambda;
+  }
+  if (converged) {
+    const int nr = (int)(sizeof p->recent / sizeof p->recent[0]);
+    memmove(p->recent, p->recent + 1, (size_t)(nr - 1) * sizeof *p->recent);
+    p->recent[nr - 1] = last->sigma;
+    p->n_recent++;
+    p->crack_tip = last->tip;
+  } else {
+    ps_path_reequilibration_failed(p, last->sigma);
+  }
+  return PS_OK;
+}
+
+/* The stop rules after a settled increment; 1 when the path ends here. */
+static int stop_rule(ps_path *p) {
+  const ps_path_opts *o = &p->o;
+  const ps_path_increment *last = &p->last;
+  double tip = last->tip, c = p->pb.c;
+  if (last->converged && c > 0 && o->stop_tip_advance > 0 &&
+      tip - p->tip_start >= o->stop_tip_advance) {
+    p->end = PS_PATH_FRACTURED;
+    snprintf(p->stop_reason, sizeof p->stop_reason,
+             "the crack tip advanced %.3g c at one load (from %.4g c to %.4g c): it "
+             "runs unstably", tip - p->tip_start, p->tip_start, tip);
+    return 1;
+  }
+  if (c > 0 && tip >= o->stop_crack_tip) {
+    p->end = PS_PATH_FRACTURED;
+    snprintf(p->stop_reason, sizeof p->stop_reason, "crack tip passed %.3g c from the centre",
+             o->stop_crack_tip);
+    return 1;
+  }
+  if (p->broken_total > 0 && last->sigma < o->stop_load_drop * p->peak) {
+    p->end = PS_PATH_FRACTURED;
+    snprintf(p->stop_reason, sizeof p->stop_reason,
+             "boundary stress fell below %.3g of its peak", o->stop_load_drop);
+    return 1;
+  }
+  if (last->lambda >= o->max_load) { /* exact: the target snaps to max_load */
+    p->end = PS_PATH_MAX_LOAD;
+    snprintf(p->stop_reason, sizeof p->stop_reason, "path.max_load = %g reached: %s",
+             o->max_load,
+             p->broken_total ? "arms broke but the crack did not run" : "no fracture");
+    return 1;
+  }
+  return 0;
+}
+
+int ps_path_test(ps_path *p) {
+  if (p->end) return p->end;
+  if (check_interrupt(p)) return p->end;
+  if (p->increments > 0 && stop_rule(p)) return p->end;
+  if (p->increments >= p->o.max_increments) {
+    p->end = PS_PATH_MAX_INCREMENTS;
+    snprintf(p->stop_reason, sizeof p->stop_reason, "max_increments reached (%d)",
+             p->o.max_increments);
+  }
+  return p->end;
+}

@@ -1,0 +1,207 @@
+/* ps_path.h: following the load path of one case on a solver: the
+ * increments (predictor and Newton through ps_solver_step), the commit,
+ * the rounds of arm breaking (Eq. 118) with their halving retries, the
+ * stop rules, the peak, and whether the run fractured or stalled; in the
+ * GSL style of init / iterate / test, with the choice of the next load
+ * factor behind a replaceable step controller (ps_step_control_type).
+ *
+ *   ps_path p;
+ *   PS_CHECK(ps_path_init(&p, solver, &problem, &opts, ps_step_control_load, ctx));
+ *   while (ps_path_test(&p) == PS_PATH_CONTINUE) {
+ *     PS_CHECK(ps_path_iterate(&p, ctx));     (one increment)
+ *     ... print p.last, write history and fields ...
+ *   }
+ *   ... p.end, p.stop_reason, p.peak ...
+ *   ps_path_free(&p);
+ *
+ * The path uses the solver only through ps_solver.h's functions and
+ * accessors; it prints the lines about cut increments and long breaking
+ * rounds (ps_log), the caller prints one line per increment. */
+#ifndef PS_PATH_H
+#define PS_PATH_H
+
+#include "../post/ps_post.h"
+#include "../nonlinear/ps_solver.h"
+
+/* Settings of the load path (the case's path.* keys). */
+typedef struct ps_path_opts {
+  double load_step;             /* nominal increment of the load factor */
+  double load_step_after_break; /* the nominal increment, if smaller, once an
+                                   arm has broken */
+  double max_load;              /* last load factor (the last increment is
+                                   shortened to land on it) */
+  int max_increments;           /* increments at most (cuts do not count) */
+  double min_step;              /* the path stalls when a cut takes the
+                                   increment below this */
+  double stop_crack_tip;        /* disk: stop when the tip is this many c
+                                   from the centre */
+  double stop_tip_advance;      /* disk: stop when the tip advances this many
+                                   c within one increment; 0: off */
+  double stop_load_drop;        /* stop when, after breaking, the boundary
+                                   stress falls below this fraction of its
+                                   peak */
+  int max_break_rounds;         /* breaking rounds per increment before the
+                                   path fails (PS_ERR_SOLVER) */
+} ps_path_opts;
+
+/* What the path measures on the solver's states and names in messages
+ * (nothing owned). */
+typedef struct ps_path_problem {
+  const ps_particles *P;
+  const ps_network *net;
+  const ps_model_type *model;   /* the solver's model type */
+  const ps_material *mat;       /* the solver's material (this run's delta) */
+  const double *measure;        /* [n_dof] boundary-stress weights */
+  double measure_length;        /* m (2D), m^2 (3D); 0: no measure */
+  double c;                     /* disk: half crack length, m (crack tip in
+                                   units of c); 0: no crack tip */
+  const char *name;             /* the case file, first in messages */
+  /* Interruption (e.g. by a signal): returns nonzero when the path must
+   * end after the attempt under way, and then, when why != NULL, writes
+   * a short reason ("interrupted by SIGINT") into why. NULL: never. */
+  int (*interrupted)(void *data, char *why, size_t len);
+  void *interrupted_data;
+} ps_path_problem;
+
+/* The step controller: the choice of the next load factor. The path calls
+ * init once, then per attempt target; cut after an attempt that did not
+ * converge (the solver is back at the last committed state); accept after
+ * an increment was committed and its breaking rounds ended. An
+ * implementation keeps its state in `size` bytes that the path allocates
+ * (zeroed). Load control (ps_step_control_load) is the only one today;
+ * arc-length control (issue 20) will plug in here. */
+typedef struct ps_step_control_type {
+  const char *name;
+  size_t size;
+  void (*init)(void *state, const ps_path_opts *o);
+  /* the load factor of the next attempt from the current one, lambda */
+  double (*target)(void *state, double lambda, const ps_path_opts *o);
+  /* the attempt failed: the increment of the next one (the path stalls
+   * when it is below o->min_step) */
+  double (*cut)(void *state, const ps_path_opts *o);
+  /* an increment was accepted; broken_total = arms broken so far */
+  void (*accept)(void *state, ps_int broken_total, const ps_path_opts *o);
+} ps_step_control_type;
+
+/* Load control: increments of load_step (min(load_step,
+ * load_step_after_break) once an arm has broken), halved on each failed
+ * attempt and doubled back towards the nominal one after two accepted
+ * increments in a row; the target snaps to max_load. */
+extern const ps_step_control_type *const ps_step_control_load;
+
+/* How a path ended (ps_path_test). */
+enum ps_path_end {
+  PS_PATH_CONTINUE = 0,
+  PS_PATH_FRACTURED = 1,      /* the crack ran: a stop rule (tip, tip
+                                 advance, load drop), or a failed
+                                 re-equilibration that shed load below the
+                                 peak (an unstable fracture) */
+  PS_PATH_STALLED = 2,        /* the solve failed before the crack ran:
+                                 Newton below min_step, or a failed
+                                 re-equilibration with the load not below
+                                 its peak; p->message says what was seen
+                                 and what can help */
+  PS_PATH_MAX_LOAD = 3,       /* max_load reached */
+  PS_PATH_MAX_INCREMENTS = 4, /* max_increments done */
+  PS_PATH_INTERRUPTED = 5     /* problem.interrupted said so */
+};
+
+/* The last increment, for the caller's progress line, history row and
+ * fields (valid after ps_path_iterate). */
+typedef struct ps_path_increment {
+  ps_int step;                /* 1, 2, ... */
+  double lambda;              /* load factor */
+  double sigma;               /* boundary stress, Pa */
+  double residual;            /* relative residual of the last solve */
+  double tip;                 /* crack tip, c (0 without a crack) */
+  int converged;              /* 0: the final re-equilibration failed */
+  int newton_iterations;      /* of the increment, breaking rounds included */
+  ps_int yielding;            /* intact arms on the yield surface */
+} ps_path_increment;
+
+typedef struct ps_path {
+  /* the outcome so far (read only) */
+  int end;                    /* enum ps_path_end, set by ps_path_test
+                                 (stalls and failed re-equilibrations by
+                                 ps_path_iterate) */
+  char stop_reason[160];      /* why it ended */
+  char message[2048];         /* a stall: the error text for a caller that
+                                 treats it as one */
+  int interrupted;            /* problem.interrupted's value, 0 if none */
+  double peak;                /* peak boundary stress of the converged and
+                                 settled states, Pa (-inf: none yet) */
+  double lambda_peak;         /* load factor at the peak (0: none) */
+  double crack_tip;           /* tip of the last converged state, c */
+  ps_int increments, step_cuts;
+  ps_int gentle_rounds;       /* breaking rounds retried with fewer arms */
+  ps_int broken_total;        /* arms broken so far */
+  ps_path_increment last;
+
+  /* private */
+  ps_solver *s;
+  ps_path_problem pb;
+  ps_path_opts o;
+  const ps_step_control_type *control;
+  void *control_state;
+  double tip_start;           /* crack tip before the last breaking rounds */
+  double recent[3];           /* boundary stresses of the last converged
+                                 increments, the newest last */
+  int n_recent;
+} ps_path;
+
+/* Start a path on solver s at its current state (load factor 0). The
+ * problem and options are copied (the arrays they point to are not).
+ * Returns PS_OK or PS_ERR_NOMEM. */
+int ps_path_init(ps_path *p, ps_solver *s, const ps_path_problem *pb, const ps_path_opts *o,
+                 const ps_step_control_type *control, ps_ctx *ctx);
+
+/* One increment: attempts at the controller's targets (a failed Newton
+ * solve restores the last committed state and cuts the increment; below
+ * min_step the path ends as stalled, and problem.interrupted is asked
+ * between attempts), the commit, then the breaking rounds at that load
+ * (ps_path_break_rounds). Fills p->last. A failed final re-equilibration
+ * ends the path (fractured or stalled). Returns PS_OK (see p->end) or a
+ * fatal status (PS_ERR_SOLVER when arms still break after
+ * max_break_rounds rounds). */
+int ps_path_iterate(ps_path *p, ps_ctx *ctx);
+
+/* The stop rules, in this order: an end already reached; interruption;
+ * after an increment the tip advance, the crack tip, the load drop and
+ * max_load; then max_increments. Returns p->end (PS_PATH_CONTINUE to go
+ * on) and sets p->stop_reason. */
+int ps_path_test(ps_path *p);
+
+void ps_path_free(ps_path *p);
+
+/* Breaking rounds (Eq. 118) at the load of the last commit, until no arm
+ * breaks: each breaks the arms past delta and re-equilibrates; when the
+ * re-equilibration fails the round is retried from the last converged
+ * state with the worst half of the arms, down to one. Stops early once
+ * the crack has run (load below stop_load_drop of the peak, tip past
+ * stop_crack_tip or advanced stop_tip_advance) or on interruption. its0 =
+ * Newton iterations before the increment (for the progress note).
+ * *n_broken = arms broken, *settle = the last round's status (PS_OK or
+ * PS_DIVERGED), *settled = 1 when no arm is left past delta. Returns PS_OK
+ * or a fatal status. */
+int ps_path_break_rounds(ps_path *p, ps_int its0, ps_int *n_broken, int *settle,
+                         int *settled, ps_ctx *ctx);
+
+/* Boundary stress (Pa) and crack tip (c; 0 without a crack) of the
+ * solver's current state. */
+double ps_path_boundary_stress(const ps_path *p);
+double ps_path_crack_tip(const ps_path *p);
+
+/* A re-equilibration that failed after arms broke counts as the crack
+ * running only when arms broke and the failed attempt's boundary stress
+ * fell below the peak of the settled states. */
+int ps_path_failed_attempt_is_fracture(ps_int broken_total, double sig, double peak);
+
+/* End the path (p->end, p->stop_reason, p->message) after a Newton stall
+ * below min_step at load factor target, or after the final
+ * re-equilibration failed with boundary stress sig (fractured when
+ * ps_path_failed_attempt_is_fracture, else stalled). Used by
+ * ps_path_iterate (stall.c). */
+void ps_path_newton_stalled(ps_path *p, double target);
+void ps_path_reequilibration_failed(ps_path *p, double sig);
+
+#endif

@@ -1,0 +1,202 @@
+/* case_checks.c: the checks across sections, after the whole file is
+ * read (YAML keys come in any order): keys of another geometry type,
+ * dim against counts, lattice, cracks, holes and J rings, the loading
+ * type against the geometry, the bond model's nu, the number of
+ * particles asked for, delta and the Griffith list given twice. */
+#include "case_impl.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+/* A geometry key given for a geometry type it does not apply to (it
+ * would be silently ignored): "case.yaml:7: geometry.file does not apply
+ * to geometry.type disk (it is for type cloud)", for the first such key
+ * in the file. Keys not listed (type, dim, sizes, size_neighbours,
+ * cracks) apply to every type; geometry.holes has its own check. */
+static int geometry_keys_apply(ps_loader *L) {
+  enum { D = 1 << PS_GEOM_DISK, B = 1 << PS_GEOM_BOX, C = 1 << PS_GEOM_CLOUD };
+  static const struct {
+    const char *key;
+    unsigned types;
+    const char *for_text;
+  } only[] = {{"c", D, "type disk"},          {"n_eta", D, "type disk"},
+              {"n_xi", D, "type disk"},       {"per_zone", D, "type disk"},
+              {"xi_min", D, "type disk"},     {"xi_max", D, "type disk"},
+              {"jitter", D | B, "types disk and box"},
+              {"seed", D | B, "types disk and box"},
+              {"counts", B, "type box"},      {"lattice", B, "type box"},
+              {"origin", B, "type box"},      {"file", C, "type cloud"},
+              {"spacing", B, "type box, and for loading tractions"}};
+  static const char *const gname[] = {"disk", "box", "cloud"};
+  const ps_case *cs = L->cs;
+  int traction = 0;
+  for (int i = 0; i < cs->n_bc; i++)
+    for (int k = 0; k < 3; k++) traction |= cs->bc[i].traction_set[k];
+  int first = 0, at = 0;
+  for (size_t j = 0; j < sizeof only / sizeof only[0]; j++) {
+    int i = 0;
+    while (strcmp(ps_case_geometry_keys[i], only[j].key)) i++;
+    int line = L->line_geometry[i];
+    if (!line || (only[j].types >> cs->geometry & 1u)) continue;
+    if (!strcmp(only[j].key, "spacing") && traction) continue;
+    if (!first || line < first) {
+      first = line;
+      at = (int)j;
+    }
+  }
+  if (!first) return PS_OK;
+  return ps_yaml_fail(L, first,
+                      "geometry.%s does not apply to geometry.type %s%s (it is for %s)",
+                      only[at].key, gname[cs->geometry],
+                      L->line_type ? "" : ", the default", only[at].for_text);
+}
+
+/* The line where geometry key `key` was given, else `otherwise`. */
+static int geometry_line(const ps_loader *L, const char *key, int otherwise) {
+  for (int i = 0; ps_case_geometry_keys[i]; i++)
+    if (!strcmp(ps_case_geometry_keys[i], key) && L->line_geometry[i])
+      return L->line_geometry[i];
+  return otherwise;
+}
+
+/* The number of particles a box or disk asks for: at most
+ * PS_MAX_PARTICLES (the generators' limit), named with the keys' line.
+ * (Whether they fit in memory is judged later, by the size estimate.) */
+static int particle_counts_check(ps_loader *L) {
+  const ps_case *cs = L->cs;
+  double n = 1.0;
+  if (cs->geometry == PS_GEOM_BOX) {
+    for (int k = 0; k < cs->dim; k++) n *= (double)cs->counts[k];
+    if (n > (double)PS_MAX_PARTICLES)
+      return ps_yaml_fail(L, L->line_counts,
+                          "geometry.counts asks for %.3g particles; at most "
+                          "2^40 = %.4g can be indexed",
+                          n, (double)PS_MAX_PARTICLES);
+  } else if (cs->geometry == PS_GEOM_DISK) {
+    const ps_disk_params *dp = &cs->disk;
+    double m = dp->per_zone;
+    int line = geometry_line(L, "per_zone", geometry_line(L, "n_xi", L->line_type));
+    n = (double)dp->n_eta * dp->n_xi * m * m;
+    if (n > (double)PS_MAX_PARTICLES)
+      return ps_yaml_fail(
+          L, line,
+          "geometry.n_eta x geometry.n_xi x geometry.per_zone^2 = %d x %d x %d^2 "
+          "asks for %.3g particles; at most 2^40 = %.4g can be indexed",
+          dp->n_eta, dp->n_xi, dp->per_zone, n, (double)PS_MAX_PARTICLES);
+  }
+  return PS_OK;
+}
+
+/* A model that fixes Poisson's ratio (the type's fixed_poisson; bond-based
+ * PD, Fallah et al. 2020: 1/3 in plane stress, 1/4 in plane strain and
+ * 3D) refuses another one here, so that `info` refuses what `run` would
+ * (the model checks it again when it is prepared). The message names the
+ * file only, as the model's own does ("case.yaml: material.nu = 0.3:
+ * bond-based ..."), and the line at its end. */
+static int fixed_poisson_check(ps_loader *L) {
+  const ps_case *cs = L->cs;
+  const ps_model_type *type = ps_model_type_find(cs->model);
+  if (!type || !type->fixed_poisson) return PS_OK;
+  int stress = cs->dim == 2 && cs->mat.plane == PS_PLANE_STRESS;
+  double nu_fixed = type->fixed_poisson(cs->dim, cs->mat.plane);
+  if (fabs(cs->mat.nu - nu_fixed) <= 1e-3) return PS_OK;
+  char where[64], value[32];
+  if (L->line_nu)
+    snprintf(where, sizeof where, "material.nu is at line %d", L->line_nu);
+  else
+    snprintf(where, sizeof where, "material.nu is not given: the default is 0.3");
+  if (nu_fixed == 1.0 / 3.0)
+    snprintf(value, sizeof value, "1/3");
+  else if (nu_fixed == 0.25)
+    snprintf(value, sizeof value, "1/4");
+  else
+    snprintf(value, sizeof value, "%g", nu_fixed);
+  return ps_yaml_fail(L, 0,
+                      "material.nu = %g: %s-based peridynamics has nu = %s in %s "
+                      "(Fallah et al. 2020, section 5) (%s)",
+                      cs->mat.nu, cs->model, value,
+                      cs->dim == 3 ? "3D" : stress ? "plane stress" : "plane strain", where);
+}
+
+/* case_impl.h */
+int ps_case_cross_checks(ps_loader *L) {
+  static const char *const gname[] = {"disk", "box", "cloud"};
+  ps_case *cs = L->cs;
+  if (geometry_keys_apply(L) != PS_OK) return PS_ERR_INPUT;
+  if (cs->geometry == PS_GEOM_DISK) {
+    if (L->line_dim && cs->dim != 2)
+      return ps_yaml_fail(L, L->line_dim,
+                          "geometry.dim must be 2 for geometry.type disk (got %d)",
+                          cs->dim);
+    cs->dim = 2;
+  }
+  if (cs->geometry == PS_GEOM_BOX) {
+    if (L->line_counts && L->n_counts != cs->dim)
+      return ps_yaml_fail(L, L->line_counts,
+                          "geometry.counts has %d values but geometry.dim is %d",
+                          L->n_counts, cs->dim);
+    if (!L->line_counts && cs->dim == 3)
+      return ps_yaml_fail(L, L->line_dim, "a 3D box needs geometry.counts: [nx, ny, nz]");
+    if (cs->dim == 3 && !strcmp(cs->lattice, "hex"))
+      return ps_yaml_fail(L, L->line_lattice,
+                          "geometry.lattice hex is 2D only (geometry.dim is 3)");
+  }
+  if (cs->dim == 2) cs->counts[2] = 1;
+  if (cs->geometry == PS_GEOM_CLOUD && !cs->cloud_file[0])
+    return ps_yaml_fail(L, L->line_type, "geometry.type cloud needs geometry.file");
+  if (cs->n_cracks > 0 && cs->dim == 3)
+    return ps_yaml_fail(L, L->line_cracks,
+                        "geometry.cracks are 2D only (geometry.dim is 3)");
+  if (cs->n_j_rings > 0 && cs->dim == 3)
+    return ps_yaml_fail(L, L->line_j, "output.j_integral is 2D only (geometry.dim is 3)");
+  if (cs->n_holes > 0 && (cs->dim == 3 || cs->geometry != PS_GEOM_BOX))
+    return ps_yaml_fail(L, L->line_holes, "geometry.holes need a 2D box");
+  const ps_model_type *type = ps_model_type_find(cs->model);
+  if (type && type->lattice && cs->geometry != PS_GEOM_BOX)
+    return ps_yaml_fail(
+        L, L->line_type ? L->line_type : 1,
+        "material.model %s needs geometry.type box (a regular lattice: the "
+        "horizon is material.horizon_factor * geometry.spacing)",
+        cs->model);
+  if (fixed_poisson_check(L) != PS_OK || particle_counts_check(L) != PS_OK) return PS_ERR_INPUT;
+  if (L->line_delta_over_c && cs->geometry != PS_GEOM_DISK)
+    return ps_yaml_fail(
+        L, L->line_delta_over_c,
+        "material.delta_over_c needs geometry.type disk (c is the disk's half "
+        "crack length): give material.delta in metres");
+  if (L->line_delta && L->line_delta_over_c)
+    return ps_yaml_fail(
+        L, L->line_delta,
+        "material.delta and material.delta_over_c (line %d) are both given: "
+        "give one",
+        L->line_delta_over_c);
+  if (L->line_sweep_list && L->line_sweep_den)
+    return ps_yaml_fail(
+        L, L->line_sweep_den,
+        "griffith.denominators and griffith.delta_over_c (line %d) are both "
+        "given: give one",
+        L->line_sweep_list);
+  if (cs->load_type == PS_LOAD_EQ116) {
+    if (cs->geometry != PS_GEOM_DISK)
+      return ps_yaml_fail(L, L->line_load_type ? L->line_load_type : L->line_type,
+                          "loading.type eq116%s needs geometry.type disk (got %s): set "
+                          "loading.type: boundary",
+                          L->line_load_type ? "" : " (the default)", gname[cs->geometry]);
+    if (cs->n_bc > 0 || L->line_boundary)
+      return ps_yaml_fail(L, L->line_boundary,
+                          "loading.boundary is given but loading.type is eq116: set "
+                          "loading.type: boundary");
+  } else if (cs->n_bc == 0) {
+    return ps_yaml_fail(L, L->line_boundary ? L->line_boundary : L->line_load_type,
+                        "loading.boundary is empty: the model has no supports");
+  }
+  for (int i = 0; i < cs->n_bc && cs->dim == 2; i++) {
+    const ps_bc *bc = &cs->bc[i];
+    if (bc->fix[2] || bc->displace_set[2] || bc->traction_set[2] ||
+        isfinite(bc->sel.lo[2]) || isfinite(bc->sel.hi[2]))
+      return ps_yaml_fail(
+          L, bc->line,
+          "loading.boundary entry %d uses the z component but geometry.dim is 2", i + 1);
+  }
+  return PS_OK;
+}

@@ -1,0 +1,206 @@
+/* case_options.c: the sections that say how a case is solved and
+ * reported: solver (Newton, the linear solver, CG), path (the load
+ * increments and the stop rules), output (folder, VTK, J-integral rings)
+ * and griffith (the sweep's list of delta/c). */
+#include "case_impl.h"
+
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- solver ---- */
+
+const char *const ps_case_solver_keys[] = {
+    "linear", "tolerance", "max_iterations", "max_small_steps", "line_search",
+    "reuse_factor", "cg_tolerance", "cg_forcing", "cg_forcing_max", "cg_max_iterations",
+    "cg_skip_arms", "reanalyze", "majorant", "matrix_free", "cg_single_precision",
+    "cg_truncate", "max_memory_gib", NULL};
+
+int ps_case_on_solver(ps_loader *L, void *arg, const char *key, const char *name,
+                      yaml_node_t *v) {
+  static const char *const linear[] = {"cholmod", "cholmod-simplicial", "umfpack",
+                                       NULL};
+  ps_case *cs = L->cs;
+  (void)arg;
+  if (IS("linear")) {
+    int i;
+    if (ps_yaml_choice(L, v, name, linear, &i)) return PS_ERR_INPUT;
+    strcpy(cs->linear, linear[i]);
+    return PS_OK;
+  }
+  if (IS("tolerance")) return ps_yaml_real(L, v, name, 0.0, 1, 1.0, 1, &cs->tolerance);
+  if (IS("max_iterations"))
+    return ps_yaml_int(L, v, name, 1, INT_MAX, &cs->max_iterations);
+  if (IS("max_small_steps"))
+    return ps_yaml_int(L, v, name, 0, INT_MAX, &cs->max_small_steps);
+  if (IS("reuse_factor")) return ps_yaml_bool(L, v, name, &cs->reuse_factor);
+  if (IS("reanalyze")) return ps_yaml_bool(L, v, name, &cs->reanalyze);
+  if (IS("majorant")) return ps_yaml_bool(L, v, name, &cs->majorant);
+  if (IS("matrix_free")) return ps_yaml_bool(L, v, name, &cs->matrix_free);
+  if (IS("cg_single_precision"))
+    return ps_yaml_bool(L, v, name, &cs->cg_single_precision);
+  if (IS("cg_truncate")) return ps_yaml_bool(L, v, name, &cs->cg_truncate);
+  if (IS("cg_tolerance"))
+    return ps_yaml_real(L, v, name, 0.0, 1, 1.0, 1, &cs->cg_tolerance);
+  if (IS("cg_forcing")) { /* adaptive, or a number >= 0: the fixed rule */
+    if (v->type == YAML_SCALAR_NODE && !strcmp(sval(v), "adaptive")) {
+      cs->cg_forcing_adaptive = 1;
+      return PS_OK;
+    }
+    char b[80];
+    double x = -1.0;
+    if (v->type == YAML_SCALAR_NODE && ps_is_decimal(sval(v), 0)) x = strtod(sval(v), NULL);
+    if (!isfinite(x) || x < 0)
+      return ps_yaml_fail(L, line_of(v), "%s must be adaptive or a number >= 0 (got %s)",
+                          name, ps_yaml_got(v, b));
+    cs->cg_forcing_adaptive = 0;
+    cs->cg_forcing = x;
+    return PS_OK;
+  }
+  if (IS("cg_forcing_max"))
+    return ps_yaml_real(L, v, name, 0.0, 1, 1.0, 1, &cs->cg_forcing_max);
+  if (IS("cg_max_iterations"))
+    return ps_yaml_int(L, v, name, 1, INT_MAX, &cs->cg_max_iterations);
+  if (IS("cg_skip_arms")) return ps_yaml_int(L, v, name, 0, INT_MAX, &cs->cg_skip_arms);
+  if (IS("max_memory_gib")) /* a limit, not a setting of the result */
+    return ps_yaml_real(L, v, name, 0.0, 1, PS_MAX_MEMORY_GIB, 0, &cs->max_memory_gib);
+  return ps_yaml_bool(L, v, name, &cs->line_search);
+}
+
+/* ---- path ---- */
+
+const char *const ps_case_path_keys[] = {
+    "load_step", "load_step_after_break", "max_load", "max_increments", "min_step",
+    "stop_crack_tip", "stop_tip_advance", "stop_load_drop", "max_break_rounds", NULL};
+
+int ps_case_on_path(ps_loader *L, void *arg, const char *key, const char *name,
+                    yaml_node_t *v) {
+  ps_case *cs = L->cs;
+  (void)arg;
+  if (IS("load_step")) return ps_yaml_pos(L, v, name, &cs->load_step);
+  if (IS("load_step_after_break"))
+    return ps_yaml_pos(L, v, name, &cs->load_step_after_break);
+  if (IS("max_load")) return ps_yaml_pos(L, v, name, &cs->max_load);
+  if (IS("max_increments"))
+    return ps_yaml_int(L, v, name, 1, INT_MAX, &cs->max_increments);
+  if (IS("min_step")) return ps_yaml_pos(L, v, name, &cs->min_step);
+  if (IS("stop_crack_tip")) return ps_yaml_pos(L, v, name, &cs->stop_crack_tip);
+  if (IS("stop_tip_advance")) return ps_yaml_pos(L, v, name, &cs->stop_tip_advance);
+  if (IS("stop_load_drop"))
+    return ps_yaml_real(L, v, name, 0.0, 0, 1.0, 1, &cs->stop_load_drop);
+  return ps_yaml_int(L, v, name, 1, INT_MAX, &cs->max_break_rounds);
+}
+
+/* ---- output ---- */
+
+const char *const ps_case_output_keys[] = {"dir", "vtk_every", "fields", "verbosity",
+                                           "j_integral", NULL};
+
+static const char *const j_keys[] = {"tip", "rings", NULL};
+
+static int on_j(ps_loader *L, void *arg, const char *key, const char *name,
+                yaml_node_t *v) {
+  ps_case *cs = L->cs;
+  char b[80];
+  (void)arg;
+  if (IS("tip")) {
+    L->line_j_tip = line_of(v);
+    return ps_yaml_point2(L, v, name, cs->j_tip);
+  }
+  if (v->type != YAML_SEQUENCE_NODE || seq_len(v) < 1 || seq_len(v) > 8)
+    return ps_yaml_fail(L, line_of(v),
+                        "%s must be a list of 1 to 8 ring sizes in m (got %s)", name,
+                        ps_yaml_got(v, b));
+  cs->n_j_rings = seq_len(v);
+  for (int i = 0; i < cs->n_j_rings; i++)
+    if (ps_yaml_real(L, seq_item(L, v, i), name, 0.0, 1, INFINITY, 0, &cs->j_rings[i]))
+      return PS_ERR_INPUT;
+  return PS_OK;
+}
+
+int ps_case_on_output(ps_loader *L, void *arg, const char *key, const char *name,
+                      yaml_node_t *v) {
+  ps_case *cs = L->cs;
+  (void)arg;
+  if (IS("dir")) return ps_yaml_string(L, v, name, cs->out_dir, sizeof cs->out_dir);
+  if (IS("vtk_every")) return ps_yaml_int(L, v, name, 0, INT_MAX, &cs->vtk_every);
+  if (IS("fields")) return ps_yaml_bool(L, v, name, &cs->fields);
+  if (IS("j_integral")) {
+    L->line_j = line_of(v);
+    if (ps_yaml_walk_map(L, v, name, j_keys, on_j, NULL)) return PS_ERR_INPUT;
+    if (!L->line_j_tip || !cs->n_j_rings)
+      return ps_yaml_fail(L, L->line_j, "%s needs both tip: [x, y] and rings: [l, ...]",
+                          name);
+    return PS_OK;
+  }
+  return ps_yaml_int(L, v, name, 0, 3, &cs->verbosity);
+}
+
+/* ---- griffith ---- */
+
+/* griffith.denominators: {first, last, step}, all three required. */
+typedef struct sweep_range {
+  long first, last, step;
+  int line_first, line_last, line_step;
+} sweep_range;
+
+static const char *const den_keys[] = {"first", "last", "step", NULL};
+
+static int on_den(ps_loader *L, void *arg, const char *key, const char *name,
+                  yaml_node_t *v) {
+  sweep_range *r = arg;
+  if (IS("first")) {
+    r->line_first = line_of(v);
+    return ps_yaml_long(L, v, name, 1, LONG_MAX, &r->first);
+  }
+  if (IS("last")) {
+    r->line_last = line_of(v);
+    return ps_yaml_long(L, v, name, 1, LONG_MAX, &r->last);
+  }
+  r->line_step = line_of(v);
+  return ps_yaml_long(L, v, name, 1, LONG_MAX, &r->step);
+}
+
+const char *const ps_case_griffith_keys[] = {"delta_over_c", "denominators", NULL};
+
+int ps_case_on_griffith(ps_loader *L, void *arg, const char *key, const char *name,
+                        yaml_node_t *v) {
+  ps_case *cs = L->cs;
+  char b[80];
+  (void)arg;
+  if (IS("delta_over_c")) {
+    L->line_sweep_list = line_of(v);
+    if (v->type != YAML_SEQUENCE_NODE || seq_len(v) == 0)
+      return ps_yaml_fail(L, line_of(v),
+                          "%s must be a non-empty list of numbers (got %s)", name,
+                          ps_yaml_got(v, b));
+    int n = seq_len(v);
+    if (n > PS_MAX_SWEEP)
+      return ps_yaml_fail(L, line_of(v), "%s has %d values, at most %d are allowed", name,
+                          n, PS_MAX_SWEEP);
+    for (int i = 0; i < n; i++)
+      if (ps_yaml_pos(L, seq_item(L, v, i), name, &cs->sweep_delta_over_c[i]))
+        return PS_ERR_INPUT;
+    cs->n_sweep = n;
+    return PS_OK;
+  }
+  /* denominators */
+  sweep_range r = {0};
+  L->line_sweep_den = line_of(v);
+  if (ps_yaml_walk_map(L, v, name, den_keys, on_den, &r)) return PS_ERR_INPUT;
+  if (!r.line_first || !r.line_last || !r.line_step)
+    return ps_yaml_fail(L, line_of(v), "%s needs first, last and step", name);
+  if (r.last < r.first)
+    return ps_yaml_fail(L, r.line_last, "%s.last must be >= first (got %ld < %ld)", name,
+                        r.last, r.first);
+  long n = (r.last - r.first) / r.step + 1;
+  if (n > PS_MAX_SWEEP)
+    return ps_yaml_fail(L, line_of(v), "%s gives %ld values, at most %d are allowed",
+                        name, n, PS_MAX_SWEEP);
+  for (long i = 0; i < n; i++)
+    cs->sweep_delta_over_c[i] = 1.0 / (double)(r.first + i * r.step);
+  cs->n_sweep = (int)n;
+  return PS_OK;
+}

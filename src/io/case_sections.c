@@ -1,0 +1,246 @@
+/* case_sections.c: the sections of a case file that describe the body:
+ * geometry (disk of Eq. 114, box or point cloud; cracks, holes), kernel
+ * (the horizon alpha and the exponent k of Eq. 112) and material (the
+ * model, Table 1's constants, delta of Eq. 118). Each key's own range is
+ * checked here; checks that involve several keys run in case_checks.c. */
+#include "case_impl.h"
+
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+/* ---- geometry ---- */
+
+/* geometry.cracks: a list of segments [[x0, y0], [x1, y1]]. */
+static int get_cracks(ps_loader *L, yaml_node_t *v, const char *name) {
+  char b[80];
+  ps_case *cs = L->cs;
+  if (v->type != YAML_SEQUENCE_NODE)
+    return ps_yaml_fail(L, line_of(v),
+                        "%s must be a list of segments [[x0, y0], [x1, y1]] (got %s)",
+                        name, ps_yaml_got(v, b));
+  int n = seq_len(v);
+  if (n > PS_MAX_CRACKS)
+    return ps_yaml_fail(L, line_of(v), "%s has %d segments, at most %d are allowed", name,
+                        n, PS_MAX_CRACKS);
+  cs->n_cracks = 0;
+  for (int i = 0; i < n; i++) {
+    yaml_node_t *seg = seq_item(L, v, i);
+    if (seg->type != YAML_SEQUENCE_NODE || seq_len(seg) != 2)
+      return ps_yaml_fail(L, line_of(seg),
+                          "%s: a segment must be [[x0, y0], [x1, y1]] (got %s)", name,
+                          ps_yaml_got(seg, b));
+    ps_crack *cr = &cs->cracks[i];
+    memset(cr, 0, sizeof *cr);
+    if (ps_yaml_point2(L, seq_item(L, seg, 0), name, cr->p0) ||
+        ps_yaml_point2(L, seq_item(L, seg, 1), name, cr->p1))
+      return PS_ERR_INPUT;
+    if (cr->p0[0] == cr->p1[0] && cr->p0[1] == cr->p1[1])
+      return ps_yaml_fail(L, line_of(seg), "%s: segment %d has zero length", name, i + 1);
+    cs->n_cracks++;
+  }
+  L->line_cracks = line_of(v);
+  return PS_OK;
+}
+
+/* geometry.holes: a list of circles [cx, cy, R]. */
+static int get_holes(ps_loader *L, yaml_node_t *v, const char *name) {
+  char b[80];
+  ps_case *cs = L->cs;
+  if (v->type != YAML_SEQUENCE_NODE)
+    return ps_yaml_fail(L, line_of(v),
+                        "%s must be a list of circles [cx, cy, R] (got %s)", name,
+                        ps_yaml_got(v, b));
+  int n = seq_len(v);
+  if (n > PS_MAX_HOLES)
+    return ps_yaml_fail(L, line_of(v), "%s has %d circles, at most %d are allowed", name,
+                        n, PS_MAX_HOLES);
+  cs->n_holes = 0;
+  for (int i = 0; i < n; i++) {
+    yaml_node_t *h = seq_item(L, v, i);
+    if (h->type != YAML_SEQUENCE_NODE || seq_len(h) != 3)
+      return ps_yaml_fail(L, line_of(h), "%s: a hole must be [cx, cy, R] (got %s)", name,
+                          ps_yaml_got(h, b));
+    double *c = cs->holes[i];
+    if (ps_yaml_real(L, seq_item(L, h, 0), name, -INFINITY, 0, INFINITY, 0, &c[0]) ||
+        ps_yaml_real(L, seq_item(L, h, 1), name, -INFINITY, 0, INFINITY, 0, &c[1]) ||
+        ps_yaml_real(L, seq_item(L, h, 2), name, 0.0, 1, INFINITY, 0, &c[2]))
+      return PS_ERR_INPUT;
+    cs->n_holes++;
+  }
+  L->line_holes = line_of(v);
+  return PS_OK;
+}
+
+const char *const ps_case_geometry_keys[] = {
+    "type", "dim", "c", "n_eta", "n_xi", "per_zone", "xi_min", "xi_max",
+    "jitter", "seed", "counts", "spacing", "lattice", "file", "sizes",
+    "size_neighbours", "origin", "holes", "cracks", NULL};
+
+int ps_case_on_geometry(ps_loader *L, void *arg, const char *key, const char *name,
+                        yaml_node_t *v) {
+  static const char *const types[] = {"disk", "box", "cloud", NULL};
+  static const char *const lattices[] = {"square", "hex", NULL};
+  static const char *const sizes[] = {"eq115", "eq44", NULL};
+  ps_case *cs = L->cs;
+  char b[80];
+  (void)arg;
+  _Static_assert(sizeof ps_case_geometry_keys / sizeof ps_case_geometry_keys[0] <=
+                     sizeof L->line_geometry / sizeof L->line_geometry[0],
+                 "one line_geometry per geometry key");
+  for (int i = 0; ps_case_geometry_keys[i]; i++)
+    if (IS(ps_case_geometry_keys[i])) L->line_geometry[i] = line_of(v);
+  if (IS("type")) {
+    L->line_type = line_of(v);
+    return ps_yaml_choice(L, v, name, types, &cs->geometry);
+  }
+  if (IS("dim")) {
+    L->line_dim = line_of(v);
+    return ps_yaml_int(L, v, name, 2, 3, &cs->dim);
+  }
+  if (IS("c")) return ps_yaml_pos(L, v, name, &cs->disk.c);
+  if (IS("n_eta")) return ps_yaml_int(L, v, name, 1, INT_MAX, &cs->disk.n_eta);
+  if (IS("n_xi")) return ps_yaml_int(L, v, name, 3, INT_MAX, &cs->disk.n_xi);
+  if (IS("per_zone")) return ps_yaml_int(L, v, name, 1, INT_MAX, &cs->disk.per_zone);
+  if (IS("xi_min"))
+    return ps_yaml_real(L, v, name, -INFINITY, 0, 0.0, 1, &cs->disk.xi_min);
+  if (IS("xi_max"))
+    return ps_yaml_real(L, v, name, 0.0, 1, INFINITY, 0, &cs->disk.xi_max);
+  if (IS("jitter")) {
+    /* one key for both generators: only the chosen geometry reads it */
+    int s = ps_yaml_real(L, v, name, 0.0, 0, 0.5, 1, &cs->jitter);
+    cs->disk.jitter = cs->jitter;
+    return s;
+  }
+  if (IS("seed")) {
+    long seed;
+    int s = ps_yaml_long(L, v, name, 0, LONG_MAX, &seed);
+    if (s == PS_OK) cs->seed = cs->disk.seed = (unsigned long)seed;
+    return s;
+  }
+  if (IS("counts")) {
+    if (v->type != YAML_SEQUENCE_NODE || seq_len(v) < 2 || seq_len(v) > 3)
+      return ps_yaml_fail(L, line_of(v), "%s must be [nx, ny] or [nx, ny, nz] (got %s)",
+                          name, ps_yaml_got(v, b));
+    L->n_counts = seq_len(v);
+    L->line_counts = line_of(v);
+    cs->counts[2] = 1;
+    for (int k = 0; k < L->n_counts; k++) {
+      long c;
+      if (ps_yaml_long(L, seq_item(L, v, k), name, 1, INT_MAX, &c)) return PS_ERR_INPUT;
+      cs->counts[k] = (ps_int)c;
+    }
+    return PS_OK;
+  }
+  if (IS("spacing")) return ps_yaml_pos(L, v, name, &cs->spacing);
+  if (IS("lattice")) {
+    int i;
+    L->line_lattice = line_of(v);
+    if (ps_yaml_choice(L, v, name, lattices, &i)) return PS_ERR_INPUT;
+    strcpy(cs->lattice, lattices[i]);
+    return PS_OK;
+  }
+  if (IS("file")) {
+    char f[1024];
+    if (ps_yaml_string(L, v, name, f, sizeof f)) return PS_ERR_INPUT;
+    int w = f[0] == '/' ? snprintf(cs->cloud_file, sizeof cs->cloud_file, "%s", f)
+                        : snprintf(cs->cloud_file, sizeof cs->cloud_file, "%s/%s",
+                                   cs->dir, f);
+    if (w < 0 || (size_t)w >= sizeof cs->cloud_file)
+      return ps_yaml_fail(L, line_of(v), "%s: path too long", name);
+    return PS_OK;
+  }
+  if (IS("sizes")) return ps_yaml_choice(L, v, name, sizes, &cs->size_rule);
+  if (IS("size_neighbours")) return ps_yaml_int(L, v, name, 1, 64, &cs->size_neighbours);
+  if (IS("origin")) {
+    if (v->type != YAML_SEQUENCE_NODE || seq_len(v) < 2 || seq_len(v) > 3)
+      return ps_yaml_fail(L, line_of(v), "%s must be [x0, y0] or [x0, y0, z0] (got %s)",
+                          name, ps_yaml_got(v, b));
+    for (int k = 0; k < seq_len(v); k++)
+      if (ps_yaml_real(L, seq_item(L, v, k), name, -INFINITY, 0, INFINITY, 0,
+                       &cs->origin[k]))
+        return PS_ERR_INPUT;
+    return PS_OK;
+  }
+  if (IS("holes")) return get_holes(L, v, name);
+  return get_cracks(L, v, name); /* "cracks", the last allowed key */
+}
+
+/* ---- kernel ---- */
+
+const char *const ps_case_kernel_keys[] = {"alpha", "k", NULL};
+
+int ps_case_on_kernel(ps_loader *L, void *arg, const char *key, const char *name,
+                      yaml_node_t *v) {
+  (void)arg;
+  if (IS("alpha"))
+    return ps_yaml_pos_in(L, v, name, PS_ALPHA_MIN, PS_ALPHA_MAX,
+                          "the horizon in particle sizes h (the paper: 5.1)",
+                          &L->cs->alpha);
+  return ps_yaml_int(L, v, name, 1, PS_KERNEL_K_MAX, &L->cs->kernel_k);
+}
+
+/* ---- material ---- */
+
+/* The material models a case can name (ps_model_type_find knows them). */
+static const char *const known_models[] = {"fibre", "bond", "state", NULL};
+
+const char *const ps_case_material_keys[] = {
+    "model", "E", "nu", "plane", "yield_strain", "plastic", "delta",
+    "delta_over_c", "rho", "yield_rule", "horizon_factor", "surface_correction", NULL};
+
+int ps_case_on_material(ps_loader *L, void *arg, const char *key, const char *name,
+                        yaml_node_t *v) {
+  static const char *const planes[] = {"strain", "stress", NULL};
+  static const char *const rules[] = {"total", "deviatoric", NULL};
+  ps_case *cs = L->cs;
+  ps_material *m = &cs->mat;
+  int i;
+  (void)arg;
+  if (IS("model")) {
+    if (ps_yaml_choice(L, v, name, known_models, &i)) return PS_ERR_INPUT;
+    strcpy(cs->model, known_models[i]);
+    return PS_OK;
+  }
+  if (IS("E")) {
+    L->line_E = line_of(v);
+    return ps_yaml_pos_in(L, v, name, PS_E_MIN, PS_E_MAX,
+                          "Young's modulus in Pa (steel: 2.1e11)", &m->E);
+  }
+  if (IS("nu")) {
+    L->line_nu = line_of(v);
+    return ps_yaml_real(L, v, name, -1.0, 1, 0.5, 1, &m->nu);
+  }
+  if (IS("plane")) {
+    L->line_plane = line_of(v);
+    if (ps_yaml_choice(L, v, name, planes, &i)) return PS_ERR_INPUT;
+    m->plane = i == 0 ? PS_PLANE_STRAIN : PS_PLANE_STRESS;
+    return PS_OK;
+  }
+  if (IS("yield_strain")) {
+    L->line_yield_strain = line_of(v);
+    return ps_yaml_pos_in(L, v, name, PS_YIELD_STRAIN_MIN, PS_YIELD_STRAIN_MAX,
+                          "a strain (steel: 0.002)", &m->yield_strain);
+  }
+  if (IS("plastic")) return ps_yaml_bool(L, v, name, &m->plastic);
+  if (IS("delta")) {
+    L->line_delta = line_of(v);
+    cs->delta_over_c = 0.0;
+    return ps_yaml_pos(L, v, name, &m->delta);
+  }
+  if (IS("delta_over_c")) {
+    L->line_delta_over_c = line_of(v);
+    m->delta = NAN;
+    return ps_yaml_pos(L, v, name, &cs->delta_over_c);
+  }
+  if (IS("rho")) return ps_yaml_pos(L, v, name, &m->rho);
+  if (IS("horizon_factor"))
+    return ps_yaml_pos_in(L, v, name, PS_ALPHA_MIN, PS_ALPHA_MAX,
+                          "the horizon in lattice spacings (Fallah et al.: 3)",
+                          &cs->horizon_factor);
+  if (IS("surface_correction")) return ps_yaml_bool(L, v, name, &m->surface_correction);
+  if (ps_yaml_choice(L, v, name, rules, &i)) return PS_ERR_INPUT; /* yield_rule */
+  m->yield_rule = i == 0 ? PS_YIELD_TOTAL : PS_YIELD_DEVIATORIC;
+  return PS_OK;
+}

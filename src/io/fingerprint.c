@@ -1,0 +1,120 @@
+/* fingerprint.c: the case fingerprint (ps_case_fingerprint, ps_io.h): a
+ * 64-bit FNV-1a hash of the algorithm version and of every case setting
+ * that determines a run's result. summary.txt carries it, and `griffith
+ * --resume` reuses a run only when it matches. */
+#include "ps_io.h"
+
+#include "../nonlinear/ps_solver.h"
+
+#include <stdio.h>
+#include <string.h>
+
+/* FNV-1a over the bytes of a formatted description */
+static void fnv(uint64_t *h, const char *s) {
+  for (; *s; s++) {
+    *h ^= (unsigned char)*s;
+    *h *= 1099511628211ULL;
+  }
+}
+
+/* Bumped when a change of the code changes what a run computes (beyond
+ * the Newton tolerance), so that `griffith --resume` does not reuse runs
+ * of an older algorithm. What each version changed:
+ * doc/algorithm-versions.md. */
+#define PS_ALGORITHM_VERSION 8
+
+/* What enters the hash, as "%.17g" text (every double exactly): the
+ * algorithm version; the geometry, the size rule, cracks and holes; the
+ * kernel; the material but delta (and, for the lattice models,
+ * horizon_factor and surface_correction); the loading; Newton's
+ * tolerance, iterations, line search and small steps; the CG settings
+ * that change which solves near the plastic limit converge (cg_truncate
+ * off, a fixed cg_forcing); the load path and its stop rules.
+ * Not hashed (they do not change a run's result beyond the Newton
+ * tolerance): the name and output keys, delta and the Griffith list, the
+ * linear solver and the other CG settings (cg_tolerance, cg_skip_arms,
+ * cg_single_precision, majorant, ...), and solver.max_memory_gib (a limit
+ * on what may be allocated). Keys added after the first version enter
+ * only when set or not at their default, so that the fingerprints of
+ * cases without them stay as they were. */
+uint64_t ps_case_fingerprint(const ps_case *cs) {
+  uint64_t h = 1469598103934665603ULL;
+  char b[1600];
+  snprintf(b, sizeof b, "peristatic algorithm %d", PS_ALGORITHM_VERSION);
+  fnv(&h, b);
+  const ps_disk_params *dp = &cs->disk;
+  const ps_material *m = &cs->mat;
+  snprintf(b, sizeof b, "g%d d%d disk %.17g %d %d %d %.17g %.17g %.17g %lu", cs->geometry,
+           cs->dim, dp->c, dp->n_eta, dp->n_xi, dp->per_zone, dp->xi_min, dp->xi_max,
+           dp->jitter, dp->seed);
+  fnv(&h, b);
+  snprintf(b, sizeof b, "box %lld %lld %lld %.17g %s %.17g %lu cloud %s size %d %d",
+           (long long)cs->counts[0], (long long)cs->counts[1], (long long)cs->counts[2],
+           cs->spacing, cs->lattice, cs->jitter, cs->seed, cs->cloud_file, cs->size_rule,
+           cs->size_neighbours);
+  fnv(&h, b);
+  /* newer keys enter only when set, so fingerprints of older cases stay */
+  if (cs->origin[0] != 0 || cs->origin[1] != 0 || cs->origin[2] != 0) {
+    snprintf(b, sizeof b, "origin %.17g %.17g %.17g", cs->origin[0], cs->origin[1],
+             cs->origin[2]);
+    fnv(&h, b);
+  }
+  for (int i = 0; i < cs->n_holes; i++) {
+    snprintf(b, sizeof b, "hole %.17g %.17g %.17g", cs->holes[i][0], cs->holes[i][1],
+             cs->holes[i][2]);
+    fnv(&h, b);
+  }
+  const ps_model_type *type = ps_model_type_find(cs->model);
+  if (type && type->lattice) {
+    snprintf(b, sizeof b, "lattice %.17g %d", cs->horizon_factor, m->surface_correction);
+    fnv(&h, b);
+  }
+  for (int i = 0; i < cs->n_cracks; i++) {
+    snprintf(b, sizeof b, "crack %.17g %.17g %.17g %.17g", cs->cracks[i].p0[0],
+             cs->cracks[i].p0[1], cs->cracks[i].p1[0], cs->cracks[i].p1[1]);
+    fnv(&h, b);
+  }
+  snprintf(b, sizeof b, "kernel %.17g %d model %s E %.17g nu %.17g plane %d ey %.17g "
+           "plastic %d rho %.17g rule %d load %d len %.17g",
+           cs->alpha, cs->kernel_k, cs->model, m->E, m->nu, m->plane, m->yield_strain,
+           m->plastic, m->rho, m->yield_rule, cs->load_type, cs->stress_length);
+  fnv(&h, b);
+  for (int i = 0; i < cs->n_bc; i++) {
+    const ps_bc *bc = &cs->bc[i];
+    snprintf(b, sizeof b, "bc %.17g %.17g %.17g %.17g %.17g %.17g %d %d%d%d %d%d%d "
+             "%.17g %.17g %.17g %d",
+             bc->sel.lo[0], bc->sel.lo[1], bc->sel.lo[2], bc->sel.hi[0], bc->sel.hi[1],
+             bc->sel.hi[2], bc->sel.block, bc->fix[0], bc->fix[1], bc->fix[2],
+             bc->displace_set[0], bc->displace_set[1], bc->displace_set[2],
+             bc->displace[0], bc->displace[1], bc->displace[2], bc->measure);
+    fnv(&h, b);
+    if (bc->traction_set[0] || bc->traction_set[1] || bc->traction_set[2]) {
+      snprintf(b, sizeof b, "traction %d%d%d %.17g %.17g %.17g", bc->traction_set[0],
+               bc->traction_set[1], bc->traction_set[2], bc->traction[0], bc->traction[1],
+               bc->traction[2]);
+      fnv(&h, b);
+    }
+  }
+  snprintf(b, sizeof b, "solver %.17g %d %d path %.17g %.17g %.17g %d %.17g %.17g %.17g %d",
+           cs->tolerance, cs->max_iterations, cs->line_search, cs->load_step,
+           cs->load_step_after_break, cs->max_load, cs->max_increments, cs->min_step,
+           cs->stop_crack_tip, cs->stop_load_drop, cs->max_break_rounds);
+  fnv(&h, b);
+  ps_solver_opts so;
+  ps_solver_opts_default(&so);
+  if (cs->max_small_steps != so.max_small_steps) { /* newer keys: only when not
+                                                      the default */
+    snprintf(b, sizeof b, "small steps %d", cs->max_small_steps);
+    fnv(&h, b);
+  }
+  if (!cs->cg_truncate) fnv(&h, "cg not truncated");
+  if (!cs->cg_forcing_adaptive) { /* the fixed rule (adaptive: the default) */
+    snprintf(b, sizeof b, "cg forcing %.17g", cs->cg_forcing);
+    fnv(&h, b);
+  }
+  if (cs->stop_tip_advance > 0) { /* newer key: only when set */
+    snprintf(b, sizeof b, "tip advance %.17g", cs->stop_tip_advance);
+    fnv(&h, b);
+  }
+  return h;
+}

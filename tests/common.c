@@ -30,16 +30,16 @@ ps_material tc_material(double nu, int plane) {
   return m;
 }
 
-void tc_solve(ps_solver *s, const ps_particles *P, const ps_network *net,
-              const ps_material *mat, const unsigned char *fixed,
-              const double *ubar, double lambda) {
+ps_solver *tc_solve(const ps_particles *P, const ps_network *net, const ps_material *mat,
+                     const unsigned char *fixed, const double *ubar, double lambda) {
   ps_ctx ctx;
   ps_ctx_init(&ctx);
   ctx.verbosity = getenv("PS_TEST_VERBOSE") ? 2 : 0;
   ps_solver_opts o;
   ps_solver_opts_default(&o);
   o.tolerance = 1e-9;
-  if (ps_solver_create(s, P, net, ps_model_fibre, mat, fixed, ubar, &o, &ctx))
+  ps_solver *s;
+  if (ps_solver_create(&s, P, net, ps_model_fibre, mat, fixed, ubar, &o, &ctx))
     die("solver create", &ctx);
   int st = ps_solver_step(s, lambda, &ctx);
   if (st != PS_OK) {
@@ -47,6 +47,7 @@ void tc_solve(ps_solver *s, const ps_particles *P, const ps_network *net,
             ps_solver_last_residual(s));
     die("solver step", &ctx);
   }
+  return s;
 }
 
 void tc_evaluator_create(tc_evaluator *ev, const ps_network *net,

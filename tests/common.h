@@ -16,10 +16,9 @@ void tc_network(ps_particles *P, double alpha, const ps_crack *cracks,
 ps_material tc_material(double nu, int plane);
 
 /* Create a solver and step the load factor to lambda (one increment);
- * aborts on failure. */
-void tc_solve(ps_solver *s, const ps_particles *P, const ps_network *net,
-              const ps_material *mat, const unsigned char *fixed,
-              const double *ubar, double lambda);
+ * aborts on failure. The caller frees the solver (ps_solver_free). */
+ps_solver *tc_solve(const ps_particles *P, const ps_network *net, const ps_material *mat,
+                     const unsigned char *fixed, const double *ubar, double lambda);
 
 /* A model, arm state and system on a network with nothing prescribed:
  * enough to evaluate forces of a given displacement field. */

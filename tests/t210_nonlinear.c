@@ -35,7 +35,9 @@
 #include <string.h>
 
 #include "check.h"
-#include "nonlinear/ps_solver.h"
+/* the module's own unit test: it sets the solver's state and options
+ * directly, so it reads the struct (solver_impl.h) */
+#include "nonlinear/solver_impl.h"
 
 /* ---- the line search ---------------------------------------------- */
 
@@ -325,38 +327,38 @@ static ps_solver_stats truss_case(const char *name, double D, double H, double F
   ps_ctx_init(&ctx);
   ctx.verbosity = getenv("PS_TEST_VERBOSE") ? 2 : 0;
   truss t;
-  ps_solver s;
+  ps_solver *s = NULL;
   if (truss_build(&t, 1.0e-3, H, D, &ctx) ||
       ps_solver_create(&s, &t.P, &t.net, ps_model_bond, &t.mat, t.fixed, t.ubar, o, &ctx)) {
     ps_check(0, "%s: set-up: %s", name, ctx.msg);
     return st;
   }
-  double k = s.model.arm_k[0], r0 = t.net.r0[0];
+  double k = s->model.arm_k[0], r0 = t.net.r0[0];
   double F = F_over_kL * k * t.L;
   t.fext[3] = F;
-  ps_solver_set_forces(&s, t.fext);
+  ps_solver_set_forces(s, t.fext);
   int status;
   if (isnan(y_start)) {
-    status = ps_solver_step(&s, 1.0, &ctx);
+    status = ps_solver_step(s, 1.0, &ctx);
   } else {
-    s.lambda = 1.0;
-    for (int j = 0; j < 6; j++) s.u[j] = t.ubar[j];
-    s.u[3] = y_start - t.H;
-    status = ps_newton_solve(&s, &ctx);
+    s->lambda = 1.0;
+    for (int j = 0; j < 6; j++) s->u[j] = t.ubar[j];
+    s->u[3] = y_start - t.H;
+    status = ps_newton_solve(s, &ctx);
   }
-  const double *u = ps_solver_u(&s);
+  const double *u = ps_solver_u(s);
   if (outcome) {
-    *outcome = status < 0 ? -1 : ps_solver_last_reason(&s);
+    *outcome = status < 0 ? -1 : ps_solver_last_reason(s);
     snprintf(msg, 256, "%.200s", ctx.msg);
-    ps_solver_get_stats(&s, &st);
-    ps_solver_free(&s);
+    ps_solver_get_stats(s, &st);
+    ps_solver_free(s);
     truss_free(&t);
     return st;
   }
-  ps_check(status == PS_OK && ps_solver_last_reason(&s) == PS_NEWTON_CONVERGED,
-           "%s: Newton converged (%d iterations, reason: %s)", name, s.last_iterations,
-           ps_newton_reason_text(ps_solver_last_reason(&s)));
-  double rn = norm_free(&s), R = norm_fixed(&s);
+  ps_check(status == PS_OK && ps_solver_last_reason(s) == PS_NEWTON_CONVERGED,
+           "%s: Newton converged (%d iterations, reason: %s)", name, s->last_iterations,
+           ps_newton_reason_text(ps_solver_last_reason(s)));
+  double rn = norm_free(s), R = norm_fixed(s);
   ps_check(rn <= o->tolerance * R, "%s: |r| = %.3g <= tol |R| = %.3g", name, rn,
            o->tolerance * R);
   double y = truss_height(&t, k, r0, F);
@@ -373,14 +375,14 @@ static ps_solver_stats truss_case(const char *name, double D, double H, double F
   double l = sqrt(t.Lp * t.Lp + y * y + e * e * r0 * r0);
   double T = k * (l - r0 * sqrt(1 + e * e));
   snprintf(what, sizeof what, "%s: reaction T L'/l at the right support", name);
-  ps_check_rel(s.f[4], T * t.Lp / l, 1e-8, what);
-  ps_solver_get_stats(&s, &st);
+  ps_check_rel(s->f[4], T * t.Lp / l, 1e-8, what);
+  ps_solver_get_stats(s, &st);
   printf("# %s: %lld Newton its, %lld factorisations, %lld CG its, %lld UMFPACK, "
          "%lld shifted, %lld truncated, %lld line-search cuts\n",
          name, (long long)st.newton_iterations, (long long)st.factorisations,
          (long long)st.pcg_iterations, (long long)st.n_fallback, (long long)st.shifted_steps,
          (long long)st.cg_truncated, (long long)st.line_search_cuts);
-  ps_solver_free(&s);
+  ps_solver_free(s);
   truss_free(&t);
   return st;
 }
@@ -429,7 +431,7 @@ static void truss_rate(void) {
   ps_ctx ctx;
   ps_ctx_init(&ctx);
   truss t;
-  ps_solver s;
+  ps_solver *s = NULL;
   ps_solver_opts o;
   ps_solver_opts_default(&o);
   o.reuse_factor = 0;         /* a fresh factor per iteration: exact Newton */
@@ -440,20 +442,20 @@ static void truss_rate(void) {
     ps_check(0, "rate: set-up: %s", ctx.msg);
     return;
   }
-  t.fext[3] = 0.2 * s.model.arm_k[0] * t.L;
-  ps_solver_set_forces(&s, t.fext);
-  s.lambda = 1.0;
+  t.fext[3] = 0.2 * s->model.arm_k[0] * t.L;
+  ps_solver_set_forces(s, t.fext);
+  s->lambda = 1.0;
   double u0[6];
   for (int j = 0; j < 6; j++) u0[j] = t.ubar[j];
   u0[3] = -0.5 * t.H; /* start half-way down */
   double rel[12];
   int n = 0, ok = 1;
   for (int m = 1; m <= 10; m++) {
-    memcpy(s.u, u0, sizeof u0);
-    s.opts.max_iterations = m;
-    if (ps_newton_solve(&s, &ctx) < 0) break;
-    rel[n++] = s.last_residual;
-    if (s.last_reason == PS_NEWTON_CONVERGED || s.last_residual < 1e-14) break;
+    memcpy(s->u, u0, sizeof u0);
+    s->opts.max_iterations = m;
+    if (ps_newton_solve(s, &ctx) < 0) break;
+    rel[n++] = s->last_residual;
+    if (s->last_reason == PS_NEWTON_CONVERGED || s->last_residual < 1e-14) break;
   }
   int quad = 0;
   for (int i = 0; i + 1 < n; i++) {
@@ -467,7 +469,7 @@ static void truss_rate(void) {
   ps_check(n >= 3 && quad >= 2 && ok,
            "truss, exact Newton: rel_k+1 <= 10 rel_k^2 once rel_k < 1e-2 (%d iterations, "
            "%d pairs checked)", n, quad);
-  ps_solver_free(&s);
+  ps_solver_free(s);
   truss_free(&t);
 }
 
@@ -482,7 +484,7 @@ static void s_default(ps_solver_opts *o) { (void)o; }
 static void s_no_majorant(ps_solver_opts *o) { o->majorant = 0; }
 static void s_direct(ps_solver_opts *o) { o->reuse_factor = 0; }
 static void s_assembled(ps_solver_opts *o) { o->matrix_free = 0; }
-static void s_umfpack(ps_solver_opts *o) { o->linear = ps_linsolve_umfpack; }
+static void s_umfpack(ps_solver_opts *o) { snprintf(o->linear, sizeof o->linear, "umfpack"); }
 static void s_fixed_forcing(ps_solver_opts *o) { o->cg_forcing_adaptive = 0; }
 static void s_short_cg(ps_solver_opts *o) { o->pcg_max_iterations = 2; }
 
@@ -531,31 +533,31 @@ static void test_strategies(void) {
     ps_solver_opts_default(&o);
     o.tolerance = 1e-10;
     all[i].set(&o);
-    ps_solver s;
+    ps_solver *s = NULL;
     if (ps_solver_create(&s, &P, &net, ps_model_fibre, &mat, fixed, ubar, &o, &ctx)) {
       ps_check(0, "%s: create: %s", all[i].name, ctx.msg);
       continue;
     }
     int status = PS_OK;
     for (int step = 1; step <= 4 && status == PS_OK; step++) {
-      status = ps_solver_step(&s, 0.25 * step, &ctx);
-      if (status == PS_OK) ps_solver_commit(&s);
+      status = ps_solver_step(s, 0.25 * step, &ctx);
+      if (status == PS_OK) ps_solver_commit(s);
     }
     ps_solver_stats st;
-    ps_solver_get_stats(&s, &st);
-    double rn = norm_free(&s), R = norm_fixed(&s);
+    ps_solver_get_stats(s, &st);
+    double rn = norm_free(s), R = norm_fixed(s);
     ps_check(status == PS_OK && rn <= o.tolerance * R,
              "box, %s: converged, |r| = %.3g <= tol |R| = %.3g", all[i].name, rn,
              o.tolerance * R);
-    const double *u = ps_solver_u(&s);
+    const double *u = ps_solver_u(s);
     if (i == 0) {
       memcpy(u_ref, u, (size_t)nd * sizeof *u);
       for (ps_int j = 0; j < nd; j++) unorm += u[j] * u[j];
       unorm = sqrt(unorm);
-      ps_check(ps_solver_count_yielding(&s) > 0 && st.pcg_iterations > 0 &&
+      ps_check(ps_solver_count_yielding(s) > 0 && st.pcg_iterations > 0 &&
                    st.majorant_factorisations + st.factorisations >= 1,
                "box, %s: arms yield (%lld), CG used (%lld iterations, %lld majorant "
-               "factorisations)", all[i].name, (long long)ps_solver_count_yielding(&s),
+               "factorisations)", all[i].name, (long long)ps_solver_count_yielding(s),
                (long long)st.pcg_iterations, (long long)st.majorant_factorisations);
     } else {
       double d = 0;
@@ -583,7 +585,7 @@ static void test_strategies(void) {
            all[i].name, (long long)st.newton_iterations, (long long)st.factorisations,
            (long long)st.majorant_factorisations, (long long)st.pcg_iterations,
            (long long)st.line_search_cuts);
-    ps_solver_free(&s);
+    ps_solver_free(s);
   }
   free(fixed);
   free(ubar);
@@ -592,8 +594,33 @@ static void test_strategies(void) {
   ps_particles_free(&P);
 }
 
+/* the linear solver is named in the options and resolved by
+ * ps_solver_create: an unknown name is an input error, and *s stays NULL */
+static void test_unknown_linear(void) {
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  truss t;
+  ps_solver dummy;
+  ps_solver *s = &dummy; /* not NULL: create must set it */
+  ps_solver_opts o;
+  ps_solver_opts_default(&o);
+  snprintf(o.linear, sizeof o.linear, "%s", "cholmod-supernodal");
+  if (truss_build(&t, 1.0e-3, 0.3e-3, 0.1e-3, &ctx)) {
+    ps_check(0, "unknown linear solver: set-up: %s", ctx.msg);
+    return;
+  }
+  int status =
+      ps_solver_create(&s, &t.P, &t.net, ps_model_bond, &t.mat, t.fixed, t.ubar, &o, &ctx);
+  ps_check(status == PS_ERR_INPUT && s == NULL &&
+               strstr(ctx.msg, "unknown linear solver 'cholmod-supernodal'"),
+           "unknown linear solver: PS_ERR_INPUT, no solver (%d: %s)", status, ctx.msg);
+  ps_solver_free(s);
+  truss_free(&t);
+}
+
 int main(void) {
   test_linesearch();
+  test_unknown_linear();
   test_forcing();
   ps_solver_opts o;
   ps_solver_opts_default(&o);

@@ -264,14 +264,14 @@ static void state_poisson(double nu) {
     }
     mask[a] = x > L / 3 && x < 2 * L / 3 && y > 3 * d && y < (ny - 3) * d;
   }
-  ps_solver s;
+  ps_solver *s = NULL;
   ps_solver_opts o;
   ps_solver_opts_default(&o);
   if (ps_solver_create(&s, &P, &net, ps_model_state, &mat, fixed, ubar, &o, &ctx) ||
-      ps_solver_step(&s, 1.0, &ctx) != PS_OK)
+      ps_solver_step(s, 1.0, &ctx) != PS_OK)
     die_ctx("solve", &ctx);
   double e[4], C11, C12;
-  if (ps_post_fit_strain(&P, ps_solver_u(&s), mask, e, &ctx)) die_ctx("fit", &ctx);
+  if (ps_post_fit_strain(&P, ps_solver_u(s), mask, e, &ctx)) die_ctx("fit", &ctx);
   state_lattice_moduli(&mat, d, m, &C11, &C12);
   double nu_meas = -e[3] / e[0];
   printf("# state, plane stress, input nu %.2f: strip nu = %.4f; the lattice's C12/C11 = "
@@ -280,7 +280,7 @@ static void state_poisson(double nu) {
   snprintf(what, sizeof what, "state: strip Poisson ratio (input %.1f) vs the lattice's C12/C11",
            nu);
   ps_check(fabs(nu_meas - C12 / C11) <= 0.01, "%s: %.4f vs %.4f", what, nu_meas, C12 / C11);
-  ps_solver_free(&s);
+  ps_solver_free(s);
   free(fixed);
   free(mask);
   free(ubar);
@@ -313,7 +313,7 @@ static void plate_n(const char *model, double ratio_hi, int n) {
   ps_case cs;
   ps_problem pb;
   ps_run_result res;
-  ps_solver s;
+  ps_solver *s = NULL;
   ps_case_defaults(&cs);
   if (ps_case_load(&cs, path, &ctx)) die_ctx("case", &ctx);
   if (n > 0) { /* refine: keep the plate, its fictitious layer and loads */
@@ -327,7 +327,7 @@ static void plate_n(const char *model, double ratio_hi, int n) {
   if (ps_run_keep(&pb, INFINITY, NULL, &res, &s, &ctx)) die_ctx("run", &ctx);
   const ps_particles *P = &pb.P;
   double *sig = malloc(4 * P->n * sizeof *sig);
-  ps_post_stress_tensor(P, &pb.net, ps_solver_arm_tension(&s), ps_solver_arm_direction(&s),
+  ps_post_stress_tensor(P, &pb.net, ps_solver_arm_tension(s), ps_solver_arm_direction(s),
                         sig);
   const double p = cs.bc[1].traction[0], dx = cs.spacing, R = cs.holes[0][2];
   const double cx = cs.holes[0][0], cy = cs.holes[0][1], delta = 3 * dx;
@@ -395,7 +395,7 @@ static void plate_n(const char *model, double ratio_hi, int n) {
            "%s: sigma_xx peaks next to the hole (r = %.3f R) above Kirsch", model,
            r_max / R);
   free(sig);
-  ps_solver_free(&s);
+  ps_solver_free(s);
   ps_problem_free(&pb);
 }
 

@@ -58,18 +58,18 @@ static double solve(const ps_case *base, double crack_end, int correction, const
   cs.mat.surface_correction = correction;
   ps_problem pb;
   ps_run_result res;
-  ps_solver s;
+  ps_solver *s = NULL;
   if (ps_problem_setup(&pb, &cs, &ctx)) die_ctx("setup", &ctx);
   if (ps_run_keep(&pb, INFINITY, NULL, &res, &s, &ctx)) die_ctx("run", &ctx);
   const ps_particles *P = &pb.P;
-  const double *u = ps_solver_u(&s), *T = ps_solver_arm_tension(&s);
-  const double *q = ps_solver_arm_direction(&s);
+  const double *u = ps_solver_u(s), *T = ps_solver_arm_tension(s);
+  const double *q = ps_solver_arm_direction(s);
   double W = 0;
   for (ps_int j = 0; j < 2 * P->n; j++) W += pb.fext[j] * u[j];
   if (J) {
     double *sig = malloc(4 * P->n * sizeof *sig), *H = malloc(4 * P->n * sizeof *H);
     ps_post_stress_tensor(P, &pb.net, T, q, sig);
-    ps_post_displacement_gradient(P, &pb.net, ps_solver_arm_state(&s), u, H);
+    ps_post_displacement_gradient(P, &pb.net, ps_solver_arm_state(s), u, H);
     const double tip[2] = {crack_end, cs.cracks[0].p1[1]};
     for (int i = 0; i < nl; i++) J[i] = ps_post_j_domain(P, sig, H, tip, 0.5 * l[i], l[i]);
     if (Jc)
@@ -78,7 +78,7 @@ static double solve(const ps_case *base, double crack_end, int correction, const
     free(sig);
     free(H);
   }
-  ps_solver_free(&s);
+  ps_solver_free(s);
   ps_problem_free(&pb);
   return W;
 }

@@ -66,10 +66,9 @@ static double run(int n_eta, int n_xi, ps_int *np, double *sig_ratio) {
       meas[2 * a + 1] = ny / nn;
     }
   }
-  ps_solver s;
-  tc_solve(&s, &P, &net, &mat, fixed, ubar, lambda);
-  const double *u = ps_solver_u(&s), *T = ps_solver_arm_tension(&s);
-  const double *q = ps_solver_arm_direction(&s);
+  ps_solver *s = tc_solve(&P, &net, &mat, fixed, ubar, lambda);
+  const double *u = ps_solver_u(s), *T = ps_solver_arm_tension(s);
+  const double *q = ps_solver_arm_direction(s);
   double err = ps_post_rms_error(2, n, u, uref, interior);
   double L = ps_geom_ellipse_perimeter(dp.c, M_PI - 2 * M_PI / n_xi);
   *sig_ratio = ps_post_boundary_stress(&net, T, q, meas, L) / (lambda * S);
@@ -81,7 +80,7 @@ static double run(int n_eta, int n_xi, ps_int *np, double *sig_ratio) {
    * lambda S: rings l = 0.2c .. 0.6c (q = 1 inside l/2) */
   double *sig = malloc(4 * (size_t)n * sizeof *sig), *H = malloc(4 * (size_t)n * sizeof *H);
   ps_post_stress_tensor(&P, &net, T, q, sig);
-  ps_post_displacement_gradient(&P, &net, ps_solver_arm_state(&s), u, H);
+  ps_post_displacement_gradient(&P, &net, ps_solver_arm_state(s), u, H);
   double Sr = lambda * S, Jref = M_PI * Sr * Sr * dp.c * (1 - mat.nu * mat.nu) / mat.E;
   double tip[2] = {dp.c, 0.0}, jlo = INFINITY, jhi = -INFINITY;
   j_worst = 0;
@@ -97,7 +96,7 @@ static double run(int n_eta, int n_xi, ps_int *np, double *sig_ratio) {
   free(sig);
   free(H);
   *np = n;
-  ps_solver_free(&s);
+  ps_solver_free(s);
   free(fixed);
   free(interior);
   free(ubar);

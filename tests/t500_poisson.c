@@ -68,15 +68,14 @@ static double measure_nu(int dim, double nu, double alpha, const char *lattice) 
   }
   for (int k = 1; k < dim; k++) fixed[pin * dim + k] = 1;
   if (dim == 3) fixed[pin2 * dim + 2] = 1;
-  ps_solver s;
-  tc_solve(&s, &P, &net, &mat, fixed, ubar, 1.0);
+  ps_solver *s = tc_solve(&P, &net, &mat, fixed, ubar, 1.0);
   double eps[9];
-  ps_post_fit_strain(&P, ps_solver_u(&s), mask, eps, &ctx);
+  ps_post_fit_strain(&P, ps_solver_u(s), mask, eps, &ctx);
   double r = -eps[dim + 1] / eps[0];
   double got = dim == 2 ? r / (1 + r) : r;
   printf("# %s %dD nu = %.2f: eps_xx %.4e eps_yy %.4e -> nu %.4f (%lld particles, %lld arms)\n",
          lattice, dim, nu, eps[0], eps[dim + 1], got, (long long)n, (long long)net.n_arm);
-  ps_solver_free(&s);
+  ps_solver_free(s);
   free(fixed);
   free(mask);
   free(ubar);

@@ -69,12 +69,33 @@ static void test_defaults(void) {
   ps_check(cs.geometry == PS_GEOM_DISK && cs.dim == 2 && cs.load_type == PS_LOAD_EQ116,
            "defaults: disk, 2D, eq116");
   ps_check(isnan(cs.mat.delta) && cs.delta_over_c == 1e-3, "defaults: delta unset, c/1000");
-  ps_check(cs.n_sweep == 12, "defaults: 12 sweep values");
-  ps_check(cs.cg_forcing_adaptive == 1 && cs.cg_forcing == 100 && cs.cg_forcing_max == 0.5,
+  ps_check(cs.sweep.n == 12, "defaults: 12 sweep values");
+  ps_check(cs.solver.cg_forcing_adaptive == 1 && cs.solver.cg_forcing == 100 &&
+               cs.solver.cg_forcing_max == 0.5,
            "defaults: adaptive CG forcing, at most 0.5 (the fixed rule's number 100)");
-  ps_check_rel(cs.sweep_delta_over_c[11], 1.0 / 3250, 1e-15, "defaults: last sweep 1/3250");
-  ps_check(!strcmp(cs.linear, "cholmod") && cs.out_dir[0] == '\0' && cs.vtk_every == 10,
-           "defaults: cholmod, out_dir empty, vtk_every 10");
+  ps_check_rel(cs.sweep.delta_over_c[11], 1.0 / 3250, 1e-15, "defaults: last sweep 1/3250");
+  ps_check(!strcmp(cs.solver.linear, "cholmod") && cs.output.dir[0] == '\0' &&
+               cs.output.vtk_every == 10,
+           "defaults: cholmod, output.dir empty, vtk_every 10");
+  /* the option structs hold their modules' defaults, set nowhere else */
+  ps_solver_opts so;
+  ps_path_opts po;
+  ps_output_opts oo;
+  ps_sweep_opts wo;
+  memset(&so, 0, sizeof so);
+  memset(&po, 0, sizeof po);
+  memset(&oo, 0, sizeof oo);
+  ps_solver_opts_default(&so);
+  ps_path_opts_default(&po);
+  ps_output_opts_default(&oo);
+  ps_sweep_opts_default(&wo);
+  ps_check(!memcmp(&cs.solver, &so, sizeof so) && !memcmp(&cs.path, &po, sizeof po) &&
+               !memcmp(&cs.output, &oo, sizeof oo) && !memcmp(&cs.sweep, &wo, sizeof wo),
+           "defaults: cs.solver, path, output, sweep are their *_opts_default");
+  ps_check(cs.path.load_step == 0.02 && cs.path.max_increments == 2000 &&
+               cs.path.stop_tip_advance == 0 && cs.solver.tolerance == 1e-8 &&
+               cs.output.verbosity == 1 && cs.max_memory_gib == 0,
+           "defaults: load_step 0.02, 2000 increments, tolerance 1e-8, verbosity 1");
 }
 
 static void test_full(void) {
@@ -86,7 +107,7 @@ static void test_full(void) {
   ps_check(s == PS_OK, "full.yaml loads (status %d: %s)", s, ctx.msg);
   if (s != PS_OK) return;
   ps_check(!strcmp(cs.name, "plate_test"), "full: name (%s)", cs.name);
-  ps_check(!strcmp(cs.path, DATA("full.yaml")) && !strcmp(cs.dir, PS_TEST_DATA "/io"),
+  ps_check(!strcmp(cs.file, DATA("full.yaml")) && !strcmp(cs.dir, PS_TEST_DATA "/io"),
            "full: path and dir (%s)", cs.dir);
   ps_check(cs.geometry == PS_GEOM_BOX && cs.dim == 2, "full: box, 2D");
   ps_check(cs.counts[0] == 30 && cs.counts[1] == 10 && cs.counts[2] == 1,
@@ -127,23 +148,25 @@ static void test_full(void) {
                b[1].measure,
            "full: entry 2 displaces x by 1e-5 and measures");
   ps_check(b[2].sel.block == 2 && b[2].fix[1] && !b[2].fix[0], "full: entry 3 block 2");
-  ps_check(!strcmp(cs.linear, "umfpack") && cs.max_iterations == 50 && !cs.line_search,
+  ps_check(!strcmp(cs.solver.linear, "umfpack") && cs.solver.max_iterations == 50 &&
+               !cs.solver.line_search,
            "full: solver");
-  ps_check_rel(cs.tolerance, 1e-10, 0, "full: tolerance");
-  ps_check(!cs.cg_forcing_adaptive && cs.cg_forcing == 50 && cs.cg_forcing_max == 0.25,
+  ps_check_rel(cs.solver.tolerance, 1e-10, 0, "full: tolerance");
+  ps_check(!cs.solver.cg_forcing_adaptive && cs.solver.cg_forcing == 50 &&
+               cs.solver.cg_forcing_max == 0.25,
            "full: cg_forcing 50 (the fixed rule), cg_forcing_max 0.25");
-  ps_check(cs.load_step == 0.01 && cs.load_step_after_break == 0.001 && cs.max_load == 2 &&
-               cs.max_increments == 100 && cs.min_step == 1e-7 &&
-               cs.stop_crack_tip == 5 && cs.stop_load_drop == 0 &&
-               cs.max_break_rounds == 20,
+  ps_check(cs.path.load_step == 0.01 && cs.path.load_step_after_break == 0.001 &&
+               cs.path.max_load == 2 && cs.path.max_increments == 100 && cs.path.min_step == 1e-7 &&
+               cs.path.stop_crack_tip == 5 && cs.path.stop_load_drop == 0 &&
+               cs.path.max_break_rounds == 20,
            "full: path");
-  ps_check(!strcmp(cs.out_dir, "out/test_plate") && cs.vtk_every == 0 &&
-               cs.verbosity == 2,
+  ps_check(!strcmp(cs.output.dir, "out/test_plate") && cs.output.vtk_every == 0 &&
+               cs.output.verbosity == 2,
            "full: output");
-  ps_check(cs.n_sweep == 12, "full: 12 griffith values (got %d)", cs.n_sweep);
-  int ok = cs.n_sweep == 12;
+  ps_check(cs.sweep.n == 12, "full: 12 griffith values (got %d)", cs.sweep.n);
+  int ok = cs.sweep.n == 12;
   for (int i = 0; ok && i < 12; i++)
-    ok = fabs(cs.sweep_delta_over_c[i] - 1.0 / (500 + 250 * i)) <= 1e-15 / (500 + 250 * i);
+    ok = fabs(cs.sweep.delta_over_c[i] - 1.0 / (500 + 250 * i)) <= 1e-15 / (500 + 250 * i);
   ps_check(ok, "full: griffith delta/c = 1/500, 1/750, ..., 1/3250");
 }
 
@@ -164,7 +187,7 @@ static void test_cloud_case(void) {
                cs.bc[0].sel.lo[2] == 0.5 && cs.bc[1].fix[2],
            "cloud3d: z components accepted (dim given later)");
   ps_check(cs.mat.delta == 2e-3 && cs.delta_over_c == 0.0, "cloud3d: delta in metres");
-  ps_check(cs.n_sweep == 3 && cs.sweep_delta_over_c[2] == 4e-3, "cloud3d: sweep list");
+  ps_check(cs.sweep.n == 3 && cs.sweep.delta_over_c[2] == 4e-3, "cloud3d: sweep list");
 
   ps_particles p;
   s = ps_cloud_read(&p, cs.cloud_file, 3, &ctx);
@@ -408,7 +431,7 @@ static void test_case_limits(void) {
     fclose(f);
   }
   s = ps_case_load(&cs, path, &ctx);
-  ps_check(s == PS_OK && !strncmp(cs.name, "it's [[[", 8) && !strncmp(cs.out_dir, "a[[[", 4),
+  ps_check(s == PS_OK && !strncmp(cs.name, "it's [[[", 8) && !strncmp(cs.output.dir, "a[[[", 4),
            "brackets in quoted scalars and comments are text (%s)", ctx.msg);
   ps_case_defaults(&cs);
   /* a file over 1 MiB: refused before parsing */

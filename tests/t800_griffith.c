@@ -24,9 +24,9 @@ int main(void) {
   cs.disk.n_eta = 6;
   cs.disk.n_xi = 12;
   cs.disk.seed = 11;
-  cs.load_step = 0.05;
-  cs.load_step_after_break = 0.01;
-  cs.max_load = 3.0;
+  cs.path.load_step = 0.05;
+  cs.path.load_step_after_break = 0.01;
+  cs.path.max_load = 3.0;
   ps_problem pb;
   if (ps_problem_setup(&pb, &cs, &ctx)) {
     ps_check(0, "setup: %s", ctx.msg);

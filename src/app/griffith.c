@@ -19,6 +19,12 @@
 
 #include "config.h"
 
+void ps_sweep_opts_default(ps_sweep_opts *o) {
+  memset(o, 0, sizeof *o);
+  o->n = 12; /* delta/c = 1/500, 1/750, ..., 1/3250 */
+  for (int i = 0; i < o->n; i++) o->delta_over_c[i] = 1.0 / (500.0 + 250.0 * i);
+}
+
 /* A finished run of this sweep in dir (same case fingerprint, particles,
  * arms and delta)? Then *r is its record, read back from its summary.txt
  * (ps_report_read_summary). */
@@ -47,20 +53,20 @@ static int reuse_run(const ps_problem *pb, const char *dir, double delta,
 static int sweep_run(ps_problem *pb, const char *staging, int i, int try_reuse, int may_run,
                      int job, ps_run_result *res, ps_ctx *ctx) {
   const ps_case *cs = &pb->cs;
-  double dc = cs->sweep_delta_over_c[i];
+  double dc = cs->sweep.delta_over_c[i];
   char path[1300], label[32] = "";
   snprintf(path, sizeof path, "%s/delta_c%.6g", staging, 1.0 / dc);
   if (job > 0) snprintf(label, sizeof label, " (job %d)", job);
   if (try_reuse && reuse_run(pb, path, dc * pb->c, res)) {
     ps_log(ctx, 1, "## griffith run %d/%d%s: delta = c/%.6g: reusing %s\n", i + 1,
-           cs->n_sweep, label, 1.0 / dc, path);
+           cs->sweep.n, label, 1.0 / dc, path);
     return PS_OK;
   }
   if (!may_run)
     return ps_error(ctx, PS_ERR_SOLVER,
                     "%s is being run by another peristatic process (pid in %s.claim)", path,
                     path);
-  ps_log(ctx, 1, "## griffith run %d/%d%s: delta = c/%.6g\n", i + 1, cs->n_sweep, label,
+  ps_log(ctx, 1, "## griffith run %d/%d%s: delta = c/%.6g\n", i + 1, cs->sweep.n, label,
          1.0 / dc);
   int status = ps_run_unlocked(pb, dc * pb->c, path, res, ctx); /* the sweep holds the lock */
   /* a run whose Newton solve stalls before the crack runs (the paper's
@@ -74,7 +80,7 @@ static int sweep_run(ps_problem *pb, const char *staging, int i, int try_reuse, 
 
 static void claim_path(const ps_problem *pb, const char *staging, int i, char *path,
                        size_t len) {
-  snprintf(path, len, "%s/delta_c%.6g.claim", staging, 1.0 / pb->cs.sweep_delta_over_c[i]);
+  snprintf(path, len, "%s/delta_c%.6g.claim", staging, 1.0 / pb->cs.sweep.delta_over_c[i]);
 }
 
 /* Claim run i for this process: create staging/delta_cNNNN.claim
@@ -117,11 +123,11 @@ static void release_run(const ps_problem *pb, const char *staging, int i) {
  * most increments), so the longest runs start first and the short ones
  * fill the gaps (longest-processing-time-first scheduling). */
 static void longest_first(const ps_case *cs, int *order) {
-  int n = cs->n_sweep;
+  int n = cs->sweep.n;
   for (int k = 0; k < n; k++) order[k] = k;
   for (int k = 1; k < n; k++) /* insertion sort by delta, descending */
-    for (int j = k; j > 0 && cs->sweep_delta_over_c[order[j]] >
-                               cs->sweep_delta_over_c[order[j - 1]]; j--) {
+    for (int j = k; j > 0 && cs->sweep.delta_over_c[order[j]] >
+                               cs->sweep.delta_over_c[order[j - 1]]; j--) {
       int t = order[j];
       order[j] = order[j - 1];
       order[j - 1] = t;
@@ -145,7 +151,7 @@ _Noreturn static void worker(ps_problem *pb, const char *staging, int w, int job
     pb->threads = per_job > 1 ? per_job : 1;
   }
   int bad = 0;
-  for (int k = 0; k < pb->cs.n_sweep && !ps_signal_received(); k++) {
+  for (int k = 0; k < pb->cs.sweep.n && !ps_signal_received(); k++) {
     ps_run_result r; /* after a failed run, go on with the others */
     if (!claim_run(pb, staging, order[k])) continue;
     if (sweep_run(pb, staging, order[k], 1, 1, w, &r, ctx) < 0) {
@@ -226,7 +232,7 @@ static int run_workers(ps_problem *pb, const char *staging, int jobs, ps_ctx *ct
 static int write_tables(const ps_problem *pb, const char *dir, const ps_run_result *res,
                         int nf, double slope, double intercept, double r2, ps_ctx *ctx) {
   const ps_case *cs = &pb->cs;
-  int n = cs->n_sweep;
+  int n = cs->sweep.n;
   char path[1300], b1[32], b2[32], b3[32];
   double nominal = sqrt(2.0 / (M_PI * pb->mat.yield_strain));
   ps_outfile o;
@@ -235,7 +241,7 @@ static int write_tables(const ps_problem *pb, const char *dir, const ps_run_resu
   fprintf(o.f, "delta_over_c,sqrt_delta_over_c,sigma_failure_over_sigma_y,fractured,"
                "increments,newton_iterations,arms_broken,wall_s\n");
   for (int i = 0; i < n; i++) {
-    double dc = cs->sweep_delta_over_c[i];
+    double dc = cs->sweep.delta_over_c[i];
     fprintf(o.f, "%.8g,%.8g,%s,%s,%lld,%lld,%lld,%.3f\n", dc, sqrt(dc),
             ps_fmt_or_na(res[i].sigma_peak / res[i].sigma_y, 8, b1, sizeof b1),
             res[i].fractured ? "yes" : res[i].stalled ? "stalled" : "no",
@@ -342,9 +348,9 @@ int ps_griffith_jobs(ps_problem *pb, const char *out_dir, int resume, int jobs,
     return ps_error(ctx, PS_ERR_INPUT,
                     "%s: the Griffith sweep needs the elliptic disk (geometry.type "
                     "disk): delta is swept as a fraction of c",
-                    pb->cs.path);
-  if (pb->cs.n_sweep < 1)
-    return ps_error(ctx, PS_ERR_INPUT, "%s: griffith sweep is empty", pb->cs.path);
+                    pb->cs.file);
+  if (pb->cs.sweep.n < 1)
+    return ps_error(ctx, PS_ERR_INPUT, "%s: griffith sweep is empty", pb->cs.file);
   /* the lock covers the whole sweep, its workers (which share it) and
    * the runs' folders inside it */
   PS_CHECK(ps_outdir_lock_take(&lk, out_dir, ctx));
@@ -358,7 +364,7 @@ static int griffith_sweep(ps_problem *pb, const char *out_dir, int resume, int j
                           double *slope, double *intercept, double *r2, int *n_fractured,
                           ps_ctx *ctx) {
   const ps_case *cs = &pb->cs;
-  int n = cs->n_sweep, status = PS_OK, nf = 0, commit;
+  int n = cs->sweep.n, status = PS_OK, nf = 0, commit;
   double xs[PS_MAX_SWEEP], ys[PS_MAX_SWEEP];
   ps_run_result res[PS_MAX_SWEEP];
   char staging[1200], b1[32], b2[32], b3[32];
@@ -368,7 +374,7 @@ static int griffith_sweep(ps_problem *pb, const char *out_dir, int resume, int j
   if (jobs > 64) jobs = 64;
   if (jobs > 1) status = run_workers(pb, staging, jobs, ctx); /* then all reused */
   for (int i = 0; i < n && status >= 0; i++) {
-    double dc = cs->sweep_delta_over_c[i];
+    double dc = cs->sweep.delta_over_c[i];
     /* a run another process holds: only its result will do */
     int mine = claim_run(pb, staging, i);
     status = sweep_run(pb, staging, i, resume || jobs > 1, mine, 0, &res[i], ctx);

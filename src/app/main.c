@@ -163,7 +163,7 @@ static void limit_openmp_threads(char **argv) {
 
 /* the runs a sweep holds at once: -j N, at most one per delta */
 static int sweep_jobs(const ps_case *cs, int jobs) {
-  return cs->n_sweep > 0 && cs->n_sweep < jobs ? cs->n_sweep : jobs;
+  return cs->sweep.n > 0 && cs->sweep.n < jobs ? cs->sweep.n : jobs;
 }
 
 /* the exit status of a fatal status (doc/peristatic.md EXIT STATUS) */
@@ -190,97 +190,106 @@ static int count_arg(int argc, char **argv, int *i, const char *what) {
   return (int)v;
 }
 
-int main(int argc, char **argv) {
-  limit_openmp_threads(argv);
-  ps_signals_install();
-  ps_ctx ctx;
-  ps_ctx_init(&ctx);
-  gsl_set_error_handler_off();
-#ifdef HAVE_OPENBLAS_SET_NUM_THREADS
-  if (!getenv("OPENBLAS_NUM_THREADS")) openblas_set_num_threads(1);
-#endif
-  const char *cmd = NULL, *file = NULL, *out = NULL;
-  int verbosity = -1, resume = 0, jobs = 1, threads = 0;
-  double max_memory = 0; /* --max-memory GIB; 0: the case's */
+/* the number of GiB > 0 after option argv[*i] (*i moves to it), or -1
+ * after a message */
+static double memory_arg(int argc, char **argv, int *i) {
+  char *end = NULL;
+  double v = ++*i < argc ? strtod(argv[*i], &end) : 0;
+  if (*i >= argc || !end || end == argv[*i] || *end || !(v > 0) || !isfinite(v)) {
+    fprintf(stderr, "peristatic: --max-memory needs a number of GiB > 0\n");
+    return -1;
+  }
+  return v;
+}
+
+/* What the command line asked for. */
+typedef struct cli {
+  const char *cmd, *file, *out; /* command, case file, -o DIR (NULL: none) */
+  int verbosity;                /* -q/-v; -1: the case's output.verbosity */
+  int resume, jobs, threads;    /* --resume, -j N, -t N (0: the CPUs) */
+  double max_memory;            /* --max-memory GIB; 0: the case's */
+} cli;
+
+/* Read the options and arguments into *c. Returns -1 to go on, else the
+ * exit status (after --help or --version, or a message on stderr). */
+static int parse_options(int argc, char **argv, cli *c) {
+  *c = (cli){.verbosity = -1, .jobs = 1};
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
     if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-      fputs(help_for(cmd), stdout);
+      fputs(help_for(c->cmd), stdout);
       return 0;
     } else if (!strcmp(a, "-o") || !strcmp(a, "--out")) {
       if (++i >= argc) {
         fprintf(stderr, "peristatic: %s needs a directory\n", a);
         return 1;
       }
-      out = argv[i];
+      c->out = argv[i];
     } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
-      verbosity = 0;
+      c->verbosity = 0;
     } else if (!strcmp(a, "-v") || !strcmp(a, "--verbose")) {
-      verbosity = verbosity < 2 ? 2 : verbosity + 1;
+      c->verbosity = c->verbosity < 2 ? 2 : c->verbosity + 1;
     } else if (!strcmp(a, "--resume")) {
-      resume = 1;
+      c->resume = 1;
     } else if (!strcmp(a, "-j") || !strcmp(a, "--jobs")) {
-      if ((jobs = count_arg(argc, argv, &i, "jobs")) < 0) return 1;
+      if ((c->jobs = count_arg(argc, argv, &i, "jobs")) < 0) return 1;
     } else if (!strcmp(a, "-t") || !strcmp(a, "--threads")) {
-      if ((threads = count_arg(argc, argv, &i, "threads")) < 0) return 1;
+      if ((c->threads = count_arg(argc, argv, &i, "threads")) < 0) return 1;
     } else if (!strcmp(a, "--max-memory")) {
-      char *end = NULL;
-      max_memory = ++i < argc ? strtod(argv[i], &end) : 0;
-      if (i >= argc || !end || end == argv[i] || *end || !(max_memory > 0) ||
-          !isfinite(max_memory)) {
-        fprintf(stderr, "peristatic: --max-memory needs a number of GiB > 0\n");
-        return 1;
-      }
+      if ((c->max_memory = memory_arg(argc, argv, &i)) < 0) return 1;
     } else if (!strcmp(a, "--version")) {
       puts("peristatic " PACKAGE_VERSION);
       return 0;
     } else if (a[0] == '-') {
       fprintf(stderr, "peristatic: unknown option '%s' (see peristatic --help)\n", a);
       return 1;
-    } else if (!cmd) {
-      cmd = a;
-    } else if (!file) {
-      file = a;
+    } else if (!c->cmd) {
+      c->cmd = a;
+    } else if (!c->file) {
+      c->file = a;
     } else {
       fprintf(stderr, "peristatic: unexpected argument '%s'\n", a);
       return 1;
     }
   }
-  if (!cmd) {
+  return -1;
+}
+
+/* The command: help, or run/griffith/info with a case file. Returns -1 to
+ * go on, else the exit status (after the help text or a message). */
+static int check_command(const cli *c) {
+  if (!c->cmd) {
     fputs(HELP_MAIN, stdout);
     return 1;
   }
-  if (!strcmp(cmd, "help")) {
-    fputs(help_for(file), stdout);
+  if (!strcmp(c->cmd, "help")) {
+    fputs(help_for(c->file), stdout);
     return 0;
   }
-  if (strcmp(cmd, "run") && strcmp(cmd, "griffith") && strcmp(cmd, "info")) {
+  if (strcmp(c->cmd, "run") && strcmp(c->cmd, "griffith") && strcmp(c->cmd, "info")) {
     fprintf(stderr, "peristatic: unknown command '%s' (commands: run, griffith, info)\n",
-            cmd);
+            c->cmd);
     return 1;
   }
-  if (!file) {
-    fprintf(stderr, "peristatic %s: no case file given (see peristatic help %s)\n", cmd,
-            cmd);
+  if (!c->file) {
+    fprintf(stderr, "peristatic %s: no case file given (see peristatic help %s)\n", c->cmd,
+            c->cmd);
     return 1;
   }
-  ps_case cs;
-  ps_case_defaults(&cs);
-  int status = ps_case_load(&cs, file, &ctx);
-  if (status < 0) {
-    fprintf(stderr, "peristatic: %s\n", ctx.msg);
-    return exit_code(status);
-  }
-  ctx.verbosity = verbosity >= 0 ? verbosity : cs.verbosity;
-  if (max_memory > 0) cs.max_memory_gib = max_memory;
-  char outdir[1100];
+  return -1;
+}
+
+/* The output folder into outdir[len]: -o DIR, else output.dir, else
+ * out/<case name>, without trailing slashes ("out/x/" would stage into
+ * out/x/.partial and then fail to rename). Returns 0, or 1 after a
+ * message when it names no folder of its own ("/", ".", ".."). */
+static int choose_outdir(const char *out, const ps_case *cs, char *outdir, size_t len) {
   if (out)
-    snprintf(outdir, sizeof outdir, "%s", out);
-  else if (cs.out_dir[0])
-    snprintf(outdir, sizeof outdir, "%s", cs.out_dir);
+    snprintf(outdir, len, "%s", out);
+  else if (cs->output.dir[0])
+    snprintf(outdir, len, "%s", cs->output.dir);
   else
-    snprintf(outdir, sizeof outdir, "out/%s", cs.name);
-  /* "out/x/" would stage into out/x/.partial and then fail to rename */
+    snprintf(outdir, len, "out/%s", cs->name);
   size_t ol = strlen(outdir);
   while (ol > 1 && outdir[ol - 1] == '/') outdir[--ol] = '\0';
   const char *base = strrchr(outdir, '/');
@@ -290,67 +299,105 @@ int main(int argc, char **argv) {
             outdir);
     return 1;
   }
+  return 0;
+}
+
+/* peristatic info, after the set-up (the estimate is printed): sizes of the
+ * network, the fingerprint and the tangent's pattern (two horizons unless
+ * the model has no family terms: what a factorisation will face); t0 =
+ * wall seconds at the start of the set-up. Returns PS_OK or fatal. */
+static int cmd_info(const ps_problem *pb, double t0, ps_ctx *ctx) {
+  const ps_case *cs = &pb->cs;
+  ps_int nfree = 0, nd = (ps_int)pb->P.dim * pb->P.n;
+  for (ps_int j = 0; j < nd; j++) nfree += !pb->fixed[j];
+  printf("particles: %lld\narms: %lld\narms_per_particle: %.2f\n"
+         "size_ratio_max_over_min: %.1f\nfree_dofs: %lld\ncase_fingerprint: %016llx\n"
+         "setup_s: %.3f\n",
+         (long long)pb->P.n, (long long)pb->net.n_arm, 2.0 * pb->net.n_arm / pb->P.n,
+         pb->net.max_h_ratio, (long long)nfree,
+         (unsigned long long)ps_case_fingerprint(cs), ps_wtime() - t0);
+  ps_system sys;
+  double t1 = ps_wtime();
+  const ps_model_type *type = ps_model_type_find(cs->model);
+  int status = ps_system_create_pattern(&sys, &pb->net, pb->fixed,
+                                        type ? type->family_coupling : 1, ctx);
+  if (status < 0) return status;
+  ps_int d2 = (ps_int)pb->P.dim * pb->P.dim;
+  double mib = ((double)d2 * sys.bptr[pb->P.n] * 8 + (double)sys.fam_slot_ptr[pb->P.n] * 8 +
+                (double)sys.A.p[sys.n_free] * 24) / 1048576.0;
+  printf("tangent_nnz_upper: %lld\ntangent_nnz_per_row: %.1f\n"
+         "particle_pairs_coupled: %lld\nassembly_memory_MiB: %.0f\npattern_s: %.3f\n",
+         (long long)sys.A.p[sys.n_free],
+         2.0 * sys.A.p[sys.n_free] / (double)(sys.n_free > 0 ? sys.n_free : 1),
+         (long long)sys.bptr[pb->P.n], mib, ps_wtime() - t1);
+  ps_system_free(&sys);
+  return PS_OK;
+}
+
+/* peristatic run: the case with its own delta into outdir. A stalled
+ * solve is an error for `run` (exit 2); its outputs stay in the partial
+ * folder. Returns PS_OK or fatal. */
+static int cmd_run(ps_problem *pb, const char *outdir, ps_ctx *ctx) {
+  ps_run_result res;
+  int status = ps_run(pb, pb->mat.delta, outdir, &res, ctx);
+  if (status == PS_RUN_STALLED) status = ps_run_stalled_error(outdir, ctx);
+  if (status >= 0)
+    ps_log(ctx, 1, "# results in %s/ (summary.txt, history.csv, *.vtk)\n", outdir);
+  return status;
+}
+
+/* peristatic griffith: the sweep into outdir. Returns PS_OK or fatal. */
+static int cmd_griffith(ps_problem *pb, const cli *c, const char *outdir, ps_ctx *ctx) {
+  double slope, icpt, r2;
+  int nf;
+  int status = ps_griffith_jobs(pb, outdir, c->resume, c->jobs, &slope, &icpt, &r2, &nf, ctx);
+  if (status >= 0) ps_log(ctx, 1, "# results in %s/ (griffith.csv, griffith.png)\n", outdir);
+  return status;
+}
+
+/* the message of a fatal status on stderr; its exit status */
+static int fail(int status, const ps_ctx *ctx) {
+  fprintf(stderr, "peristatic: %s\n", ctx->msg);
+  return exit_code(status);
+}
+
+int main(int argc, char **argv) {
+  limit_openmp_threads(argv);
+  ps_signals_install();
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  gsl_set_error_handler_off();
+#ifdef HAVE_OPENBLAS_SET_NUM_THREADS
+  if (!getenv("OPENBLAS_NUM_THREADS")) openblas_set_num_threads(1);
+#endif
+  cli c;
+  int code = parse_options(argc, argv, &c);
+  if (code < 0) code = check_command(&c);
+  if (code >= 0) return code;
+  ps_case cs;
+  ps_case_defaults(&cs);
+  int status = ps_case_load(&cs, c.file, &ctx);
+  if (status < 0) return fail(status, &ctx);
+  ctx.verbosity = c.verbosity >= 0 ? c.verbosity : cs.output.verbosity;
+  if (c.max_memory > 0) cs.max_memory_gib = c.max_memory;
+  char outdir[1100];
+  if (choose_outdir(c.out, &cs, outdir, sizeof outdir)) return 1;
   ps_problem pb;
   double t0 = ps_wtime();
-  int info = !strcmp(cmd, "info");
+  int info = !strcmp(c.cmd, "info"), griffith = !strcmp(c.cmd, "griffith");
   if (info) printf("case: %s\n", cs.name);
   fflush(stdout);
   status = ps_problem_setup_sized(&pb, &cs, info ? PS_ESTIMATE_INFO : PS_ESTIMATE_RUN,
-                                  strcmp(cmd, "griffith") ? 1 : sweep_jobs(&cs, jobs),
+                                  griffith ? sweep_jobs(&cs, c.jobs) : 1,
                                   info ? stdout : NULL, &ctx);
-  if (status < 0) {
-    fprintf(stderr, "peristatic: %s\n", ctx.msg);
-    return exit_code(status);
-  }
-  pb.threads = threads;
-  if (info) {
-    ps_int nfree = 0, nd = (ps_int)pb.P.dim * pb.P.n;
-    for (ps_int j = 0; j < nd; j++) nfree += !pb.fixed[j];
-    printf("particles: %lld\narms: %lld\narms_per_particle: %.2f\n"
-           "size_ratio_max_over_min: %.1f\nfree_dofs: %lld\ncase_fingerprint: %016llx\n"
-           "setup_s: %.3f\n",
-           (long long)pb.P.n, (long long)pb.net.n_arm,
-           2.0 * pb.net.n_arm / pb.P.n, pb.net.max_h_ratio, (long long)nfree,
-           (unsigned long long)ps_case_fingerprint(&cs), ps_wtime() - t0);
-    /* the tangent's pattern (two horizons unless the model has no family
-     * terms): what a factorisation will face */
-    ps_system sys;
-    double t1 = ps_wtime();
-    const ps_model_type *type = ps_model_type_find(cs.model);
-    status = ps_system_create_pattern(&sys, &pb.net, pb.fixed,
-                                      type ? type->family_coupling : 1, &ctx);
-    if (status < 0) {
-      fprintf(stderr, "peristatic: %s\n", ctx.msg);
-      ps_problem_free(&pb);
-      return exit_code(status);
-    }
-    ps_int d2 = (ps_int)pb.P.dim * pb.P.dim;
-    double mib = ((double)d2 * sys.bptr[pb.P.n] * 8 + (double)sys.fam_slot_ptr[pb.P.n] * 8 +
-                  (double)sys.A.p[sys.n_free] * 24) / 1048576.0;
-    printf("tangent_nnz_upper: %lld\ntangent_nnz_per_row: %.1f\n"
-           "particle_pairs_coupled: %lld\nassembly_memory_MiB: %.0f\npattern_s: %.3f\n",
-           (long long)sys.A.p[sys.n_free],
-           2.0 * sys.A.p[sys.n_free] / (double)(sys.n_free > 0 ? sys.n_free : 1),
-           (long long)sys.bptr[pb.P.n], mib, ps_wtime() - t1);
-    ps_system_free(&sys);
-  } else if (!strcmp(cmd, "run")) {
-    ps_run_result res;
-    status = ps_run(&pb, pb.mat.delta, outdir, &res, &ctx);
-    /* a stalled solve is an error for `run` (exit 2); the outputs stay
-     * in the partial folder */
-    if (status == PS_RUN_STALLED) status = ps_run_stalled_error(outdir, &ctx);
-    if (status >= 0)
-      ps_log(&ctx, 1, "# results in %s/ (summary.txt, history.csv, *.vtk)\n", outdir);
-  } else {
-    double slope, icpt, r2;
-    int nf;
-    status = ps_griffith_jobs(&pb, outdir, resume, jobs, &slope, &icpt, &r2, &nf, &ctx);
-    if (status >= 0) ps_log(&ctx, 1, "# results in %s/ (griffith.csv, griffith.png)\n", outdir);
-  }
+  if (status < 0) return fail(status, &ctx);
+  pb.threads = c.threads;
+  if (info)
+    status = cmd_info(&pb, t0, &ctx);
+  else if (griffith)
+    status = cmd_griffith(&pb, &c, outdir, &ctx);
+  else
+    status = cmd_run(&pb, outdir, &ctx);
   ps_problem_free(&pb);
-  if (status < 0) {
-    fprintf(stderr, "peristatic: %s\n", ctx.msg);
-    return exit_code(status);
-  }
-  return 0;
+  return status < 0 ? fail(status, &ctx) : 0;
 }

@@ -12,7 +12,8 @@
 #include "../post/ps_post.h"
 
 typedef struct ps_problem {
-  ps_case cs;             /* the case (copy) */
+  ps_case cs;             /* the case (copy); its option structs go to the
+                             layers as they are (cs.solver, cs.path) */
   ps_particles P;
   ps_kernel kernel;
   ps_network net;
@@ -57,7 +58,8 @@ void ps_problem_free(ps_problem *pb);
 #define PS_RUN_STALLED PS_DIVERGED
 
 /* Run the case's load path (src/path) with elongation limit delta (m;
- * inf: no breaking); the record of the run in *res (ps_run_result,
+ * inf: no breaking), the solver's options pb->cs.solver with pb->threads,
+ * the path's pb->cs.path, the outputs' pb->cs.output; the record of the run in *res (ps_run_result,
  * src/io/ps_report.h). When out_dir is not NULL, first takes out_dir's
  * lock (ps_outdir_lock_take: another writer is refused) and checks the
  * folders (ps_outdir_prepare: only a folder of ours is replaced), then
@@ -77,11 +79,11 @@ int ps_run(ps_problem *pb, double delta, const char *out_dir,
 int ps_run_unlocked(ps_problem *pb, double delta, const char *out_dir,
                     ps_run_result *res, ps_ctx *ctx);
 
-/* Keep the solver of the last ps_run alive for inspection (tests): when
- * keep != NULL and the status is not fatal, ps_run_keep hands the solver
- * over (the caller frees it) instead of freeing it. */
+/* ps_run that keeps the run's solver alive for inspection (tests): when
+ * keep != NULL and the status is not fatal, *keep is the solver at the end
+ * of the run (the caller frees it with ps_solver_free), else NULL. */
 int ps_run_keep(ps_problem *pb, double delta, const char *out_dir,
-                ps_run_result *res, ps_solver *keep, ps_ctx *ctx);
+                ps_run_result *res, ps_solver **keep, ps_ctx *ctx);
 
 /* After PS_RUN_STALLED: the error PS_ERR_SOLVER with ctx->msg's stall
  * message and, when out_dir is not NULL, where the outputs are (out_dir

@@ -9,45 +9,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-static void solver_opts_from_case(const ps_case *cs, ps_solver_opts *o) {
-  ps_solver_opts_default(o);
-  o->tolerance = cs->tolerance;
-  o->max_iterations = cs->max_iterations;
-  o->max_small_steps = cs->max_small_steps;
-  o->line_search = cs->line_search;
-  o->reuse_factor = cs->reuse_factor;
-  o->pcg_rtol = cs->cg_tolerance;
-  o->cg_forcing_adaptive = cs->cg_forcing_adaptive;
-  o->cg_forcing = cs->cg_forcing;
-  o->cg_forcing_max = cs->cg_forcing_max;
-  o->pcg_max_iterations = cs->cg_max_iterations;
-  o->pcg_skip_arms = cs->cg_skip_arms;
-  o->majorant = cs->majorant;
-  o->matrix_free = cs->matrix_free;
-  o->cg_single_precision = cs->cg_single_precision;
-  o->cg_truncate = cs->cg_truncate;
-  o->reanalyze = cs->reanalyze;
-  const ps_linsolve_type *t = ps_linsolve_type_find(cs->linear);
-  if (t) o->linear = t;
-}
-
-static void path_opts_from_case(const ps_case *cs, ps_path_opts *o) {
-  o->load_step = cs->load_step;
-  o->load_step_after_break = cs->load_step_after_break;
-  o->max_load = cs->max_load;
-  o->max_increments = cs->max_increments;
-  o->min_step = cs->min_step;
-  o->stop_crack_tip = cs->stop_crack_tip;
-  o->stop_tip_advance = cs->stop_tip_advance;
-  o->stop_load_drop = cs->stop_load_drop;
-  o->max_break_rounds = cs->max_break_rounds;
-}
-
 /* One run: what its parts share. */
 typedef struct run_state {
   ps_problem *pb;
   ps_material mat;          /* pb->mat with this run's delta */
-  ps_solver s;
+  ps_solver *s;             /* NULL until created */
   ps_run_result *res;
   const char *out_dir;      /* NULL: no outputs */
   char staging[1200];       /* out_dir.partial, "" without outputs */
@@ -69,11 +35,11 @@ static ps_report_state report_state(const run_state *r) {
   ps_report_state st = {.P = &r->pb->P,
                         .net = &r->pb->net,
                         .mat = &r->mat,
-                        .u = ps_solver_u(&r->s),
-                        .T = ps_solver_arm_tension(&r->s),
-                        .q = ps_solver_arm_direction(&r->s),
-                        .dl = ps_solver_arm_elongation(&r->s),
-                        .st = ps_solver_arm_state(&r->s)};
+                        .u = ps_solver_u(r->s),
+                        .T = ps_solver_arm_tension(r->s),
+                        .q = ps_solver_arm_direction(r->s),
+                        .dl = ps_solver_arm_elongation(r->s),
+                        .st = ps_solver_arm_state(r->s)};
   return st;
 }
 
@@ -88,7 +54,6 @@ static int open_outputs(run_state *r, ps_ctx *ctx) {
 /* The progress line, history row and (every output.vtk_every) fields of
  * the increment the path just made. */
 static int record_increment(run_state *r, const ps_path *p, ps_ctx *ctx) {
-  const ps_case *cs = &r->pb->cs;
   const ps_path_increment *inc = &p->last;
   int step = (int)inc->step;
   ps_log(ctx, 1, "  %4d %9.5f %10.5f %6d %9.2e %8lld %7lld %6.2f\n", step, inc->lambda,
@@ -106,7 +71,8 @@ static int record_increment(run_state *r, const ps_path *p, ps_ctx *ctx) {
                         .crack_tip = inc->tip,
                         .wall = ps_wtime() - r->t0};
   ps_report_history_row(&r->hist, &row);
-  if (r->out_dir && cs->fields && cs->vtk_every > 0 && step % cs->vtk_every == 0) {
+  const ps_output_opts *out = &r->pb->cs.output;
+  if (r->out_dir && out->fields && out->vtk_every > 0 && step % out->vtk_every == 0) {
     ps_report_state st = report_state(r);
     PS_CHECK(ps_report_write_fields(r->staging, step, 0, &st, ctx));
   }
@@ -139,12 +105,10 @@ static int follow_path(run_state *r, ps_ctx *ctx) {
                         .measure = pb->measure,
                         .measure_length = pb->measure_length,
                         .c = pb->c,
-                        .name = pb->cs.path,
+                        .name = pb->cs.file,
                         .interrupted = signal_received};
-  ps_path_opts po;
   ps_path p;
-  path_opts_from_case(&pb->cs, &po);
-  int status = ps_path_init(&p, &r->s, &pp, &po, ps_step_control_load, ctx);
+  int status = ps_path_init(&p, r->s, &pp, &pb->cs.path, ps_step_control_load, ctx);
   while (status >= 0 && ps_path_test(&p) == PS_PATH_CONTINUE) {
     ps_int before = p.increments;
     status = ps_path_iterate(&p, ctx);
@@ -180,7 +144,7 @@ static void log_end(const run_state *r, const ps_ctx *ctx) {
  * replaces out_dir when commit is set. */
 static int finish_outputs(run_state *r, int commit, ps_ctx *ctx) {
   ps_report_state st = report_state(r);
-  if (r->pb->cs.fields)
+  if (r->pb->cs.output.fields)
     PS_CHECK(ps_report_write_fields(r->staging, (int)r->res->increments, 1, &st, ctx));
   PS_CHECK(ps_report_history_close(&r->hist, ctx));
   r->res->peak_memory_mib = ps_peak_mib();
@@ -195,9 +159,8 @@ static int finish_outputs(run_state *r, int commit, ps_ctx *ctx) {
 static int create_solver(run_state *r, ps_ctx *ctx) {
   ps_problem *pb = r->pb;
   const ps_case *cs = &pb->cs;
-  ps_solver_opts opts;
+  ps_solver_opts opts = cs->solver; /* the case's, with the run's threads */
   sigset_t block, saved;
-  solver_opts_from_case(cs, &opts);
   opts.threads = pb->threads;
   sigemptyset(&block);
   sigaddset(&block, SIGINT);
@@ -206,10 +169,10 @@ static int create_solver(run_state *r, ps_ctx *ctx) {
   int status = ps_solver_create(&r->s, &pb->P, &pb->net, ps_model_type_find(cs->model),
                                 &r->mat, pb->fixed, pb->ubar, &opts, ctx);
   pthread_sigmask(SIG_SETMASK, &saved, NULL);
-  if (status == PS_ERR_INPUT && strncmp(ctx->msg, cs->path, strlen(cs->path)) != 0) {
+  if (status == PS_ERR_INPUT && strncmp(ctx->msg, cs->file, strlen(cs->file)) != 0) {
     char m[sizeof ctx->msg];
     snprintf(m, sizeof m, "%s", ctx->msg);
-    ps_error(ctx, PS_ERR_INPUT, "%s: %s", cs->path, m); /* name the case file */
+    ps_error(ctx, PS_ERR_INPUT, "%s: %s", cs->file, m); /* name the case file */
   }
   return status;
 }
@@ -230,7 +193,7 @@ static void describe_run(const run_state *r, double delta) {
 static void log_start(const run_state *r, double delta, const ps_ctx *ctx) {
   const ps_problem *pb = r->pb;
   ps_solver_stats st;
-  ps_solver_get_stats(&r->s, &st);
+  ps_solver_get_stats(r->s, &st);
   ps_log(ctx, 1, "# %s: %lld particles, %lld arms, %lld free dofs, delta %s%.4g m, %d thread%s\n",
          pb->cs.name, (long long)pb->P.n, (long long)pb->net.n_arm, (long long)st.n_free,
          isfinite(delta) ? "" : "(no breaking) ", delta, st.threads, st.threads > 1 ? "s" : "");
@@ -239,7 +202,7 @@ static void log_start(const run_state *r, double delta, const ps_ctx *ctx) {
 }
 
 static int run_case(ps_problem *pb, double delta, const char *out_dir, ps_run_result *res,
-                    ps_solver *keep, ps_ctx *ctx) {
+                    ps_solver **keep, ps_ctx *ctx) {
   int status = PS_OK;
   run_state r;
   memset(&r, 0, sizeof r);
@@ -256,10 +219,10 @@ static int run_case(ps_problem *pb, double delta, const char *out_dir, ps_run_re
   if (out_dir) PS_CHECK_GOTO(ps_outdir_prepare(out_dir, ctx));
   PS_CHECK_GOTO(create_solver(&r, ctx));
   if (out_dir) PS_CHECK_GOTO(open_outputs(&r, ctx));
-  ps_solver_set_forces(&r.s, pb->fext);
+  ps_solver_set_forces(r.s, pb->fext);
   log_start(&r, delta, ctx);
   PS_CHECK_GOTO(follow_path(&r, ctx));
-  ps_solver_get_stats(&r.s, &res->solver);
+  ps_solver_get_stats(r.s, &res->solver);
   res->wall = ps_wtime() - r.t0;
   log_end(&r, ctx);
   /* a stalled or interrupted run stays in staging: the caller decides */
@@ -269,7 +232,7 @@ static int run_case(ps_problem *pb, double delta, const char *out_dir, ps_run_re
     if (out_dir)
       snprintf(where, sizeof where, "; the partial output is in %s, earlier results in %s "
                "are untouched", r.staging, out_dir);
-    status = ps_error(ctx, PS_ERR_INTERRUPTED, "%s: %s%s", pb->cs.path, res->stop_reason,
+    status = ps_error(ctx, PS_ERR_INTERRUPTED, "%s: %s%s", pb->cs.file, res->stop_reason,
                       where);
     r.staging[0] = '\0'; /* the message says it all */
   } else if (res->stalled) {
@@ -287,13 +250,14 @@ cleanup:
   if (keep && status >= 0)
     *keep = r.s;
   else
-    ps_solver_free(&r.s);
+    ps_solver_free(r.s);
   return status < 0 ? status : status == PS_RUN_STALLED ? PS_RUN_STALLED : PS_OK;
 }
 
 int ps_run_keep(ps_problem *pb, double delta, const char *out_dir, ps_run_result *res,
-                ps_solver *keep, ps_ctx *ctx) {
+                ps_solver **keep, ps_ctx *ctx) {
   ps_outdir_lock lk = {.fd = -1};
+  if (keep) *keep = NULL;
   if (out_dir) PS_CHECK(ps_outdir_lock_take(&lk, out_dir, ctx));
   int status = run_case(pb, delta, out_dir, res, keep, ctx);
   ps_outdir_lock_release(&lk);

@@ -52,7 +52,7 @@ static int setup_eq116(ps_problem *pb, ps_ctx *ctx) {
   pb->measure_length = ps_geom_ellipse_perimeter(pb->c, xi_out - dxi);
   if (!(pb->measure_length > 0))
     return ps_error(ctx, PS_ERR_INPUT, "%s: cannot compute the boundary-zone perimeter",
-                    pb->cs.path);
+                    pb->cs.file);
   return PS_OK;
 }
 
@@ -91,14 +91,14 @@ static int setup_boundary(ps_problem *pb, ps_ctx *ctx) {
     }
     if (hits == 0)
       return ps_error(ctx, PS_ERR_INPUT,
-                      "%s:%d: loading.boundary entry %d selects no particle", cs->path,
+                      "%s:%d: loading.boundary entry %d selects no particle", cs->file,
                       bc->line, ib + 1);
     if (bc->measure) {
       int any = 0;
       for (int k = 0; k < d; k++) any |= bc->displace_set[k];
       if (!any)
         return ps_error(ctx, PS_ERR_INPUT,
-                        "%s:%d: measure: true needs a displaced component", cs->path,
+                        "%s:%d: measure: true needs a displaced component", cs->file,
                         bc->line);
     }
   }
@@ -111,7 +111,7 @@ static int setup_boundary(ps_problem *pb, ps_ctx *ctx) {
     return ps_error(ctx, PS_ERR_INPUT,
                     "%s: nothing loads the model: no loading.boundary entry displaces "
                     "a particle (displace: {x: ...}) or applies a traction",
-                    cs->path);
+                    cs->file);
   if (cs->stress_length > 0) {
     pb->measure_length = cs->stress_length;
   } else if (measure_dir >= 0) {
@@ -151,7 +151,7 @@ static int make_particles(ps_problem *pb, const ps_case *cs, int dim, ps_crack *
                           int *n_cracks, ps_ctx *ctx) {
   switch (cs->geometry) {
   case PS_GEOM_DISK:
-    PS_CHECK(in_case(ctx, ps_geom_disk(&pb->P, &cs->disk, ctx), cs->path));
+    PS_CHECK(in_case(ctx, ps_geom_disk(&pb->P, &cs->disk, ctx), cs->file));
     pb->c = cs->disk.c;
     memset(&cracks[*n_cracks], 0, sizeof cracks[0]);
     cracks[*n_cracks].p0[0] = -pb->c; /* the crack between the foci */
@@ -160,11 +160,11 @@ static int make_particles(ps_problem *pb, const ps_case *cs, int dim, ps_crack *
     break;
   case PS_GEOM_BOX:
     PS_CHECK(in_case(ctx, ps_geom_box(&pb->P, dim, cs->counts, cs->spacing, cs->lattice,
-                                      cs->jitter, cs->seed, ctx), cs->path));
+                                      cs->jitter, cs->seed, ctx), cs->file));
     for (ps_int a = 0; a < pb->P.n; a++)
       for (int k = 0; k < dim; k++) pb->P.x[a * dim + k] += cs->origin[k];
     PS_CHECK(in_case(ctx, ps_geom_cut_holes(&pb->P, (const double(*)[3])cs->holes,
-                                            cs->n_holes, ctx), cs->path));
+                                            cs->n_holes, ctx), cs->file));
     for (int i = 0; i < cs->n_holes; i++)
       for (int j = 0; j < HOLE_SIDES; j++, ++*n_cracks) {
         double t0 = 2 * M_PI * j / HOLE_SIDES, t1 = 2 * M_PI * (j + 1) / HOLE_SIDES;
@@ -179,9 +179,9 @@ static int make_particles(ps_problem *pb, const ps_case *cs, int dim, ps_crack *
     PS_CHECK(ps_cloud_read(&pb->P, cs->cloud_file, dim, ctx));
     break;
   default:
-    return ps_error(ctx, PS_ERR_INPUT, "%s: unknown geometry type", cs->path);
+    return ps_error(ctx, PS_ERR_INPUT, "%s: unknown geometry type", cs->file);
   }
-  return in_case(ctx, ps_particles_check(&pb->P, ctx), cs->path);
+  return in_case(ctx, ps_particles_check(&pb->P, ctx), cs->file);
 }
 
 /* What a run of the case builds, for the estimate. */
@@ -189,9 +189,10 @@ static ps_estimate_opts estimate_opts(const ps_case *cs, double free_fraction) {
   const ps_model_type *type = ps_model_type_find(cs->model);
   ps_estimate_opts o;
   o.family_coupling = type ? type->family_coupling : 1;
-  o.majorant = cs->majorant && o.family_coupling && cs->reuse_factor && cs->mat.plastic;
-  o.single_precision = cs->cg_single_precision;
-  o.lu = !strcmp(cs->linear, "umfpack");
+  o.majorant = cs->solver.majorant && o.family_coupling && cs->solver.reuse_factor &&
+               cs->mat.plastic;
+  o.single_precision = cs->solver.cg_single_precision;
+  o.lu = !strcmp(cs->solver.linear, "umfpack");
   o.free_fraction = free_fraction;
   return o;
 }
@@ -222,7 +223,7 @@ static int estimate_counts(const ps_case *cs, int dim, int lattice, double reach
   ps_estimate_opts o = estimate_opts(cs, 1.0);
   ps_estimate_density(&e, dim, n, nb, &o);
   return ps_estimate_check(&e, e.mem_particles + e.mem_network, cs->max_memory_gib,
-                           cs->path, "building its particles and arms", ctx);
+                           cs->file, "building its particles and arms", ctx);
 }
 
 /* Stage 2, with the particles, sizes and supports, before the network:
@@ -245,13 +246,13 @@ static int estimate_sampled(ps_problem *pb, const ps_case *cs, double alpha,
     fflush(report);
   }
   if (purpose == PS_ESTIMATE_INFO)
-    return ps_estimate_check(&e, e.mem_build, cs->max_memory_gib, cs->path,
+    return ps_estimate_check(&e, e.mem_build, cs->max_memory_gib, cs->file,
                              "info (particles, arms and the tangent's pattern)", ctx);
   if (jobs < 1) jobs = 1;
   double need = e.mem_particles + jobs * (e.mem_run - e.mem_particles);
   char what[64];
   snprintf(what, sizeof what, jobs > 1 ? "%d runs at once" : "a run", jobs);
-  return ps_estimate_check(&e, need, cs->max_memory_gib, cs->path, what, ctx);
+  return ps_estimate_check(&e, need, cs->max_memory_gib, cs->file, what, ctx);
 }
 
 /* The material, the load factor's delta and the boundary conditions. */
@@ -264,7 +265,7 @@ static int setup_loading(ps_problem *pb, const ps_case *cs, int dim, int lattice
   }
   if (cs->delta_over_c > 0 && pb->c > 0) pb->mat.delta = cs->delta_over_c * pb->c;
   if (!(pb->mat.delta > 0)) pb->mat.delta = INFINITY;
-  if (ps_material_finish(&pb->mat, dim, ctx) < 0) return in_case(ctx, PS_ERR_INPUT, cs->path);
+  if (ps_material_finish(&pb->mat, dim, ctx) < 0) return in_case(ctx, PS_ERR_INPUT, cs->file);
   ps_int nd = (ps_int)dim * pb->P.n;
   pb->fixed = ps_calloc((size_t)nd, 1, ctx);
   pb->ubar = ps_calloc((size_t)nd, sizeof *pb->ubar, ctx);
@@ -273,7 +274,7 @@ static int setup_loading(ps_problem *pb, const ps_case *cs, int dim, int lattice
   if (cs->load_type == PS_LOAD_EQ116) {
     if (cs->geometry != PS_GEOM_DISK)
       return ps_error(ctx, PS_ERR_INPUT, "%s: loading.type eq116 needs geometry.type disk",
-                      cs->path);
+                      cs->file);
     return setup_eq116(pb, ctx);
   }
   return setup_boundary(pb, ctx);
@@ -293,7 +294,7 @@ int ps_problem_setup_sized(ps_problem *pb, const ps_case *cs, int purpose, int j
    * spacing (and the model's reach beyond it) */
   const ps_model_type *type = ps_model_type_find(cs->model);
   if (!type)
-    return ps_error(ctx, PS_ERR_INPUT, "%s: unknown material.model %s", cs->path, cs->model);
+    return ps_error(ctx, PS_ERR_INPUT, "%s: unknown material.model %s", cs->file, cs->model);
   int lattice = type->lattice;
   double reach = ps_model_lattice_reach(type, cs->horizon_factor);
   int dim = cs->geometry == PS_GEOM_DISK ? 2 : cs->dim;
@@ -312,16 +313,16 @@ int ps_problem_setup_sized(ps_problem *pb, const ps_case *cs, int purpose, int j
     ps_geom_sizes_eq44(&pb->P);
   } else {
     PS_CHECK_GOTO(in_case(ctx, ps_geom_sizes_eq115(&pb->P, cs->size_neighbours, ctx),
-                          cs->path));
+                          cs->file));
   }
   PS_CHECK_GOTO(in_case(ctx, ps_kernel_init(&pb->kernel, dim, cs->kernel_k, alpha, ctx),
-                        cs->path));
+                        cs->file));
   /* the supports before the network: the estimate counts the free dofs */
   PS_CHECK_GOTO(setup_loading(pb, cs, dim, lattice, ctx));
   PS_CHECK_GOTO(estimate_sampled(pb, cs, alpha, cracks, n_cracks, purpose, jobs, report,
                                  ctx));
   PS_CHECK_GOTO(in_case(ctx, ps_network_build(&pb->net, &pb->P, &pb->kernel, cracks,
-                                              n_cracks, ctx), cs->path));
+                                              n_cracks, ctx), cs->file));
   pb->t_network = ps_wtime() - t0;
 cleanup:
   free(cracks);

@@ -8,17 +8,12 @@
  * offending node, e.g. "case.yaml:14: material.E must be > 0 (got -3e9)". */
 #include "case_impl.h"
 
-#include "../nonlinear/ps_solver.h"
-
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 void ps_case_defaults(ps_case *cs) {
-  /* the solver's defaults live in ps_solver_opts_default only */
-  ps_solver_opts so;
-  ps_solver_opts_default(&so);
   memset(cs, 0, sizeof *cs);
   strcpy(cs->name, "case");
   cs->geometry = PS_GEOM_DISK;
@@ -51,38 +46,12 @@ void ps_case_defaults(ps_case *cs) {
   cs->load_type = PS_LOAD_EQ116;
   cs->n_bc = 0;
   cs->stress_length = 0.0;
-  snprintf(cs->linear, sizeof cs->linear, "%s", so.linear->name);
-  cs->tolerance = so.tolerance;
-  cs->max_iterations = so.max_iterations;
-  cs->max_small_steps = so.max_small_steps;
-  cs->line_search = so.line_search;
-  cs->reuse_factor = so.reuse_factor;
-  cs->cg_tolerance = so.pcg_rtol;
-  cs->cg_forcing_adaptive = so.cg_forcing_adaptive;
-  cs->cg_forcing = so.cg_forcing;
-  cs->cg_forcing_max = so.cg_forcing_max;
-  cs->cg_max_iterations = so.pcg_max_iterations;
-  cs->cg_skip_arms = so.pcg_skip_arms;
-  cs->reanalyze = so.reanalyze;
-  cs->majorant = so.majorant;
-  cs->matrix_free = so.matrix_free;
-  cs->cg_single_precision = so.cg_single_precision;
-  cs->cg_truncate = so.cg_truncate;
-  cs->load_step = 0.02;
-  cs->load_step_after_break = 0.005;
-  cs->max_load = 5.0;
-  cs->max_increments = 2000;
-  cs->min_step = 1e-6;
-  cs->stop_crack_tip = 9.0;
-  cs->stop_load_drop = 0.5;
-  cs->max_break_rounds = 500;
-  cs->out_dir[0] = '\0';
-  cs->vtk_every = 10;
-  cs->fields = 1;
-  cs->verbosity = 1;
-  cs->n_sweep = 12; /* delta/c = 1/500, 1/750, ..., 1/3250 */
-  for (int i = 0; i < cs->n_sweep; i++)
-    cs->sweep_delta_over_c[i] = 1.0 / (500.0 + 250.0 * i);
+  /* the options of the layers: their defaults live beside them */
+  ps_solver_opts_default(&cs->solver);
+  cs->max_memory_gib = 0.0; /* 80% of the RAM */
+  ps_path_opts_default(&cs->path);
+  ps_output_opts_default(&cs->output);
+  ps_sweep_opts_default(&cs->sweep);
 }
 
 /* ---- the top level: the sections ---- */
@@ -118,10 +87,10 @@ static int on_top(ps_loader *L, void *arg, const char *key, const char *name,
   return ps_yaml_walk_map(L, v, name, ps_case_griffith_keys, ps_case_on_griffith, NULL);
 }
 
-/* Set path, dir (the directory part, "." when none) and the default name
+/* Set file, dir (the directory part, "." when none) and the default name
  * (the file name without .yaml / .yml) of cs from path. */
 static void set_names(ps_case *cs, const char *path) {
-  snprintf(cs->path, sizeof cs->path, "%s", path);
+  snprintf(cs->file, sizeof cs->file, "%s", path);
   const char *slash = strrchr(path, '/');
   if (!slash)
     strcpy(cs->dir, ".");
@@ -142,7 +111,7 @@ static void set_names(ps_case *cs, const char *path) {
 }
 
 int ps_case_load(ps_case *cs, const char *path, ps_ctx *ctx) {
-  if (strlen(path) >= sizeof cs->path)
+  if (strlen(path) >= sizeof cs->file)
     return ps_error(ctx, PS_ERR_IO, "%s: path too long", path);
   /* size and nesting are checked before libyaml sees the text */
   char *text;

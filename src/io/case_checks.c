@@ -147,7 +147,7 @@ int ps_case_cross_checks(ps_loader *L) {
   if (cs->n_cracks > 0 && cs->dim == 3)
     return ps_yaml_fail(L, L->line_cracks,
                         "geometry.cracks are 2D only (geometry.dim is 3)");
-  if (cs->n_j_rings > 0 && cs->dim == 3)
+  if (cs->output.n_j_rings > 0 && cs->dim == 3)
     return ps_yaml_fail(L, L->line_j, "output.j_integral is 2D only (geometry.dim is 3)");
   if (cs->n_holes > 0 && (cs->dim == 3 || cs->geometry != PS_GEOM_BOX))
     return ps_yaml_fail(L, L->line_holes, "geometry.holes need a 2D box");

@@ -1,7 +1,9 @@
 /* case_options.c: the sections that say how a case is solved and
- * reported: solver (Newton, the linear solver, CG), path (the load
- * increments and the stop rules), output (folder, VTK, J-integral rings)
- * and griffith (the sweep's list of delta/c). */
+ * reported, each read straight into the option struct of the layer that
+ * takes it: solver (Newton, the linear solver, CG: cs->solver, but
+ * max_memory_gib), path (the load increments and the stop rules:
+ * cs->path), output (folder, VTK, J-integral rings: cs->output) and
+ * griffith (the sweep's list of delta/c: cs->sweep). */
 #include "case_impl.h"
 
 #include <limits.h>
@@ -22,31 +24,31 @@ int ps_case_on_solver(ps_loader *L, void *arg, const char *key, const char *name
                       yaml_node_t *v) {
   static const char *const linear[] = {"cholmod", "cholmod-simplicial", "umfpack",
                                        NULL};
-  ps_case *cs = L->cs;
+  ps_solver_opts *o = &L->cs->solver;
   (void)arg;
   if (IS("linear")) {
     int i;
     if (ps_yaml_choice(L, v, name, linear, &i)) return PS_ERR_INPUT;
-    strcpy(cs->linear, linear[i]);
+    snprintf(o->linear, sizeof o->linear, "%s", linear[i]);
     return PS_OK;
   }
-  if (IS("tolerance")) return ps_yaml_real(L, v, name, 0.0, 1, 1.0, 1, &cs->tolerance);
+  if (IS("tolerance")) return ps_yaml_real(L, v, name, 0.0, 1, 1.0, 1, &o->tolerance);
   if (IS("max_iterations"))
-    return ps_yaml_int(L, v, name, 1, INT_MAX, &cs->max_iterations);
+    return ps_yaml_int(L, v, name, 1, INT_MAX, &o->max_iterations);
   if (IS("max_small_steps"))
-    return ps_yaml_int(L, v, name, 0, INT_MAX, &cs->max_small_steps);
-  if (IS("reuse_factor")) return ps_yaml_bool(L, v, name, &cs->reuse_factor);
-  if (IS("reanalyze")) return ps_yaml_bool(L, v, name, &cs->reanalyze);
-  if (IS("majorant")) return ps_yaml_bool(L, v, name, &cs->majorant);
-  if (IS("matrix_free")) return ps_yaml_bool(L, v, name, &cs->matrix_free);
+    return ps_yaml_int(L, v, name, 0, INT_MAX, &o->max_small_steps);
+  if (IS("reuse_factor")) return ps_yaml_bool(L, v, name, &o->reuse_factor);
+  if (IS("reanalyze")) return ps_yaml_bool(L, v, name, &o->reanalyze);
+  if (IS("majorant")) return ps_yaml_bool(L, v, name, &o->majorant);
+  if (IS("matrix_free")) return ps_yaml_bool(L, v, name, &o->matrix_free);
   if (IS("cg_single_precision"))
-    return ps_yaml_bool(L, v, name, &cs->cg_single_precision);
-  if (IS("cg_truncate")) return ps_yaml_bool(L, v, name, &cs->cg_truncate);
+    return ps_yaml_bool(L, v, name, &o->cg_single_precision);
+  if (IS("cg_truncate")) return ps_yaml_bool(L, v, name, &o->cg_truncate);
   if (IS("cg_tolerance"))
-    return ps_yaml_real(L, v, name, 0.0, 1, 1.0, 1, &cs->cg_tolerance);
+    return ps_yaml_real(L, v, name, 0.0, 1, 1.0, 1, &o->pcg_rtol);
   if (IS("cg_forcing")) { /* adaptive, or a number >= 0: the fixed rule */
     if (v->type == YAML_SCALAR_NODE && !strcmp(sval(v), "adaptive")) {
-      cs->cg_forcing_adaptive = 1;
+      o->cg_forcing_adaptive = 1;
       return PS_OK;
     }
     char b[80];
@@ -55,18 +57,18 @@ int ps_case_on_solver(ps_loader *L, void *arg, const char *key, const char *name
     if (!isfinite(x) || x < 0)
       return ps_yaml_fail(L, line_of(v), "%s must be adaptive or a number >= 0 (got %s)",
                           name, ps_yaml_got(v, b));
-    cs->cg_forcing_adaptive = 0;
-    cs->cg_forcing = x;
+    o->cg_forcing_adaptive = 0;
+    o->cg_forcing = x;
     return PS_OK;
   }
   if (IS("cg_forcing_max"))
-    return ps_yaml_real(L, v, name, 0.0, 1, 1.0, 1, &cs->cg_forcing_max);
+    return ps_yaml_real(L, v, name, 0.0, 1, 1.0, 1, &o->cg_forcing_max);
   if (IS("cg_max_iterations"))
-    return ps_yaml_int(L, v, name, 1, INT_MAX, &cs->cg_max_iterations);
-  if (IS("cg_skip_arms")) return ps_yaml_int(L, v, name, 0, INT_MAX, &cs->cg_skip_arms);
+    return ps_yaml_int(L, v, name, 1, INT_MAX, &o->pcg_max_iterations);
+  if (IS("cg_skip_arms")) return ps_yaml_int(L, v, name, 0, INT_MAX, &o->pcg_skip_arms);
   if (IS("max_memory_gib")) /* a limit, not a setting of the result */
-    return ps_yaml_real(L, v, name, 0.0, 1, PS_MAX_MEMORY_GIB, 0, &cs->max_memory_gib);
-  return ps_yaml_bool(L, v, name, &cs->line_search);
+    return ps_yaml_real(L, v, name, 0.0, 1, PS_MAX_MEMORY_GIB, 0, &L->cs->max_memory_gib);
+  return ps_yaml_bool(L, v, name, &o->line_search);
 }
 
 /* ---- path ---- */
@@ -77,20 +79,20 @@ const char *const ps_case_path_keys[] = {
 
 int ps_case_on_path(ps_loader *L, void *arg, const char *key, const char *name,
                     yaml_node_t *v) {
-  ps_case *cs = L->cs;
+  ps_path_opts *o = &L->cs->path;
   (void)arg;
-  if (IS("load_step")) return ps_yaml_pos(L, v, name, &cs->load_step);
+  if (IS("load_step")) return ps_yaml_pos(L, v, name, &o->load_step);
   if (IS("load_step_after_break"))
-    return ps_yaml_pos(L, v, name, &cs->load_step_after_break);
-  if (IS("max_load")) return ps_yaml_pos(L, v, name, &cs->max_load);
+    return ps_yaml_pos(L, v, name, &o->load_step_after_break);
+  if (IS("max_load")) return ps_yaml_pos(L, v, name, &o->max_load);
   if (IS("max_increments"))
-    return ps_yaml_int(L, v, name, 1, INT_MAX, &cs->max_increments);
-  if (IS("min_step")) return ps_yaml_pos(L, v, name, &cs->min_step);
-  if (IS("stop_crack_tip")) return ps_yaml_pos(L, v, name, &cs->stop_crack_tip);
-  if (IS("stop_tip_advance")) return ps_yaml_pos(L, v, name, &cs->stop_tip_advance);
+    return ps_yaml_int(L, v, name, 1, INT_MAX, &o->max_increments);
+  if (IS("min_step")) return ps_yaml_pos(L, v, name, &o->min_step);
+  if (IS("stop_crack_tip")) return ps_yaml_pos(L, v, name, &o->stop_crack_tip);
+  if (IS("stop_tip_advance")) return ps_yaml_pos(L, v, name, &o->stop_tip_advance);
   if (IS("stop_load_drop"))
-    return ps_yaml_real(L, v, name, 0.0, 0, 1.0, 1, &cs->stop_load_drop);
-  return ps_yaml_int(L, v, name, 1, INT_MAX, &cs->max_break_rounds);
+    return ps_yaml_real(L, v, name, 0.0, 0, 1.0, 1, &o->stop_load_drop);
+  return ps_yaml_int(L, v, name, 1, INT_MAX, &o->max_break_rounds);
 }
 
 /* ---- output ---- */
@@ -102,40 +104,40 @@ static const char *const j_keys[] = {"tip", "rings", NULL};
 
 static int on_j(ps_loader *L, void *arg, const char *key, const char *name,
                 yaml_node_t *v) {
-  ps_case *cs = L->cs;
+  ps_output_opts *o = &L->cs->output;
   char b[80];
   (void)arg;
   if (IS("tip")) {
     L->line_j_tip = line_of(v);
-    return ps_yaml_point2(L, v, name, cs->j_tip);
+    return ps_yaml_point2(L, v, name, o->j_tip);
   }
-  if (v->type != YAML_SEQUENCE_NODE || seq_len(v) < 1 || seq_len(v) > 8)
+  if (v->type != YAML_SEQUENCE_NODE || seq_len(v) < 1 || seq_len(v) > PS_MAX_J_RINGS)
     return ps_yaml_fail(L, line_of(v),
                         "%s must be a list of 1 to 8 ring sizes in m (got %s)", name,
                         ps_yaml_got(v, b));
-  cs->n_j_rings = seq_len(v);
-  for (int i = 0; i < cs->n_j_rings; i++)
-    if (ps_yaml_real(L, seq_item(L, v, i), name, 0.0, 1, INFINITY, 0, &cs->j_rings[i]))
+  o->n_j_rings = seq_len(v);
+  for (int i = 0; i < o->n_j_rings; i++)
+    if (ps_yaml_real(L, seq_item(L, v, i), name, 0.0, 1, INFINITY, 0, &o->j_rings[i]))
       return PS_ERR_INPUT;
   return PS_OK;
 }
 
 int ps_case_on_output(ps_loader *L, void *arg, const char *key, const char *name,
                       yaml_node_t *v) {
-  ps_case *cs = L->cs;
+  ps_output_opts *o = &L->cs->output;
   (void)arg;
-  if (IS("dir")) return ps_yaml_string(L, v, name, cs->out_dir, sizeof cs->out_dir);
-  if (IS("vtk_every")) return ps_yaml_int(L, v, name, 0, INT_MAX, &cs->vtk_every);
-  if (IS("fields")) return ps_yaml_bool(L, v, name, &cs->fields);
+  if (IS("dir")) return ps_yaml_string(L, v, name, o->dir, sizeof o->dir);
+  if (IS("vtk_every")) return ps_yaml_int(L, v, name, 0, INT_MAX, &o->vtk_every);
+  if (IS("fields")) return ps_yaml_bool(L, v, name, &o->fields);
   if (IS("j_integral")) {
     L->line_j = line_of(v);
     if (ps_yaml_walk_map(L, v, name, j_keys, on_j, NULL)) return PS_ERR_INPUT;
-    if (!L->line_j_tip || !cs->n_j_rings)
+    if (!L->line_j_tip || !o->n_j_rings)
       return ps_yaml_fail(L, L->line_j, "%s needs both tip: [x, y] and rings: [l, ...]",
                           name);
     return PS_OK;
   }
-  return ps_yaml_int(L, v, name, 0, 3, &cs->verbosity);
+  return ps_yaml_int(L, v, name, 0, 3, &o->verbosity);
 }
 
 /* ---- griffith ---- */
@@ -167,7 +169,7 @@ const char *const ps_case_griffith_keys[] = {"delta_over_c", "denominators", NUL
 
 int ps_case_on_griffith(ps_loader *L, void *arg, const char *key, const char *name,
                         yaml_node_t *v) {
-  ps_case *cs = L->cs;
+  ps_sweep_opts *o = &L->cs->sweep;
   char b[80];
   (void)arg;
   if (IS("delta_over_c")) {
@@ -181,9 +183,9 @@ int ps_case_on_griffith(ps_loader *L, void *arg, const char *key, const char *na
       return ps_yaml_fail(L, line_of(v), "%s has %d values, at most %d are allowed", name,
                           n, PS_MAX_SWEEP);
     for (int i = 0; i < n; i++)
-      if (ps_yaml_pos(L, seq_item(L, v, i), name, &cs->sweep_delta_over_c[i]))
+      if (ps_yaml_pos(L, seq_item(L, v, i), name, &o->delta_over_c[i]))
         return PS_ERR_INPUT;
-    cs->n_sweep = n;
+    o->n = n;
     return PS_OK;
   }
   /* denominators */
@@ -200,7 +202,7 @@ int ps_case_on_griffith(ps_loader *L, void *arg, const char *key, const char *na
     return ps_yaml_fail(L, line_of(v), "%s gives %ld values, at most %d are allowed",
                         name, n, PS_MAX_SWEEP);
   for (long i = 0; i < n; i++)
-    cs->sweep_delta_over_c[i] = 1.0 / (double)(r.first + i * r.step);
-  cs->n_sweep = (int)n;
+    o->delta_over_c[i] = 1.0 / (double)(r.first + i * r.step);
+  o->n = (int)n;
   return PS_OK;
 }

@@ -1,10 +1,10 @@
 /* fingerprint.c: the case fingerprint (ps_case_fingerprint, ps_io.h): a
  * 64-bit FNV-1a hash of the algorithm version and of every case setting
- * that determines a run's result. summary.txt carries it, and `griffith
- * --resume` reuses a run only when it matches. */
+ * that determines a run's result, read from the case and its option
+ * structs cs->solver and cs->path (cs->output and cs->sweep do not
+ * enter). summary.txt carries it, and `griffith --resume` reuses a run
+ * only when it matches. */
 #include "ps_io.h"
-
-#include "../nonlinear/ps_solver.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -95,25 +95,27 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
       fnv(&h, b);
     }
   }
+  const ps_solver_opts *so = &cs->solver;
+  const ps_path_opts *po = &cs->path;
   snprintf(b, sizeof b, "solver %.17g %d %d path %.17g %.17g %.17g %d %.17g %.17g %.17g %d",
-           cs->tolerance, cs->max_iterations, cs->line_search, cs->load_step,
-           cs->load_step_after_break, cs->max_load, cs->max_increments, cs->min_step,
-           cs->stop_crack_tip, cs->stop_load_drop, cs->max_break_rounds);
+           so->tolerance, so->max_iterations, so->line_search, po->load_step,
+           po->load_step_after_break, po->max_load, po->max_increments, po->min_step,
+           po->stop_crack_tip, po->stop_load_drop, po->max_break_rounds);
   fnv(&h, b);
-  ps_solver_opts so;
-  ps_solver_opts_default(&so);
-  if (cs->max_small_steps != so.max_small_steps) { /* newer keys: only when not
-                                                      the default */
-    snprintf(b, sizeof b, "small steps %d", cs->max_small_steps);
+  ps_solver_opts so_default;
+  ps_solver_opts_default(&so_default);
+  if (so->max_small_steps != so_default.max_small_steps) { /* newer keys: only
+                                                               when not the default */
+    snprintf(b, sizeof b, "small steps %d", so->max_small_steps);
     fnv(&h, b);
   }
-  if (!cs->cg_truncate) fnv(&h, "cg not truncated");
-  if (!cs->cg_forcing_adaptive) { /* the fixed rule (adaptive: the default) */
-    snprintf(b, sizeof b, "cg forcing %.17g", cs->cg_forcing);
+  if (!so->cg_truncate) fnv(&h, "cg not truncated");
+  if (!so->cg_forcing_adaptive) { /* the fixed rule (adaptive: the default) */
+    snprintf(b, sizeof b, "cg forcing %.17g", so->cg_forcing);
     fnv(&h, b);
   }
-  if (cs->stop_tip_advance > 0) { /* newer key: only when set */
-    snprintf(b, sizeof b, "tip advance %.17g", cs->stop_tip_advance);
+  if (po->stop_tip_advance > 0) { /* newer key: only when set */
+    snprintf(b, sizeof b, "tip advance %.17g", po->stop_tip_advance);
     fnv(&h, b);
   }
   return h;

@@ -7,6 +7,12 @@
 #define PS_IO_H
 
 #include "../model/ps_model.h"
+/* the option structs of the layers that take them, each in a header that
+ * needs nothing but the C library (never ps_solver.h or ps_path.h) */
+#include "../app/ps_sweep_opts.h"
+#include "../nonlinear/ps_solver_opts.h"
+#include "../path/ps_path_opts.h"
+#include "ps_output_opts.h"
 
 enum ps_geometry_type { PS_GEOM_DISK = 0, PS_GEOM_BOX = 1, PS_GEOM_CLOUD = 2 };
 enum ps_size_rule { PS_SIZE_EQ115 = 0, PS_SIZE_EQ44 = 1 };
@@ -15,7 +21,6 @@ enum ps_load_type { PS_LOAD_EQ116 = 0, PS_LOAD_BOUNDARY = 1 };
 #define PS_MAX_CRACKS 16
 #define PS_MAX_HOLES 16
 #define PS_MAX_BC 32
-#define PS_MAX_SWEEP 64
 
 /* Case files are checked before libyaml parses them (Debian's libyaml
  * 0.2.5 takes time quadratic in the nesting: 50,000 levels of '[', 15 s):
@@ -64,7 +69,7 @@ typedef struct ps_bc {
 } ps_bc;
 
 typedef struct ps_case {
-  char path[1024];     /* the case file as given */
+  char file[1024];     /* the case file as given */
   char dir[1024];      /* its directory (relative paths resolve here) */
   char name[128];      /* case name (default: file name without .yaml) */
 
@@ -106,74 +111,29 @@ typedef struct ps_case {
   double stress_length;/* boundary: length (2D) or area (3D) dividing the
                           measured reaction; 0: from the bounding box */
 
-  /* solver */
-  char linear[32];     /* "cholmod" (default, supernodal) |
-                          "cholmod-simplicial" | "umfpack" */
-  double tolerance;    /* relative residual, default 1e-8 */
-  int max_iterations;  /* Newton iterations per solve, default 30 */
-  int max_small_steps; /* tiny line-search steps before a solve fails as
-                          stagnated, default 5 (0: never) */
-  int line_search;     /* default 1 */
-  int reuse_factor;    /* CG preconditioned by the last factor, default 1 */
-  double cg_tolerance; /* its relative tolerance, default 1e-6 */
-  int cg_forcing_adaptive; /* cg_forcing: adaptive (Eisenstat and Walker's
-                          choice 2, ps_solver_opts; the default) */
-  double cg_forcing;   /* cg_forcing: a number, the fixed rule (100 when
-                          adaptive is not chosen) */
-  double cg_forcing_max; /* the adaptive rule's loosest CG tolerance, 0.5 */
-  int cg_max_iterations; /* default 25 */
-  int cg_skip_arms;    /* skip CG when this many arms changed state since
-                          the last factorisation; 0 (default): never */
-  int reanalyze;       /* symbolic analysis before every factorisation
-                          (benchmark comparison), default 0 */
-  int matrix_free;     /* CG applies the tangent matrix-free, default 1 */
-  int cg_single_precision; /* CG preconditions with a single-precision
-                              copy of the factor, default 1 */
-  int cg_truncate;     /* CG's iterate at negative curvature is the Newton
-                          direction, default 1 */
-  int majorant;        /* CG with a factor of the one-horizon majorant
-                          before refactoring the tangent, default 1 */
+  /* solver: the Newton and linear solves (solver.* but max_memory_gib),
+   * defaults ps_solver_opts_default */
+  ps_solver_opts solver;
   double max_memory_gib; /* solver.max_memory_gib: refuse a case whose
-                          estimated memory (ps_estimate_*, src/network/ps_network.h) exceeds
-                          it, GiB; 0 (default): 80% of the machine's RAM */
+                          estimated memory (ps_estimate_*,
+                          src/network/ps_network.h) exceeds it, GiB; 0
+                          (default): 80% of the machine's RAM. A limit
+                          of the set-up (src/app/setup.c), not a setting
+                          of the solver */
 
-  /* path following */
-  double load_step;    /* load factor increment, default 0.02 */
-  double load_step_after_break; /* after the first break, default 0.005 */
-  double max_load;     /* stop at this load factor, default 5 */
-  int max_increments;  /* default 2000 */
-  double min_step;     /* smallest increment after cuts, default 1e-6 */
-  double stop_crack_tip; /* disk: stop when the tip passes this many c
-                            from the centre, default 9 */
-  double stop_tip_advance; /* disk: stop when the tip advances this many c
-                            within one increment (at one load: the crack
-                            runs unstably); 0 (default): off */
-  double stop_load_drop; /* stop when the boundary stress falls below this
-                            fraction of its peak (after breaking), 0.5 */
-  int max_break_rounds;  /* re-equilibrations per increment, default 500 */
+  /* path following (path.*), defaults ps_path_opts_default */
+  ps_path_opts path;
 
-  /* output */
-  char out_dir[1024];  /* "" (default): the caller uses out/<name> */
-  int vtk_every;       /* write VTK every n increments (0: last only), 10 */
-  int fields;          /* 0: no VTK and no particles.csv, only
-                          history.csv and summary.txt (default 1) */
-  int n_j_rings;       /* output.j_integral: J of the final state by Eq. 39
-                          and Eq. 36 (Fallah) for each square, into
-                          summary.txt (2D; contour between particle rows,
-                          geometry.spacing apart) */
-  double j_tip[2];     /* crack tip, m (the crack runs along +x to it) */
-  double j_rings[8];   /* outer half-widths l of the square rings, m
-                          (q = 1 inside l/2, 0 outside l) */
-  int verbosity;       /* 0 quiet, 1 progress, 2 Newton detail, 3 source
-                          locations in errors (default 1) */
+  /* output (output.*), defaults ps_output_opts_default */
+  ps_output_opts output;
 
-  /* griffith sweep: delta/c = 1/denominator */
-  int n_sweep;
-  double sweep_delta_over_c[PS_MAX_SWEEP];
+  /* griffith sweep (griffith.*), defaults ps_sweep_opts_default */
+  ps_sweep_opts sweep;
 } ps_case;
 
 /* Fill every field with its documented default (disk of Table 1, fibre
- * model with Table 1's material, delta = c/1000). */
+ * model with Table 1's material, delta = c/1000); the option structs by
+ * their modules' *_opts_default. */
 void ps_case_defaults(ps_case *cs);
 
 /* Read a YAML case file over the defaults. Errors name the file and line:

@@ -9,7 +9,7 @@
 #define PS_REPORT_H
 
 #include "../post/ps_post.h"
-#include "../nonlinear/ps_solver.h" /* ps_solver_stats */
+#include "../nonlinear/ps_solver_stats.h"
 #include "ps_io.h"
 
 /* Outcome of one run along the load path: what summary.txt holds. */

@@ -2,13 +2,24 @@
  * table of keys/columns that the writer and the reader share, and the
  * fields of a state (VTK, particles.csv) with damage (Eq. 119), arm
  * strains and the PD stress tensor (Fallah et al. Eq. 24); J of the final
- * state (Eq. 39, Eq. 36) in summary.txt. */
+ * state (Eq. 39, Eq. 36) in summary.txt; the defaults of the output
+ * options (ps_output_opts.h). */
 #include "ps_report.h"
 
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
+
+void ps_output_opts_default(ps_output_opts *o) {
+  o->dir[0] = '\0';
+  o->vtk_every = 10;
+  o->fields = 1;
+  o->n_j_rings = 0;
+  o->j_tip[0] = o->j_tip[1] = 0.0;
+  for (int i = 0; i < PS_MAX_J_RINGS; i++) o->j_rings[i] = 0.0;
+  o->verbosity = 1;
+}
 
 const char *ps_fmt_or_na(double v, int digits, char *buf, size_t len) {
   if (isfinite(v))
@@ -162,7 +173,7 @@ static const value_spec history_columns[] = {
 #define N_HISTORY_COLUMNS (sizeof history_columns / sizeof history_columns[0])
 #undef H
 
-/* J of the final state (Eq. 39 and 36) around cs->j_tip, per ring */
+/* J of the final state (Eq. 39 and 36) around cs->output.j_tip, per ring */
 static int write_j_integral(const ps_report_state *s, const ps_case *cs, FILE *f,
                             ps_ctx *ctx) {
   double *sig = ps_calloc(4 * (size_t)s->P->n, sizeof *sig, ctx);
@@ -175,16 +186,17 @@ static int write_j_integral(const ps_report_state *s, const ps_case *cs, FILE *f
   }
   ps_post_stress_tensor(s->P, s->net, s->T, s->q, sig);
   ps_post_displacement_gradient(s->P, s->net, s->st, s->u, H);
-  for (int i = 0; i < cs->n_j_rings; i++) {
-    double l = cs->j_rings[i];
-    double J = ps_post_j_domain(s->P, sig, H, cs->j_tip, 0.5 * l, l);
-    double Jc = ps_post_j_contour(s->P, s->net, s->T, s->q, sig, H, cs->j_tip, l, cs->spacing);
+  for (int i = 0; i < cs->output.n_j_rings; i++) {
+    double l = cs->output.j_rings[i];
+    double J = ps_post_j_domain(s->P, sig, H, cs->output.j_tip, 0.5 * l, l);
+    double Jc =
+        ps_post_j_contour(s->P, s->net, s->T, s->q, sig, H, cs->output.j_tip, l, cs->spacing);
     fprintf(f, "j_domain_ring_%.6gm_N_per_m: %s\n", l, ps_fmt_or_na(J, 8, b, sizeof b));
     fprintf(f, "j_contour_%.6gm_N_per_m: %s\n", l, ps_fmt_or_na(Jc, 8, b, sizeof b));
     ps_log(ctx, 1, "# J-integral around (%.6g, %.6g), square of half-width %.4g m: "
                    "%.6g N/m (domain form, Eq. 39, q from l/2 to l), %.6g N/m (contour "
                    "form, Eq. 36)\n",
-           cs->j_tip[0], cs->j_tip[1], l, J, Jc);
+           cs->output.j_tip[0], cs->output.j_tip[1], l, J, Jc);
   }
   free(sig);
   free(H);
@@ -200,7 +212,7 @@ int ps_report_write_summary(const char *dir, const ps_run_result *res, const ps_
   for (size_t i = 0; i < N_SUMMARY_KEYS; i++)
     fprintf(o.f, "%s: %s\n", summary_keys[i].key,
             format_value(&summary_keys[i], res, buf, sizeof buf));
-  if (cs->n_j_rings > 0 && state->P->dim == 2) {
+  if (cs->output.n_j_rings > 0 && state->P->dim == 2) {
     int status = write_j_integral(state, cs, o.f, ctx);
     if (status < 0) {
       ps_outfile_abort(&o);

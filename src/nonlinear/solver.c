@@ -5,6 +5,7 @@
  * statistics and accessors. */
 #include "solver_impl.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,7 +14,7 @@ void ps_solver_opts_default(ps_solver_opts *o) {
   o->max_iterations = 30;
   o->max_small_steps = 5;
   o->line_search = 1;
-  o->linear = ps_linsolve_cholmod;
+  snprintf(o->linear, sizeof o->linear, "%s", "cholmod");
   o->reuse_factor = 1;
   o->pcg_rtol = 1e-6;
   o->pcg_max_iterations = 25;
@@ -30,6 +31,7 @@ void ps_solver_opts_default(ps_solver_opts *o) {
 }
 
 void ps_solver_free(ps_solver *s) {
+  if (!s) return;
   ps_linsolve_destroy(&s->ls);
   ps_linsolve_destroy(&s->ls_fallback);
   ps_linsolve_destroy(&s->ls_pre);
@@ -53,7 +55,7 @@ void ps_solver_free(ps_solver *s) {
   free(s->diag_saved);
   free(s->arm_state_at_factor);
   free(s->f_trial);
-  memset(s, 0, sizeof *s);
+  free(s);
 }
 
 int ps_nl_eval(ps_solver *s, const double *u, double *f, double *energy, int tangent,
@@ -99,7 +101,7 @@ static int create_linear(ps_solver *s, const ps_model_type *type,
   int threads = opts->threads > 0 ? opts->threads : ps_cpu_count();
   PS_CHECK(ps_team_create(&s->team, threads < PS_PARTS ? threads : PS_PARTS, ctx));
   s->sys.team = s->team;
-  PS_CHECK(ps_linsolve_create(&s->ls, opts->linear, ctx));
+  PS_CHECK(ps_linsolve_create(&s->ls, s->linear, ctx));
   s->ls.team = s->team;
   s->ls.reanalyze = opts->reanalyze;
   s->ls.single_precision = opts->cg_single_precision;
@@ -140,17 +142,26 @@ static int alloc_work(ps_solver *s, ps_ctx *ctx) {
   return PS_OK;
 }
 
-int ps_solver_create(ps_solver *s, const ps_particles *P,
+int ps_solver_create(ps_solver **out, const ps_particles *P,
                      const ps_network *net, const ps_model_type *type,
                      const ps_material *mat, const unsigned char *fixed,
                      const double *ubar, const ps_solver_opts *opts,
                      ps_ctx *ctx) {
   int status = PS_OK;
-  memset(s, 0, sizeof *s);
+  *out = NULL;
+  const ps_linsolve_type *linear = ps_linsolve_type_find(opts->linear);
+  if (!linear)
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "unknown linear solver '%s' (solver.linear: cholmod, "
+                    "cholmod-simplicial or umfpack)",
+                    opts->linear);
+  if ((status = check_directions(net, fixed, ctx)) != PS_OK) return status;
+  ps_solver *s = ps_calloc(1, sizeof *s, ctx);
+  if (!s) return PS_ERR_NOMEM;
   s->P = P;
   s->net = net;
   s->opts = *opts;
-  if ((status = check_directions(net, fixed, ctx)) != PS_OK) return status;
+  s->linear = linear;
   PS_CHECK_GOTO(ps_model_create(&s->model, type, P, net, mat, ctx));
   PS_CHECK_GOTO(ps_system_create_pattern(&s->sys, net, fixed, type->family_coupling, ctx));
   PS_CHECK_GOTO(ps_arm_state_alloc(&s->st, net->n_arm, ctx));
@@ -174,7 +185,10 @@ int ps_solver_create(ps_solver *s, const ps_particles *P,
   if (status < 0) goto cleanup;
   ps_solver_commit(s);
 cleanup:
-  if (status < 0) ps_solver_free(s);
+  if (status < 0)
+    ps_solver_free(s);
+  else
+    *out = s;
   return status;
 }
 

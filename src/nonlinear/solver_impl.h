@@ -1,11 +1,76 @@
 /* solver_impl.h: what the files of src/nonlinear share and no other layer
- * sees: the evaluation of the system at a trial u, and the direction
- * strategy (direction.c) that Newton (newton.c) and the path steps
- * (solver.c) call. */
+ * sees: the solver's struct, the evaluation of the system at a trial u,
+ * and the direction strategy (direction.c) that Newton (newton.c) and the
+ * path steps (solver.c) call. Outside src/nonlinear only its own unit
+ * test (t210) includes it. */
 #ifndef PS_SOLVER_IMPL_H
 #define PS_SOLVER_IMPL_H
 
 #include "ps_solver.h"
+#include "forcing.h"
+#include "linesearch.h"
+
+/* The solver's state (ps_solver.h's opaque type). */
+struct ps_solver {
+  const ps_particles *P;
+  const ps_network *net;
+  ps_model model;
+  ps_system sys;
+  ps_arm_state st, st_saved;
+  const ps_linsolve_type *linear; /* opts.linear resolved */
+  ps_linsolve ls;           /* the chosen backend */
+  ps_linsolve ls_fallback;  /* UMFPACK, created on first need */
+  const ps_linsolve *ls_last; /* which one holds the current factor */
+  int have_majorant;        /* 1: the direction strategy uses a majorant
+                               (opts.majorant, a model with family terms,
+                               opts.reuse_factor); sys_pre and ls_pre exist */
+  ps_system sys_pre;        /* one-horizon majorant of sys's tangent */
+  ps_linsolve ls_pre;       /* its CHOLMOD factor */
+  ps_team *team;            /* opts.threads threads (NULL: one) */
+  int have_factor;          /* a factor of a recent tangent is available */
+  ps_solver_opts opts;
+
+  double lambda;            /* current load factor */
+  double *u, *u_saved;      /* [n_dof] displacements, m */
+  double *u_prev;           /* [n_dof] converged u of the previous load
+                               factor lambda_prev (secant predictor) */
+  double lambda_prev;
+  int have_prev;            /* u_prev valid: no arm broke since */
+  double *ubar;             /* [n_dof] prescribed displacement at lambda 1 */
+  double *f;                /* [n_dof] internal forces at u (reactions at
+                               prescribed dofs, residual at free ones) */
+  double energy;            /* stored energy at u, J (per m in 2D) */
+  double *rhs, *du, *work;  /* [n_free] */
+  double *pcg_work;         /* [4 n_free] */
+  double *u_trial, *f_trial;/* [n_dof] line-search work */
+  double *work_dof;         /* [n_dof] */
+  double *diag_saved;       /* [n_free] diagonal of the tangent while shifted */
+  const double *fext;       /* [n_dof] external forces at load factor 1 (N;
+                               per unit thickness in 2D), zero on prescribed
+                               dofs, or NULL; not owned */
+
+  /* statistics of the run */
+  ps_int newton_iterations, n_fallback, n_line_search_cuts;
+  ps_int n_shifted;         /* Newton directions from a shifted tangent */
+  ps_int pcg_iterations, pcg_solves, pcg_failures;
+  ps_int pcg_skipped;       /* CG not tried: too many arms changed state */
+  ps_int pre_failures;      /* CG with a fresh majorant factor that failed */
+  ps_int pcg_truncated;     /* Newton directions from CG truncated at
+                               negative curvature (opts.cg_truncate) */
+  ps_int n_handovers;       /* Newton solves that reached max_iterations
+                               under the adaptive CG tolerance and went
+                               on with the fixed rule */
+  ps_int n_stagnated;       /* Newton solves ended as stagnated
+                               (opts.max_small_steps) */
+  unsigned char *arm_state_at_factor; /* [n_arm] yielding | 2 broken, when the
+                               last factor was computed */
+  double cg_rtol;           /* CG tolerance of the current Newton iteration */
+  double t_pcg;             /* wall seconds spent in CG */
+  double t_assembly;
+  int last_reason;          /* enum ps_newton_reason of the last solve */
+  int last_iterations;      /* iterations of the last solve */
+  double last_residual;     /* relative residual at its end */
+};
 
 /* f[n_dof] = f_int(u) - lambda fext and *energy = Psi(u) - lambda fext . u
  * at u[n_dof] (fext: ps_solver_set_forces, else 0); with tangent = 1 also

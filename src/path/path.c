@@ -1,11 +1,24 @@
 /* path.c: the load path as init / iterate / test: one increment per
  * iterate (attempts cut by the step controller, the commit, the breaking
- * rounds), the peak of the settled states, and the stop rules. */
+ * rounds), the peak of the settled states, and the stop rules; the
+ * default options (ps_path_opts.h). */
 #include "ps_path.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+void ps_path_opts_default(ps_path_opts *o) {
+  o->load_step = 0.02;
+  o->load_step_after_break = 0.005;
+  o->max_load = 5.0;
+  o->max_increments = 2000;
+  o->min_step = 1e-6;
+  o->stop_crack_tip = 9.0;
+  o->stop_tip_advance = 0.0;
+  o->stop_load_drop = 0.5;
+  o->max_break_rounds = 500;
+}
 
 int ps_path_init(ps_path *p, ps_solver *s, const ps_path_problem *pb, const ps_path_opts *o,
                  const ps_step_control_type *control, ps_ctx *ctx) {

@@ -22,27 +22,7 @@
 
 #include "../post/ps_post.h"
 #include "../nonlinear/ps_solver.h"
-
-/* Settings of the load path (the case's path.* keys). */
-typedef struct ps_path_opts {
-  double load_step;             /* nominal increment of the load factor */
-  double load_step_after_break; /* the nominal increment, if smaller, once an
-                                   arm has broken */
-  double max_load;              /* last load factor (the last increment is
-                                   shortened to land on it) */
-  int max_increments;           /* increments at most (cuts do not count) */
-  double min_step;              /* the path stalls when a cut takes the
-                                   increment below this */
-  double stop_crack_tip;        /* disk: stop when the tip is this many c
-                                   from the centre */
-  double stop_tip_advance;      /* disk: stop when the tip advances this many
-                                   c within one increment; 0: off */
-  double stop_load_drop;        /* stop when, after breaking, the boundary
-                                   stress falls below this fraction of its
-                                   peak */
-  int max_break_rounds;         /* breaking rounds per increment before the
-                                   path fails (PS_ERR_SOLVER) */
-} ps_path_opts;
+#include "ps_path_opts.h"
 
 /* What the path measures on the solver's states and names in messages
  * (nothing owned). */

@@ -1,0 +1,35 @@
+/* ps_output_opts.h: what a run writes and prints (the case's output.*
+ * keys), for the run's outputs (src/app/run.c, src/io/report.c) and the
+ * command line. Depends on nothing but the C library. */
+#ifndef PS_OUTPUT_OPTS_H
+#define PS_OUTPUT_OPTS_H
+
+/* output.j_integral: at most this many rings */
+#define PS_MAX_J_RINGS 8
+
+typedef struct ps_output_opts {
+  char dir[1024];      /* [dir] "" (default): the command line uses
+                          out/<case name> */
+  int vtk_every;       /* [vtk_every] write VTK every n increments (0: the
+                          last only; default 10) */
+  int fields;          /* [fields] 0: no VTK and no particles.csv, only
+                          history.csv and summary.txt (default 1) */
+  int n_j_rings;       /* [j_integral] J of the final state by Eq. 39 and
+                          Eq. 36 (Fallah) for each square ring, into
+                          summary.txt (2D; contour between particle rows,
+                          geometry.spacing apart); 0: none (default) */
+  double j_tip[2];     /* [j_integral.tip] crack tip, m (the crack runs
+                          along +x to it) */
+  double j_rings[PS_MAX_J_RINGS]; /* [j_integral.rings] outer half-widths l
+                          of the square rings, m (q = 1 inside l/2, 0
+                          outside l) */
+  int verbosity;       /* [verbosity] 0 quiet, 1 progress, 2 Newton detail,
+                          3 source locations in errors (default 1; -q and
+                          -v override it) */
+} ps_output_opts;
+
+/* The defaults above, the only place they are written down (the case
+ * reader starts from them). Defined in report.c. */
+void ps_output_opts_default(ps_output_opts *o);
+
+#endif

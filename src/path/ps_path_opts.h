@@ -1,0 +1,35 @@
+/* ps_path_opts.h: the settings of the load path (the case's path.* keys),
+ * apart from ps_path.h so that the case reader (src/io) can hold and fill
+ * them without seeing the path layer. Depends on nothing but the C
+ * library. */
+#ifndef PS_PATH_OPTS_H
+#define PS_PATH_OPTS_H
+
+/* Settings of the load path; the load factor lambda is dimensionless. */
+typedef struct ps_path_opts {
+  double load_step;             /* nominal increment of the load factor
+                                   (default 0.02) */
+  double load_step_after_break; /* the nominal increment, if smaller, once an
+                                   arm has broken (default 0.005) */
+  double max_load;              /* last load factor (the last increment is
+                                   shortened to land on it; default 5) */
+  int max_increments;           /* increments at most (cuts do not count;
+                                   default 2000) */
+  double min_step;              /* the path stalls when a cut takes the
+                                   increment below this (default 1e-6) */
+  double stop_crack_tip;        /* disk: stop when the tip is this many c
+                                   from the centre (default 9) */
+  double stop_tip_advance;      /* disk: stop when the tip advances this many
+                                   c within one increment; 0: off (default) */
+  double stop_load_drop;        /* stop when, after breaking, the boundary
+                                   stress falls below this fraction of its
+                                   peak (default 0.5) */
+  int max_break_rounds;         /* breaking rounds per increment before the
+                                   path fails (PS_ERR_SOLVER; default 500) */
+} ps_path_opts;
+
+/* The defaults above, the only place they are written down (the case
+ * reader starts from them). Defined in path.c. */
+void ps_path_opts_default(ps_path_opts *o);
+
+#endif

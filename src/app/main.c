@@ -149,10 +149,10 @@ void openblas_set_num_threads(int n);
 
 /* CHOLMOD as Debian builds it (SuiteSparse 5.12) zeroes and scatters in
  * its supernodal factorisation with 4 OpenMP threads, asked for by a
- * num_threads clause that OMP_NUM_THREADS does not override: on 2 cores
- * waking them for each supernode made a factorisation of the 20k majorant
- * take 0.42 s instead of 0.21 s, and in `griffith -j 2` they compete with
- * the other run. Only OMP_THREAD_LIMIT caps the clause, and libgomp reads
+ * num_threads clause that OMP_NUM_THREADS does not override: on a small
+ * machine waking them for each supernode slows every factorisation down
+ * and, in `griffith -j N`, competes with the other runs
+ * (doc/performance.md). Only OMP_THREAD_LIMIT caps the clause, and libgomp reads
  * it once, when it is loaded, before main: so peristatic runs itself again
  * with OMP_THREAD_LIMIT=1, unless the environment sets OMP_THREAD_LIMIT
  * (which is then kept as it is). Returns only when not re-executed. */

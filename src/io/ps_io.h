@@ -23,7 +23,7 @@ enum ps_load_type { PS_LOAD_EQ116 = 0, PS_LOAD_BOUNDARY = 1 };
 #define PS_MAX_BC 32
 
 /* Case files are checked before libyaml parses them (Debian's libyaml
- * 0.2.5 takes time quadratic in the nesting: 50,000 levels of '[', 15 s):
+ * 0.2.5 takes time quadratic in the nesting depth):
  * at most this many bytes (the shipped cases are a few KB) and this many
  * levels of nested lists and mappings (they use about 6). */
 #define PS_CASE_MAX_BYTES ((size_t)1 << 20)
@@ -146,10 +146,12 @@ void ps_case_defaults(ps_case *cs);
 int ps_case_load(ps_case *cs, const char *path, ps_ctx *ctx);
 
 /* A 64-bit hash (FNV-1a) of everything in the case that determines a run's
- * result, except delta, the Griffith list, the output and CG settings and
- * solver.max_memory_gib (a limit, not a setting of the result):
- * geometry, sizes, cracks, kernel, material, loading, Newton tolerance and
- * the load path. Written to summary.txt so that `griffith --resume` only
+ * result: the algorithm version, geometry, sizes, cracks, kernel,
+ * material, loading, the Newton tolerance and stagnation rule, the CG
+ * settings that change converged states (a fixed cg_forcing, cg_truncate
+ * off) and the load path; not delta, the Griffith list, the output
+ * settings, the CG settings that change only speed, nor
+ * solver.max_memory_gib (a limit). See src/io/fingerprint.c. Written to summary.txt so that `griffith --resume` only
  * reuses runs of the same case. */
 uint64_t ps_case_fingerprint(const ps_case *cs);
 

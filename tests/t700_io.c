@@ -426,13 +426,23 @@ static void test_case_limits(void) {
   /* brackets in quotes, comments and plain scalars are no nesting */
   f = fopen(path, "w");
   if (f) {
-    fputs("name: 'it''s [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[['  # [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[\n"
-          "output: {dir: \"a[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[\\\" [[[[[\"}\n", f);
+    fputs("name: plain  # [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[\n"
+          "output: {dir: 'it''s [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[['}  # [[[[[[[[[[[[[[[[[[[[\n",
+          f);
     fclose(f);
   }
   s = ps_case_load(&cs, path, &ctx);
-  ps_check(s == PS_OK && !strncmp(cs.name, "it's [[[", 8) && !strncmp(cs.output.dir, "a[[[", 4),
-           "brackets in quoted scalars and comments are text (%s)", ctx.msg);
+  ps_check(s == PS_OK && !strcmp(cs.name, "plain") && !strncmp(cs.output.dir, "it's [[[", 8),
+           "brackets in single-quoted scalars and comments are text (%s)", ctx.msg);
+  ps_case_defaults(&cs);
+  f = fopen(path, "w");
+  if (f) {
+    fputs("output: {dir: \"a[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[\\\" [[[[[\"}\n", f);
+    fclose(f);
+  }
+  s = ps_case_load(&cs, path, &ctx);
+  ps_check(s == PS_OK && !strncmp(cs.output.dir, "a[[[", 4),
+           "brackets in double-quoted scalars are text (%s)", ctx.msg);
   ps_case_defaults(&cs);
   /* a file over 1 MiB: refused before parsing */
   write_repeated(path, "# a comment line of a case file that is far too large\n", 20000, "");

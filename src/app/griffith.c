@@ -4,6 +4,7 @@
  * plot (gnuplot run without a shell). */
 #include "ps_app.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <gsl/gsl_math.h>
@@ -33,8 +34,8 @@ static int reuse_run(const ps_problem *pb, const char *dir, double delta,
   double sig_last = NAN;
   if (ps_report_read_summary(dir, r) != 0) return 0;
   if (r->fingerprint != ps_case_fingerprint(&pb->cs) || r->particles != pb->P.n ||
-      r->arms != pb->net.n_arm || fabs(r->delta - delta) > 1e-9 * delta)
-    return 0;
+      r->arms != pb->net.n_arm || !(fabs(r->delta - delta) <= 1e-9 * delta))
+    return 0; /* written so that a NaN (delta_m: n/a) matches nothing */
   if (r->fractured && ps_report_last_attempt_failed(dir, &sig_last) &&
       !ps_path_failed_attempt_is_fracture(1, sig_last, r->sigma_peak)) {
     r->fractured = 0; /* an older run labelled by the former rule */
@@ -62,10 +63,9 @@ static int sweep_run(ps_problem *pb, const char *staging, int i, int try_reuse, 
            cs->sweep.n, label, 1.0 / dc, path);
     return PS_OK;
   }
-  if (!may_run)
-    return ps_error(ctx, PS_ERR_SOLVER,
-                    "%s is being run by another peristatic process (pid in %s.claim)", path,
-                    path);
+  if (!may_run) /* a claim of this sweep's own workers that outlived them */
+    return ps_error(ctx, PS_ERR_IO,
+                    "%s is claimed by another process (pid in %s.claim)", path, path);
   ps_log(ctx, 1, "## griffith run %d/%d%s: delta = c/%.6g\n", i + 1, cs->sweep.n, label,
          1.0 / dc);
   int status = ps_run_unlocked(pb, dc * pb->c, path, res, ctx); /* the sweep holds the lock */
@@ -116,6 +116,25 @@ static void release_run(const ps_problem *pb, const char *staging, int i) {
   char path[1300];
   claim_path(pb, staging, i, path, sizeof path);
   unlink(path);
+}
+
+/* Remove every delta_c*.claim in staging. The sweep holds the folder's
+ * lock, so no other process can be running one of its runs: a claim there
+ * now is a leftover of a killed sweep (possibly empty, or naming a pid
+ * that another process has since been given) and would block --resume. */
+static void remove_stale_claims(const char *staging, ps_ctx *ctx) {
+  DIR *d = opendir(staging);
+  struct dirent *e;
+  char path[1300];
+  if (!d) return;
+  while ((e = readdir(d))) {
+    size_t n = strlen(e->d_name);
+    if (strncmp(e->d_name, "delta_c", 7) || n < 14 || strcmp(e->d_name + n - 6, ".claim"))
+      continue;
+    snprintf(path, sizeof path, "%s/%s", staging, e->d_name);
+    if (unlink(path) == 0) ps_log(ctx, 2, "# removed the stale claim %s\n", path);
+  }
+  closedir(d);
 }
 
 
@@ -228,12 +247,26 @@ static int run_workers(ps_problem *pb, const char *staging, int jobs, ps_ctx *ct
   return PS_OK;
 }
 
+/* name as the inside of a single-quoted gnuplot string into buf: a quote
+ * doubled (gnuplot's only escape there), a control character (a line
+ * break would start a new command) as '?'. The case reader admits no such
+ * character in `name:`; a name taken from the file name may hold them. */
+static const char *gnuplot_quoted(const char *name, char *buf, size_t len) {
+  size_t k = 0;
+  for (const char *c = name; *c && k + 3 < len; c++) {
+    if (*c == '\'') buf[k++] = '\'';
+    buf[k++] = (unsigned char)*c < 0x20 || *c == 0x7f ? '?' : *c;
+  }
+  buf[k] = '\0';
+  return buf;
+}
+
 /* griffith.csv, griffith_fit.txt and griffith.gp in dir */
 static int write_tables(const ps_problem *pb, const char *dir, const ps_run_result *res,
                         int nf, double slope, double intercept, double r2, ps_ctx *ctx) {
   const ps_case *cs = &pb->cs;
   int n = cs->sweep.n;
-  char path[1300], b1[32], b2[32], b3[32];
+  char path[1300], b1[32], b2[32], b3[32], title[300];
   double nominal = sqrt(2.0 / (M_PI * pb->mat.yield_strain));
   ps_outfile o;
   snprintf(path, sizeof path, "%s/griffith.csv", dir);
@@ -278,7 +311,7 @@ static int write_tables(const ps_problem *pb, const char *dir, const ps_run_resu
           "points pt 4 ps 1.5 title 'no fracture: solve stalled (last settled load)', \\\n"
           "     %.10g + %.10g*x title 'least-squares fit' lw 2, \\\n"
           "     %.10g*x title 'nominal Griffith sqrt(2/(pi eps_y)) x' dt 2\n",
-          cs->name, ps_fmt_or_na(slope, 8, b1, sizeof b1),
+          gnuplot_quoted(cs->name, title, sizeof title), ps_fmt_or_na(slope, 8, b1, sizeof b1),
           ps_fmt_or_na(intercept, 8, b2, sizeof b2), ps_fmt_or_na(r2, 8, b3, sizeof b3),
           isfinite(intercept) ? intercept : 0.0, isfinite(slope) ? slope : 0.0, nominal);
   return ps_outfile_commit(&o, ctx);
@@ -295,10 +328,10 @@ static int plot(const char *dir) {
   if (pid < 0) return -1;
   if (pid == 0) { /* only async-signal-safe calls between fork and exec */
     char *argv[] = {(char *)PS_GNUPLOT, (char *)"griffith.gp", NULL};
-    int null = open("/dev/null", O_WRONLY);
+    int null = open("/dev/null", O_WRONLY | O_CLOEXEC); /* dup2's copy stays open */
     if (null >= 0) dup2(null, STDERR_FILENO);
     if (chdir(dir) != 0) _exit(127);
-    execvp(argv[0], argv);
+    execv(argv[0], argv); /* PS_GNUPLOT is an absolute path (configure) */
     _exit(127);
   }
   int st = 0;
@@ -314,13 +347,24 @@ static int plot(const char *dir) {
  * out_dir itself, one atomic folder per run. */
 static int sweep_folder(const char *out_dir, int resume, char *staging, size_t len,
                         int *commit, ps_ctx *ctx) {
-  char why[200], path[1300];
+  char why[512], path[1300], table[1300];
   struct stat sb;
   snprintf(staging, len, "%s.partial", out_dir);
   snprintf(path, sizeof path, "%s/summary.txt", staging);
+  snprintf(table, sizeof table, "%s/griffith.csv", staging);
   *commit = 1;
-  if (!resume) return ps_outdir_fresh(staging, ctx);
-  if (ps_outdir_owned(staging, why, sizeof why) == 1 && lstat(path, &sb) != 0) {
+  int owned = ps_outdir_owned(staging, why, sizeof why) == 1;
+  /* a staging folder with the table is a finished sweep whose commit did
+   * not complete, or (beside out_dir) the earlier results a commit had
+   * swapped out when it was stopped: never continued over out_dir */
+  int finished = owned && lstat(table, &sb) == 0;
+  if (!resume) {
+    if (finished)
+      ps_log(ctx, 0, "peristatic: replacing %s, the output of an earlier sweep that did not "
+                     "complete its commit\n", staging);
+    return ps_outdir_fresh(staging, ctx);
+  }
+  if (owned && lstat(path, &sb) != 0 && (!finished || lstat(out_dir, &sb) != 0)) {
     ps_log(ctx, 1, "## griffith: continuing the interrupted sweep in %s\n", staging);
     return PS_OK;
   }
@@ -370,11 +414,17 @@ static int griffith_sweep(ps_problem *pb, const char *out_dir, int resume, int j
   char staging[1200], b1[32], b2[32], b3[32];
   PS_CHECK(ps_outdir_prepare(out_dir, ctx));
   PS_CHECK(sweep_folder(out_dir, resume, staging, sizeof staging, &commit, ctx));
+  remove_stale_claims(staging, ctx); /* before any worker claims a run */
   if (jobs > n) jobs = n;
   if (jobs > 64) jobs = 64;
   if (jobs > 1) status = run_workers(pb, staging, jobs, ctx); /* then all reused */
   for (int i = 0; i < n && status >= 0; i++) {
     double dc = cs->sweep.delta_over_c[i];
+    if (ps_signal_received()) { /* between runs (a run checks its increments) */
+      status = ps_error(ctx, PS_ERR_INTERRUPTED, "griffith interrupted by %s between runs",
+                        ps_signal_name(ps_signal_received()));
+      break;
+    }
     /* a run another process holds: only its result will do */
     int mine = claim_run(pb, staging, i);
     status = sweep_run(pb, staging, i, resume || jobs > 1, mine, 0, &res[i], ctx);

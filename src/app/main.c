@@ -282,12 +282,21 @@ static int check_command(const cli *c) {
 /* The output folder into outdir[len]: -o DIR, else output.dir, else
  * out/<case name>, without trailing slashes ("out/x/" would stage into
  * out/x/.partial and then fail to rename). Returns 0, or 1 after a
- * message when it names no folder of its own ("/", ".", ".."). */
+ * message when it names no folder of its own ("/", ".", "..") or is too
+ * long for what peristatic writes inside it (PS_OUTDIR_MAX), before any
+ * folder is created. */
 static int choose_outdir(const char *out, const ps_case *cs, char *outdir, size_t len) {
-  if (out)
-    snprintf(outdir, len, "%s", out);
-  else if (cs->output.dir[0])
-    snprintf(outdir, len, "%s", cs->output.dir);
+  const char *given = out ? out : cs->output.dir[0] ? cs->output.dir : NULL;
+  size_t gl = given ? strlen(given) : 4 + strlen(cs->name);
+  while (given && gl > 1 && given[gl - 1] == '/') gl--;
+  if (gl > PS_OUTDIR_MAX || gl >= len) {
+    fprintf(stderr, "peristatic: output directory '%.60s...' is too long (%zu characters; at "
+                    "most %d, to leave room for the files peristatic writes inside it)\n",
+            given ? given : "out/", gl, PS_OUTDIR_MAX);
+    return 1;
+  }
+  if (given)
+    snprintf(outdir, len, "%s", given);
   else
     snprintf(outdir, len, "out/%s", cs->name);
   size_t ol = strlen(outdir);
@@ -363,7 +372,6 @@ static int fail(int status, const ps_ctx *ctx) {
 
 int main(int argc, char **argv) {
   limit_openmp_threads(argv);
-  ps_signals_install();
   ps_ctx ctx;
   ps_ctx_init(&ctx);
   gsl_set_error_handler_off();
@@ -374,6 +382,8 @@ int main(int argc, char **argv) {
   int code = parse_options(argc, argv, &c);
   if (code < 0) code = check_command(&c);
   if (code >= 0) return code;
+  /* only run and griffith look at the flag; info ends at once */
+  if (strcmp(c.cmd, "info")) ps_signals_install();
   ps_case cs;
   ps_case_defaults(&cs);
   int status = ps_case_load(&cs, c.file, &ctx);
@@ -391,6 +401,12 @@ int main(int argc, char **argv) {
                                   griffith ? sweep_jobs(&cs, c.jobs) : 1,
                                   info ? stdout : NULL, &ctx);
   if (status < 0) return fail(status, &ctx);
+  if (!info && ps_signal_received()) { /* during the set-up: nothing written */
+    ps_problem_free(&pb);
+    ps_error(&ctx, PS_ERR_INTERRUPTED, "%s: interrupted by %s during the set-up; nothing was "
+             "written", cs.file, ps_signal_name(ps_signal_received()));
+    return fail(PS_ERR_INTERRUPTED, &ctx);
+  }
   pb.threads = c.threads;
   if (info)
     status = cmd_info(&pb, t0, &ctx);

@@ -68,7 +68,8 @@ void ps_problem_free(ps_problem *pb);
  * summary.txt and VTK files (particles_NNNN.vtk, arms_NNNN.vtk); non-finite
  * numbers are written as n/a. SIGINT or SIGTERM (ps_signal_received) ends
  * the run after the increment or breaking round under way: the outputs so
- * far stay in out_dir.partial and the status is PS_ERR_INTERRUPTED.
+ * far stay in out_dir.partial and the status is PS_ERR_INTERRUPTED (one
+ * received by the time the solver is created: nothing is written).
  * Returns PS_OK, PS_RUN_STALLED (above), or a fatal status (e.g.
  * PS_ERR_SOLVER when arms still break after path.max_break_rounds). */
 int ps_run(ps_problem *pb, double delta, const char *out_dir,
@@ -122,8 +123,10 @@ int ps_griffith(ps_problem *pb, const char *out_dir, int resume, double *slope,
  * from the finished runs as above. The workers share the parent's lock
  * and die with the parent (ps_signals_worker); the parent passes a
  * SIGINT/SIGTERM on to them as SIGTERM and waits for them. jobs <= 1 is
- * ps_griffith. Returns PS_OK, PS_ERR_SOLVER when a worker failed (its log
- * names the run) or a run is held by another process,
+ * ps_griffith. Claims left in the folder (delta_cNNNN.claim) are removed
+ * before the workers start: the sweep holds the lock, so they are stale.
+ * Returns PS_OK, PS_ERR_SOLVER when a worker failed (its log names the
+ * run), PS_ERR_IO when a run is still claimed by another process,
  * PS_ERR_INTERRUPTED, or a fatal status. */
 int ps_griffith_jobs(ps_problem *pb, const char *out_dir, int resume, int jobs,
                      double *slope, double *intercept, double *r2, int *n_fractured,
@@ -132,7 +135,8 @@ int ps_griffith_jobs(ps_problem *pb, const char *out_dir, int resume, int jobs,
 /* Install the SIGINT/SIGTERM handlers of the command line: the first
  * signal sets a flag that the load path checks (ps_signal_received) to end
  * the run cleanly; a second one of the same kind ends the process at once
- * (the default action). Call once at the start of main. */
+ * (the default action). main calls it once, for run and griffith only
+ * (info takes the default action: it ends at once). */
 void ps_signals_install(void);
 /* The first signal number received since ps_signals_install, 0 if none. */
 int ps_signal_received(void);

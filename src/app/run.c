@@ -8,6 +8,7 @@
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 /* One run: what its parts share. */
 typedef struct run_state {
@@ -21,6 +22,12 @@ typedef struct run_state {
   char stall_msg[2048];     /* the path's message of a stall */
   double t0;                /* wall seconds at the start */
 } run_state;
+
+/* 1 when path is a folder (earlier results to speak of) */
+static int is_dir(const char *path) {
+  struct stat sb;
+  return path && lstat(path, &sb) == 0 && S_ISDIR(sb.st_mode);
+}
 
 /* the path's interruption: SIGINT or SIGTERM received */
 static int signal_received(void *data, char *why, size_t len) {
@@ -46,7 +53,17 @@ static ps_report_state report_state(const run_state *r) {
 /* Stage the outputs: an empty out_dir.partial (ps_outdir_prepare has
  * checked it is ours) with history.csv's header. */
 static int open_outputs(run_state *r, ps_ctx *ctx) {
+  char why[512];
+  ps_run_result *old = NULL;
   snprintf(r->staging, sizeof r->staging, "%s.partial", r->out_dir);
+  /* a complete result there (not stalled, not interrupted) was on its
+   * way to out_dir when a kill stopped the commit: say what goes */
+  if (ps_outdir_owned(r->staging, why, sizeof why) == 1 && (old = malloc(sizeof *old)) &&
+      ps_report_read_summary(r->staging, old) == 0 && !old->stalled &&
+      strncmp(old->stop_reason, "interrupted", 11) != 0)
+    ps_log(ctx, 0, "peristatic: replacing %s, the output of an earlier run that did not "
+                   "complete its commit\n", r->staging);
+  free(old);
   PS_CHECK(ps_outdir_fresh(r->staging, ctx));
   return ps_report_history_open(&r->hist, r->staging, ctx);
 }
@@ -218,6 +235,12 @@ static int run_case(ps_problem *pb, double delta, const char *out_dir, ps_run_re
    * of ours is replaced, a result lost in a commit's rename is restored */
   if (out_dir) PS_CHECK_GOTO(ps_outdir_prepare(out_dir, ctx));
   PS_CHECK_GOTO(create_solver(&r, ctx));
+  if (ps_signal_received()) { /* before the first increment: nothing to keep */
+    status = ps_error(ctx, PS_ERR_INTERRUPTED, "%s: interrupted by %s before the first "
+                      "increment; nothing was written", pb->cs.file,
+                      ps_signal_name(ps_signal_received()));
+    goto cleanup;
+  }
   if (out_dir) PS_CHECK_GOTO(open_outputs(&r, ctx));
   ps_solver_set_forces(r.s, pb->fext);
   log_start(&r, delta, ctx);
@@ -230,8 +253,9 @@ static int run_case(ps_problem *pb, double delta, const char *out_dir, ps_run_re
   if (res->interrupted) {
     char where[2600] = "";
     if (out_dir)
-      snprintf(where, sizeof where, "; the partial output is in %s, earlier results in %s "
-               "are untouched", r.staging, out_dir);
+      snprintf(where, sizeof where, "; the partial output is in %s%s%s%s", r.staging,
+               is_dir(out_dir) ? ", earlier results in " : "", is_dir(out_dir) ? out_dir : "",
+               is_dir(out_dir) ? " are untouched" : "");
     status = ps_error(ctx, PS_ERR_INTERRUPTED, "%s: %s%s", pb->cs.file, res->stop_reason,
                       where);
     r.staging[0] = '\0'; /* the message says it all */
@@ -242,10 +266,14 @@ cleanup:
   ps_report_history_close(&r.hist, ctx);
   if (status < 0 && r.staging[0]) {
     size_t n = strlen(ctx->msg);
-    snprintf(ctx->msg + n, sizeof ctx->msg - n,
-             "\n(earlier results in %s are untouched; this run's partial output is in "
-             "%s)",
-             out_dir, r.staging);
+    if (is_dir(out_dir))
+      snprintf(ctx->msg + n, sizeof ctx->msg - n,
+               "\n(earlier results in %s are untouched; this run's partial output is in "
+               "%s)",
+               out_dir, r.staging);
+    else
+      snprintf(ctx->msg + n, sizeof ctx->msg - n, "\n(this run's partial output is in %s)",
+               r.staging);
   }
   if (keep && status >= 0)
     *keep = r.s;
@@ -276,11 +304,14 @@ int ps_run_unlocked(ps_problem *pb, double delta, const char *out_dir, ps_run_re
 
 int ps_run_stalled_error(const char *out_dir, ps_ctx *ctx) {
   size_t n = strlen(ctx->msg);
-  if (out_dir)
+  if (out_dir && is_dir(out_dir))
     snprintf(ctx->msg + n, sizeof ctx->msg - n,
              "\n(earlier results in %s are untouched; this run's partial output is in "
              "%s.partial)",
              out_dir, out_dir);
+  else if (out_dir)
+    snprintf(ctx->msg + n, sizeof ctx->msg - n, "\n(this run's partial output is in %s.partial)",
+             out_dir);
   return PS_ERR_SOLVER;
 }
 

@@ -64,10 +64,27 @@ static int on_top(ps_loader *L, void *arg, const char *key, const char *name,
                   yaml_node_t *v) {
   (void)arg;
   if (IS("name")) {
+    /* the name goes into out/NAME, summary.txt's `case:` line and the
+     * title of griffith.gp: only characters that mean nothing to a shell,
+     * a file system, gnuplot or a key: value reader */
     if (ps_yaml_string(L, v, name, L->cs->name, sizeof L->cs->name)) return PS_ERR_INPUT;
-    if (strchr(L->cs->name, '/'))
-      return ps_yaml_fail(L, line_of(v), "name must not contain '/' (got %s)",
-                          L->cs->name);
+    const char *s = L->cs->name;
+    char shown[80]; /* control characters as '?', at most 60 characters */
+    size_t k = 0;
+    int bad = 0;
+    for (const char *c = s; *c; c++)
+      bad |= !((*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') ||
+               (*c >= '0' && *c <= '9') || strchr("._+- ", *c));
+    for (const char *c = s; *c && k < 60; c++)
+      shown[k++] = (unsigned char)*c < 0x20 || *c == 0x7f ? '?' : *c;
+    snprintf(shown + k, sizeof shown - k, "%s", s[k] ? "..." : "");
+    if (bad)
+      return ps_yaml_fail(L, line_of(v),
+                          "name may hold only letters, digits, spaces and . _ + - (got '%s')",
+                          shown);
+    if (s[0] == '.' || s[0] == '-')
+      return ps_yaml_fail(L, line_of(v), "name must not start with '.' or '-' (got '%s')",
+                          shown);
     return PS_OK;
   }
   if (IS("geometry"))

@@ -6,6 +6,7 @@
  * options (ps_output_opts.h). */
 #include "ps_report.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
@@ -87,8 +88,10 @@ static void parse_value(const value_spec *k, const char *text, int present, void
   }
   switch (k->kind) {
   case V_STR: snprintf(p, k->size, "%s", present ? text : ""); break;
-  case V_I64: *(ps_int *)p = isfinite(v) ? (ps_int)v : -1; break;
-  case V_INT: *(int *)p = isfinite(v) ? (int)v : -1; break;
+  /* out of range (particles: 1e300) reads as absent: converting it would
+   * be undefined */
+  case V_I64: *(ps_int *)p = v > -9.2e18 && v < 9.2e18 ? (ps_int)v : -1; break;
+  case V_INT: *(int *)p = v > INT_MIN && v < INT_MAX ? (int)v : -1; break;
   case V_YESNO: *(int *)p = present && !strcmp(text, "yes"); break;
   case V_HEX: *(uint64_t *)p = present ? (uint64_t)strtoull(text, NULL, 16) : 0; break;
   case V_RATIO: break; /* derived */
@@ -222,6 +225,23 @@ int ps_report_write_summary(const char *dir, const ps_run_result *res, const ps_
   return ps_outfile_commit(&o, ctx);
 }
 
+/* The next line of f into line[len] without its line break ("\n" or
+ * "\r\n"); a line longer than len - 1 is skipped whole (its tail is no
+ * line of its own). Returns 0 at the end of the file. */
+static int read_line(FILE *f, char *line, size_t len) {
+  while (fgets(line, (int)len, f)) {
+    size_t n = strlen(line);
+    if (n > 0 && line[n - 1] != '\n' && !feof(f)) { /* too long: skip the rest */
+      int c;
+      while ((c = getc(f)) != EOF && c != '\n') continue;
+      continue;
+    }
+    line[strcspn(line, "\r\n")] = '\0';
+    return 1;
+  }
+  return 0;
+}
+
 int ps_report_read_summary(const char *dir, ps_run_result *res) {
   char path[1400], line[512];
   unsigned char found[N_SUMMARY_KEYS] = {0};
@@ -229,13 +249,12 @@ int ps_report_read_summary(const char *dir, ps_run_result *res) {
   memset(res, 0, sizeof *res);
   FILE *f = fopen(path, "r");
   if (f) {
-    while (fgets(line, sizeof line, f))
+    while (read_line(f, line, sizeof line))
       for (size_t i = 0; i < N_SUMMARY_KEYS; i++) {
         size_t kl = strlen(summary_keys[i].key);
         if (found[i] || strncmp(line, summary_keys[i].key, kl) || line[kl] != ':') continue;
         char *text = line + kl + 1;
         if (*text == ' ') text++;
-        text[strcspn(text, "\n")] = '\0';
         parse_value(&summary_keys[i], text, 1, res);
         found[i] = 1;
         break;
@@ -306,7 +325,7 @@ int ps_report_last_attempt_failed(const char *dir, double *sigma) {
   snprintf(path, sizeof path, "%s/history.csv", dir);
   FILE *f = fopen(path, "r");
   if (!f) return 0;
-  while (fgets(line, sizeof line, f)) snprintf(last, sizeof last, "%s", line);
+  while (read_line(f, line, sizeof line)) snprintf(last, sizeof last, "%s", line);
   fclose(f);
   memset(&row, 0, sizeof row);
   size_t need = 0; /* the columns up to `converged` must be there */

@@ -109,17 +109,29 @@ void ps_outfile_abort(ps_outfile *o);
  * into every output folder it creates), or, for folders of earlier
  * versions, one whose summary.txt starts "case: ", whose history.csv
  * starts "step,load_factor," or whose griffith.csv starts "delta_over_c,",
- * or an empty folder. Anything else (another folder, a file, a symbolic
- * link) is refused, never moved or deleted. */
+ * or an empty folder; and which holds nothing but names peristatic writes
+ * (the marker, summary.txt, history.csv, particles.csv, particles_N.vtk,
+ * arms_N.vtk, griffith.csv/.gp/.png, griffith_fit.txt, job-N.log, any of
+ * these + ".tmp", and a sweep's delta_cN folders, with .partial or .old,
+ * holding such files, and delta_cN.claim). Anything else (another folder,
+ * a file, a symbolic link, a folder of ours holding a file of someone
+ * else's) is refused, never moved or deleted. */
 #define PS_OUTDIR_MARKER ".peristatic"
+/* The longest output folder name the command line takes: room for what
+ * peristatic writes inside it, up to a sweep's
+ * DIR.partial/delta_cNNNN.partial/particles_NNNN.vtk.tmp, within the
+ * 1024 characters of a ps_outfile path. */
+#define PS_OUTDIR_MAX 900
 
 /* What is at path: 0 nothing, 1 a folder of ours (rule above), -1
- * anything else, described in why (e.g. "a regular file"). */
+ * anything else, described in why (e.g. "is a file, not a folder", or
+ * "holds files peristatic did not write (a, b, c, ...)"). */
 int ps_outdir_owned(const char *path, char *why, size_t len);
 /* Make the output folder dir ready for a writer (the caller holds its
- * lock): when dir is missing and dir.old (ours) holds the previous
- * results, a kill hit the commit's rename window: restore dir.old to dir
- * and say so on ctx->log; remove a leftover dir.old when dir exists.
+ * lock): when dir is missing, or an empty folder, and dir.old (ours)
+ * holds the previous results, a kill hit the commit's rename window:
+ * restore dir.old to dir and say so on ctx->log; otherwise remove a
+ * leftover dir.old when dir exists.
  * Refuses (PS_ERR_IO, naming the path and what to do) when dir, dir.old or
  * dir.partial is there and not ours. PS_OK, PS_ERR_IO. */
 int ps_outdir_prepare(const char *dir, ps_ctx *ctx);
@@ -130,11 +142,15 @@ int ps_outdir_fresh(const char *path, ps_ctx *ctx);
 /* The folder dir, created with our marker when missing (a folder of ours
  * there is kept as it is; anything else refused). PS_OK or PS_ERR_IO. */
 int ps_outdir_open(const char *dir, ps_ctx *ctx);
-/* Replace the folder `final` by `staging`: final (ours, or missing) is
- * moved to final.old, staging renamed to final, then final.old removed.
- * SIGINT and SIGTERM are blocked over the two renames, so a signal never
- * leaves final missing; after a kill -9 between them ps_outdir_prepare
- * restores final.old. PS_OK or PS_ERR_IO (final untouched). */
+/* Replace the folder `final` by `staging`. When final is there (ours:
+ * checked again here), the two are exchanged atomically (renameat2
+ * RENAME_EXCHANGE), so final is never missing, and the earlier tree is
+ * moved to final.old and removed; on a file system without the exchange,
+ * final is moved to final.old and staging renamed to final (a kill -9
+ * between the two is repaired by ps_outdir_prepare). Missing final: one
+ * rename. SIGINT and SIGTERM are blocked in this thread meanwhile. A
+ * failure to remove the earlier tree is a warning on ctx->log. PS_OK or
+ * PS_ERR_IO (final untouched). */
 int ps_dir_commit(const char *staging, const char *final, ps_ctx *ctx);
 
 /* The writer's lock of an output folder: flock(LOCK_EX | LOCK_NB) on
@@ -156,7 +172,8 @@ void ps_outdir_lock_release(ps_outdir_lock *lk);
 
 /* Create directory `path` and its parents (mkdir -p). PS_OK or PS_ERR_IO. */
 int ps_mkdir_p(const char *path, ps_ctx *ctx);
-/* Remove a directory tree (rm -rf) without following symbolic links; the
+/* Remove a directory tree (rm -rf) without following symbolic links or
+ * entering another file system mounted inside it; the
  * marker PS_OUTDIR_MARKER of the top folder goes last, so a folder whose
  * removal is interrupted is still ours. PS_OK or PS_ERR_IO. Callers check
  * ownership first (ps_outdir_owned). */

@@ -28,7 +28,11 @@
  *    reach |r| <= tol |R| and the same u (to 1e-6 of its norm), each
  *    through its own route (the counters say which). And the compressed
  *    truss, whose tangent is indefinite on the way to equilibrium,
- *    reaches its closed-form equilibrium. */
+ *    reaches its closed-form equilibrium.
+ *  - Newton and the direction strategy on a problem made by hand (a
+ *    2-dof quartic energy with a known minimiser, ps_nl_problem_ops
+ *    written here): no model, no assembly; converged to the minimiser,
+ *    with CG on the old factor or a fresh factor per iteration. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -38,6 +42,7 @@
 /* the module's own unit test: it sets the solver's state and options
  * directly, so it reads the struct (solver_impl.h) */
 #include "nonlinear/solver_impl.h"
+#include "nonlinear/problem_pd.h"
 
 /* ---- the line search ---------------------------------------------- */
 
@@ -299,16 +304,16 @@ static double truss_height(const truss *t, double k, double r0, double F) {
 
 static double norm_free(const ps_solver *s) {
   double r = 0;
-  for (ps_int k = 0; k < s->sys.n_free; k++) {
-    double v = s->f[s->sys.dof_of_free[k]];
+  for (ps_int k = 0; k < s->prob.n_free; k++) {
+    double v = s->f[s->prob.dof_of_free[k]];
     r += v * v;
   }
   return sqrt(r);
 }
 static double norm_fixed(const ps_solver *s) {
   double r = 0;
-  for (ps_int j = 0; j < s->sys.n_dof; j++)
-    if (s->sys.fixed[j]) r += s->f[j] * s->f[j];
+  for (ps_int j = 0; j < s->prob.n_dof; j++)
+    if (s->prob.fixed[j]) r += s->f[j] * s->f[j];
   return sqrt(r);
 }
 
@@ -333,7 +338,7 @@ static ps_solver_stats truss_case(const char *name, double D, double H, double F
     ps_check(0, "%s: set-up: %s", name, ctx.msg);
     return st;
   }
-  double k = s->model.arm_k[0], r0 = t.net.r0[0];
+  double k = s->pd->model.arm_k[0], r0 = t.net.r0[0];
   double F = F_over_kL * k * t.L;
   t.fext[3] = F;
   ps_solver_set_forces(s, t.fext);
@@ -341,7 +346,7 @@ static ps_solver_stats truss_case(const char *name, double D, double H, double F
   if (isnan(y_start)) {
     status = ps_solver_step(s, 1.0, &ctx);
   } else {
-    s->lambda = 1.0;
+    s->pd->lambda = 1.0;
     for (int j = 0; j < 6; j++) s->u[j] = t.ubar[j];
     s->u[3] = y_start - t.H;
     status = ps_newton_solve(s, &ctx);
@@ -442,9 +447,9 @@ static void truss_rate(void) {
     ps_check(0, "rate: set-up: %s", ctx.msg);
     return;
   }
-  t.fext[3] = 0.2 * s->model.arm_k[0] * t.L;
+  t.fext[3] = 0.2 * s->pd->model.arm_k[0] * t.L;
   ps_solver_set_forces(s, t.fext);
-  s->lambda = 1.0;
+  s->pd->lambda = 1.0;
   double u0[6];
   for (int j = 0; j < 6; j++) u0[j] = t.ubar[j];
   u0[3] = -0.5 * t.H; /* start half-way down */
@@ -594,6 +599,121 @@ static void test_strategies(void) {
   ps_particles_free(&P);
 }
 
+/* ---- Newton and the directions on a problem made by hand ---------- */
+
+/* E(u) = x^4/4 + x^2/2 + y^2 + x y/2, x = u_0 - 1, y = u_1 + 2: convex,
+ * its minimiser u = (1, -2); f = grad E, K = [[3x^2 + 1, 1/2], [1/2, 2]].
+ * Both dofs free (rel = |r|). No model, no assembly: the solver core sees
+ * only these operations (ps_nl_problem.h). */
+typedef struct {
+  double K[3];              /* K00, K01, K11 at the last tangent */
+  ps_int Ap[3], Ai[3];
+  double Ax[3];
+  ps_csc A;
+  int evaluations, tangents, marks;
+  ps_int dofs[2];
+  unsigned char fixed[2];
+} quartic;
+
+static int q_evaluate(void *prob, const double *u, double *f, double *energy,
+                      int want_tangent, ps_ctx *ctx) {
+  (void)ctx;
+  quartic *q = prob;
+  double x = u[0] - 1, y = u[1] + 2;
+  q->evaluations++;
+  f[0] = x * x * x + x + 0.5 * y;
+  f[1] = 2 * y + 0.5 * x;
+  *energy = 0.25 * x * x * x * x + 0.5 * x * x + y * y + 0.5 * x * y;
+  if (want_tangent) {
+    q->tangents++;
+    q->K[0] = 3 * x * x + 1;
+    q->K[1] = 0.5;
+    q->K[2] = 2;
+  }
+  return PS_OK;
+}
+static void q_apply(void *prob, const double *x, double *y) {
+  const quartic *q = prob;
+  y[0] = q->K[0] * x[0] + q->K[1] * x[1];
+  y[1] = q->K[1] * x[0] + q->K[2] * x[1];
+}
+static int q_assemble(void *prob, int majorant, ps_csc **A, ps_ctx *ctx) {
+  quartic *q = prob;
+  if (majorant) return ps_error(ctx, PS_ERR_INPUT, "no majorant");
+  memcpy(q->Ax, q->K, sizeof q->K); /* upper triangle: (0,0); (0,1), (1,1) */
+  *A = &q->A;
+  return PS_OK;
+}
+static void q_mark(void *prob) { ((quartic *)prob)->marks++; }
+static ps_int q_changed(void *prob, ps_int limit) {
+  (void)prob;
+  (void)limit;
+  return 0;
+}
+static void q_dof_name(void *prob, ps_int k, char *buf, size_t len) {
+  (void)prob;
+  snprintf(buf, len, "dof %lld", (long long)k);
+}
+
+static void test_hand_problem(void) {
+  static const ps_nl_problem_ops ops = {q_evaluate, q_apply, q_assemble,
+                                        q_mark,     q_changed, q_dof_name};
+  const char *names[2] = {"a fresh factor each iteration", "CG with the old factor"};
+  for (int reuse = 1; reuse >= 0; reuse--) {
+    ps_ctx ctx;
+    ps_ctx_init(&ctx);
+    ctx.verbosity = getenv("PS_TEST_VERBOSE") ? 2 : 0;
+    quartic q;
+    memset(&q, 0, sizeof q);
+    q.Ap[1] = 1;
+    q.Ap[2] = 3;
+    q.Ai[2] = 1;
+    q.A = (ps_csc){2, q.Ap, q.Ai, q.Ax};
+    q.dofs[1] = 1;
+    ps_solver *s = calloc(1, sizeof *s);
+    if (!s) {
+      ps_check(0, "hand-made problem: out of memory");
+      return;
+    }
+    ps_solver_opts_default(&s->opts);
+    s->opts.tolerance = 1e-12;
+    s->opts.reuse_factor = reuse;
+    s->prob = (ps_nl_problem){&ops, &q, 2, 2, q.dofs, q.fixed, 0};
+    int status = ps_linsolve_create(&s->ls, ps_linsolve_cholmod, &ctx);
+    if (status == PS_OK) status = ps_nl_alloc_work(s, &ctx);
+    if (status == PS_OK) {
+      s->u[0] = 5.0; /* x = 4: far from the minimiser, where K changes */
+      s->u[1] = 0.0;
+      status = ps_newton_solve(s, &ctx);
+    }
+    ps_check(status == PS_OK && s->last_reason == PS_NEWTON_CONVERGED,
+             "hand-made problem, %s: Newton converged (%d: %s; %s)", names[reuse], status,
+             ps_newton_reason_text(s->last_reason), ctx.msg);
+    ps_check(s->u && fabs(s->u[0] - 1) <= 1e-10 && fabs(s->u[1] + 2) <= 1e-10,
+             "hand-made problem, %s: u = (%.15g, %.15g) = (1, -2)", names[reuse],
+             s->u ? s->u[0] : NAN, s->u ? s->u[1] : NAN);
+    ps_check(q.tangents == (int)s->newton_iterations && q.marks == 0,
+             "hand-made problem, %s: one tangent per Newton iteration (%d, %lld), no "
+             "marks without pcg_skip_arms (%d)", names[reuse], q.tangents,
+             (long long)s->newton_iterations, q.marks);
+    if (reuse)
+      ps_check(s->pcg_iterations > 0 && s->ls.stats.n_factor < s->newton_iterations,
+               "hand-made problem, %s: CG used (%lld iterations), fewer factors (%lld) "
+               "than Newton iterations (%lld)", names[reuse], (long long)s->pcg_iterations,
+               (long long)s->ls.stats.n_factor, (long long)s->newton_iterations);
+    else
+      ps_check(s->pcg_iterations == 0 && s->ls.stats.n_factor == s->newton_iterations,
+               "hand-made problem, %s: no CG, %lld factors for %lld Newton iterations",
+               names[reuse], (long long)s->ls.stats.n_factor,
+               (long long)s->newton_iterations);
+    printf("# hand-made problem, %s: %lld Newton its, %lld factors, %lld CG its, %lld "
+           "line-search cuts, %d evaluations\n", names[reuse],
+           (long long)s->newton_iterations, (long long)s->ls.stats.n_factor,
+           (long long)s->pcg_iterations, (long long)s->n_line_search_cuts, q.evaluations);
+    ps_solver_free(s);
+  }
+}
+
 /* the linear solver is named in the options and resolved by
  * ps_solver_create: an unknown name is an input error, and *s stays NULL */
 static void test_unknown_linear(void) {
@@ -622,6 +742,7 @@ int main(void) {
   test_linesearch();
   test_unknown_linear();
   test_forcing();
+  test_hand_problem();
   ps_solver_opts o;
   ps_solver_opts_default(&o);
   o.tolerance = 1e-10;

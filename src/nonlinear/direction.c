@@ -1,12 +1,16 @@
 /* direction.c: the Newton direction du = K_ff^-1 rhs (rhs = -r_free) and
  * the factors behind it. In order of cost:
+ * It sees the problem only through s->prob (ps_nl_problem.h): K is its
+ * tangent (applied by apply, a matrix by assemble), the arms' state its
+ * mark/changed.
  *   1. CG on K (matrix-free), preconditioned by the last factor, of an
  *      earlier tangent or of its majorant: K changes between Newton
  *      iterations by one rank-one term per arm that yielded, unloaded or
  *      broke, so an old factor is a good preconditioner;
  *   2. (models with family terms) CG preconditioned by a fresh factor of
- *      the one-horizon majorant P >= K (ps_system_assemble_majorant;
- *      its spectrum bound is in ps_assembly.h);
+ *      the one-horizon majorant P >= K (the problem's assemble with
+ *      majorant 1; for peridynamics ps_system_assemble_majorant, whose
+ *      spectrum bound is in ps_assembly.h);
  *   3. a fresh factor of K itself, by UMFPACK where CHOLMOD finds K not
  *      positive definite;
  * and, when du points uphill in energy (K indefinite), the shifted
@@ -15,61 +19,50 @@
  * (opts.cg_truncate). */
 #include "solver_impl.h"
 
-/* the arm's tangent-changing state: yielding | 2 broken */
-static inline unsigned char arm_state(const ps_arm_state *st, ps_int i) {
-  return (unsigned char)(st->yielding[i] | (st->broken[i] << 1));
-}
-
-/* the count of arms changed since the last factor is needed only by
- * opts.pcg_skip_arms and the verbose log */
+/* the count of changes since the last factor (ps_nl_problem changed) is
+ * needed only by opts.pcg_skip_arms and the verbose log */
 static int tracks_arm_state(const ps_solver *s, const ps_ctx *ctx) {
   return s->opts.pcg_skip_arms > 0 || ctx->verbosity >= 2;
 }
 
-/* record the arm states at a new factor */
+/* record the problem's tangent-changing state at a new factor */
 static void snapshot_arm_state(ps_solver *s, const ps_ctx *ctx) {
   if (!tracks_arm_state(s, ctx)) return;
-  for (ps_int i = 0; i < s->net->n_arm; i++) s->arm_state_at_factor[i] = arm_state(&s->st, i);
+  s->prob.ops->mark(s->prob.data);
 }
 
-/* arms whose state differs from the snapshot, counting up to limit */
-static ps_int arms_changed(const ps_solver *s, ps_int limit) {
-  ps_int n = 0;
-  for (ps_int i = 0; i < s->net->n_arm && n <= limit; i++)
-    n += s->arm_state_at_factor[i] != arm_state(&s->st, i);
-  return n;
+/* the free tangent (majorant 0) or its majorant (1) of the last
+ * evaluation with one, as a matrix */
+static int assemble(ps_solver *s, int majorant, ps_csc **A, ps_ctx *ctx) {
+  return s->prob.ops->assemble(s->prob.data, majorant, A, ctx);
 }
 
-/* assemble the tangent of the last evaluation into sys.A (timed as
- * assembly) */
-static int assemble(ps_solver *s, ps_ctx *ctx) {
-  if (s->sys.assembled) return PS_OK;
-  double t = ps_wtime();
-  int status = ps_system_assemble(&s->sys, ctx);
-  s->t_assembly += ps_wtime() - t;
-  return status;
+/* y = K_ff x, the problem's product, as an operator for CG */
+static void apply_tangent(void *data, const double *x, double *y) {
+  const ps_nl_problem *p = data;
+  p->ops->apply(p->data, x, y);
 }
 
 int ps_nl_factor_tangent(ps_solver *s, ps_ctx *ctx) {
   ps_int bad = -1;
-  PS_CHECK(assemble(s, ctx));
+  ps_csc *A = NULL;
+  PS_CHECK(assemble(s, 0, &A, ctx));
   snapshot_arm_state(s, ctx);
   char name[256] = "unknown dof";
-  int status = ps_linsolve_factor(&s->ls, &s->sys.A, &bad, ctx);
+  int status = ps_linsolve_factor(&s->ls, A, &bad, ctx);
   if (status < 0) return status;
   if (status == PS_OK) {
     s->ls_last = &s->ls;
     s->have_factor = 1;
     return PS_OK;
   }
-  if (bad >= 0 && bad < s->sys.n_free)
-    ps_system_dof_name(&s->sys, s->P->x, s->sys.dof_of_free[bad], name, sizeof name);
+  if (bad >= 0 && bad < s->prob.n_free) s->prob.ops->dof_name(s->prob.data, bad, name, sizeof name);
   if (s->ls.type != ps_linsolve_umfpack) {
     ps_log(ctx, 1, "  note: tangent %s at %s: UMFPACK for this system\n",
            status == PS_NOT_POSDEF ? "not positive definite" : "singular", name);
     if (!s->ls_fallback.type)
       PS_CHECK(ps_linsolve_create(&s->ls_fallback, ps_linsolve_umfpack, ctx));
-    status = ps_linsolve_factor(&s->ls_fallback, &s->sys.A, &bad, ctx);
+    status = ps_linsolve_factor(&s->ls_fallback, A, &bad, ctx);
     if (status < 0) return status;
     s->n_fallback++;
     if (status == PS_OK) {
@@ -89,7 +82,7 @@ int ps_nl_factor_tangent(ps_solver *s, ps_ctx *ctx) {
 static int pcg(ps_solver *s, ps_linsolve *ls, int maxit, int *its, ps_ctx *ctx) {
   double t0 = ps_wtime();
   *its = 0;
-  ps_operator K = s->opts.matrix_free ? ps_system_operator(&s->sys) : ps_csc_operator(&s->sys.A);
+  ps_operator K = {s->prob.n_free, apply_tangent, &s->prob};
   int status = ps_linsolve_pcg(ls, &K, s->rhs, s->du, s->cg_rtol, maxit,
                                s->pcg_work, its, ctx);
   s->t_pcg += ps_wtime() - t0;
@@ -115,8 +108,9 @@ static int truncated(ps_solver *s, int status, int its, const char *with, ps_ctx
  * positive definite: the caller factors the tangent), or fatal. */
 static int factor_majorant(ps_solver *s, ps_ctx *ctx) {
   ps_int bad = -1;
-  PS_CHECK(ps_system_assemble_majorant(&s->sys_pre, &s->sys, ctx));
-  int status = ps_linsolve_factor(&s->ls_pre, &s->sys_pre.A, &bad, ctx);
+  ps_csc *P = NULL;
+  PS_CHECK(assemble(s, 1, &P, ctx));
+  int status = ps_linsolve_factor(&s->ls_pre, P, &bad, ctx);
   if (status < 0) return status;
   if (status != PS_OK) {
     ps_log(ctx, 2, "    majorant not positive definite: factoring the tangent\n");
@@ -180,7 +174,7 @@ static int old_factor_cap(const ps_solver *s) {
 static int solve_with_old_factor(ps_solver *s, ps_ctx *ctx) {
   int maxit = old_factor_cap(s);
   ps_int limit = s->opts.pcg_skip_arms, changed = -1;
-  if (tracks_arm_state(s, ctx)) changed = arms_changed(s, limit > 0 ? limit : s->net->n_arm);
+  if (tracks_arm_state(s, ctx)) changed = s->prob.ops->changed(s->prob.data, limit);
   if (limit > 0 && changed >= limit) {
     s->pcg_skipped++;
     ps_log(ctx, 2, "    %lld+ arms changed state since the last factorisation: "
@@ -216,9 +210,9 @@ int ps_nl_direction(ps_solver *s, ps_ctx *ctx) {
 }
 
 int ps_nl_shifted_direction(ps_solver *s, ps_ctx *ctx) {
-  ps_csc *A = &s->sys.A;
+  ps_csc *A = NULL;
+  PS_CHECK(assemble(s, 0, &A, ctx));
   ps_int n = A->n, bad;
-  PS_CHECK(assemble(s, ctx));
   for (ps_int k = 0; k < n; k++) s->diag_saved[k] = A->x[A->p[k + 1] - 1];
   int status = PS_SINGULAR;
   for (double mu = 1e-4; mu <= 10.0 && status != PS_OK; mu *= 10.0) {

@@ -10,27 +10,27 @@
 #include <string.h>
 
 /* ||f_free|| */
-static double norm_free(const ps_system *sys, const double *f) {
+static double norm_free(const ps_nl_problem *p, const double *f) {
   double s = 0;
-  for (ps_int k = 0; k < sys->n_free; k++) {
-    double v = f[sys->dof_of_free[k]];
+  for (ps_int k = 0; k < p->n_free; k++) {
+    double v = f[p->dof_of_free[k]];
     s += v * v;
   }
   return sqrt(s);
 }
 
 /* ||f_fixed||, the reactions */
-static double norm_fixed(const ps_system *sys, const double *f) {
+static double norm_fixed(const ps_nl_problem *p, const double *f) {
   double s = 0;
-  for (ps_int j = 0; j < sys->n_dof; j++)
-    if (sys->fixed[j]) s += f[j] * f[j];
+  for (ps_int j = 0; j < p->n_dof; j++)
+    if (p->fixed[j]) s += f[j] * f[j];
   return sqrt(s);
 }
 
 /* f_free . x, x[n_free] */
-static double dot_free(const ps_system *sys, const double *f, const double *x) {
+static double dot_free(const ps_nl_problem *p, const double *f, const double *x) {
   double g = 0;
-  for (ps_int k = 0; k < sys->n_free; k++) g += f[sys->dof_of_free[k]] * x[k];
+  for (ps_int k = 0; k < p->n_free; k++) g += f[p->dof_of_free[k]] * x[k];
   return g;
 }
 
@@ -38,16 +38,16 @@ static double dot_free(const ps_system *sys, const double *f, const double *x) {
  * evaluated into u_trial, f_trial */
 static int trial_energy(void *data, double alpha, double *phi, ps_ctx *ctx) {
   ps_solver *s = data;
-  const ps_system *sys = &s->sys;
-  memcpy(s->u_trial, s->u, (size_t)sys->n_dof * sizeof *s->u);
-  for (ps_int k = 0; k < sys->n_free; k++) s->u_trial[sys->dof_of_free[k]] += alpha * s->du[k];
+  const ps_nl_problem *p = &s->prob;
+  memcpy(s->u_trial, s->u, (size_t)p->n_dof * sizeof *s->u);
+  for (ps_int k = 0; k < p->n_free; k++) s->u_trial[p->dof_of_free[k]] += alpha * s->du[k];
   return ps_nl_eval(s, s->u_trial, s->f_trial, phi, 0, ctx);
 }
 
 /* phi'(alpha) = f(u + alpha du) . du at the last trial */
 static double trial_slope(void *data) {
   const ps_solver *s = data;
-  return dot_free(&s->sys, s->f_trial, s->du);
+  return dot_free(&s->prob, s->f_trial, s->du);
 }
 
 /* The Newton direction at the current iterate (tangent evaluated, rhs =
@@ -59,11 +59,11 @@ static int descent_direction(ps_solver *s, double *g0, ps_ctx *ctx) {
   int status = ps_nl_direction(s, ctx);
   if (status != PS_OK) return status;
   s->newton_iterations++;
-  *g0 = dot_free(&s->sys, s->f, s->du);
+  *g0 = dot_free(&s->prob, s->f, s->du);
   if (*g0 >= 0 && s->opts.line_search) {
     status = ps_nl_shifted_direction(s, ctx);
     if (status != PS_OK) return status;
-    *g0 = dot_free(&s->sys, s->f, s->du);
+    *g0 = dot_free(&s->prob, s->f, s->du);
   }
   return PS_OK;
 }
@@ -76,7 +76,7 @@ static int finish(ps_solver *s, int reason) {
 }
 
 int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
-  const ps_system *sys = &s->sys;
+  const ps_nl_problem *p = &s->prob;
   const ps_solver_opts *o = &s->opts;
   PS_CHECK(ps_nl_eval(s, s->u, s->f, &s->energy, 0, ctx));
   ps_forcing forcing;
@@ -92,7 +92,7 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
   double rel_before = 0.0; /* the residual before the first of them */
   int budget = o->max_iterations;
   for (int it = 0;; it++) {
-    double rn = norm_free(sys, s->f), ref = norm_fixed(sys, s->f);
+    double rn = norm_free(p, s->f), ref = norm_fixed(p, s->f);
     double rel = ref > 0 ? rn / ref : rn;
     s->last_iterations = it;
     s->last_residual = rel;
@@ -119,7 +119,7 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
       return finish(s, PS_NEWTON_STAGNATED);
     }
     PS_CHECK(ps_nl_eval(s, s->u, s->f, &s->energy, 1, ctx));
-    for (ps_int k = 0; k < sys->n_free; k++) s->rhs[k] = -s->f[sys->dof_of_free[k]];
+    for (ps_int k = 0; k < p->n_free; k++) s->rhs[k] = -s->f[p->dof_of_free[k]];
     s->cg_rtol = ps_forcing_next(&forcing, rel);
     double g0 = 0;
     int status = descent_direction(s, &g0, ctx);

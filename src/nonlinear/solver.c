@@ -1,9 +1,10 @@
 /* solver.c: the solver's lifecycle (options, create with the support
- * check, free), the system's evaluation at a trial u, the path steps
+ * check, free; the peridynamic problem through problem_pd.h), the path steps
  * (predictor and Newton for an increment, commit/restore of the plastic
  * state, one round of arm breaking, Eq. 118) and the read-only views:
  * statistics and accessors. */
 #include "solver_impl.h"
+#include "problem_pd.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -35,11 +36,7 @@ void ps_solver_free(ps_solver *s) {
   ps_linsolve_destroy(&s->ls);
   ps_linsolve_destroy(&s->ls_fallback);
   ps_linsolve_destroy(&s->ls_pre);
-  ps_system_free(&s->sys_pre);
-  ps_system_free(&s->sys);
-  ps_arm_state_free(&s->st);
-  ps_arm_state_free(&s->st_saved);
-  ps_model_free(&s->model);
+  ps_pd_free(s->pd);
   ps_team_free(s->team);
   free(s->u);
   free(s->u_saved);
@@ -53,29 +50,11 @@ void ps_solver_free(ps_solver *s) {
   free(s->u_trial);
   free(s->work_dof);
   free(s->diag_saved);
-  free(s->arm_state_at_factor);
   free(s->f_trial);
   free(s);
 }
 
-int ps_nl_eval(ps_solver *s, const double *u, double *f, double *energy, int tangent,
-               ps_ctx *ctx) {
-  double t = ps_wtime();
-  int want = !tangent ? PS_EVAL_FORCES
-             : s->opts.reuse_factor && s->opts.matrix_free ? PS_EVAL_OPERATOR
-                                                            : PS_EVAL_TANGENT;
-  int status = ps_system_eval(&s->sys, &s->model, &s->st, s->P->x, u, f,
-                              energy, want, ctx);
-  if (s->fext && status == PS_OK)
-    for (ps_int j = 0; j < s->sys.n_dof; j++) {
-      f[j] -= s->lambda * s->fext[j];
-      *energy -= s->lambda * s->fext[j] * u[j];
-    }
-  s->t_assembly += ps_wtime() - t;
-  return status;
-}
-
-void ps_solver_set_forces(ps_solver *s, const double *fext) { s->fext = fext; }
+void ps_solver_set_forces(ps_solver *s, const double *fext) { s->pd->fext = fext; }
 
 /* a quick necessary condition of support: each direction has a
  * prescribed dof. Returns PS_OK or PS_ERR_INPUT. */
@@ -93,20 +72,18 @@ static int check_directions(const ps_network *net, const unsigned char *fixed, p
   return PS_OK;
 }
 
-/* the linear solvers and their threads; the majorant's system and
- * factor when the direction strategy uses one */
-static int create_linear(ps_solver *s, const ps_model_type *type,
-                         const unsigned char *fixed, ps_ctx *ctx) {
+/* the linear solvers and their threads; the majorant's factor when the
+ * direction strategy uses one */
+static int create_linear(ps_solver *s, ps_ctx *ctx) {
   const ps_solver_opts *opts = &s->opts;
   int threads = opts->threads > 0 ? opts->threads : ps_cpu_count();
   PS_CHECK(ps_team_create(&s->team, threads < PS_PARTS ? threads : PS_PARTS, ctx));
-  s->sys.team = s->team;
+  ps_pd_set_team(s->pd, s->team);
   PS_CHECK(ps_linsolve_create(&s->ls, s->linear, ctx));
   s->ls.team = s->team;
   s->ls.reanalyze = opts->reanalyze;
   s->ls.single_precision = opts->cg_single_precision;
-  if (opts->majorant && type->family_coupling && opts->reuse_factor) {
-    PS_CHECK(ps_system_create_pattern(&s->sys_pre, s->net, fixed, 0, ctx));
+  if (s->prob.has_majorant) {
     PS_CHECK(ps_linsolve_create(&s->ls_pre, ps_linsolve_cholmod, ctx));
     s->ls_pre.single_precision = opts->cg_single_precision;
     s->ls_pre.team = s->team;
@@ -118,9 +95,8 @@ static int create_linear(ps_solver *s, const ps_model_type *type,
   return PS_OK;
 }
 
-/* the work arrays; PS_OK or PS_ERR_NOMEM */
-static int alloc_work(ps_solver *s, ps_ctx *ctx) {
-  ps_int nd = (ps_int)s->net->dim * s->net->n_particle, nf = s->sys.n_free;
+int ps_nl_alloc_work(ps_solver *s, ps_ctx *ctx) {
+  ps_int nd = s->prob.n_dof, nf = s->prob.n_free;
   s->u = ps_calloc((size_t)nd, sizeof *s->u, ctx);
   s->u_saved = ps_calloc((size_t)nd, sizeof *s->u, ctx);
   s->u_prev = ps_calloc((size_t)nd, sizeof *s->u, ctx);
@@ -133,11 +109,10 @@ static int alloc_work(ps_solver *s, ps_ctx *ctx) {
   s->du = ps_calloc((size_t)nf, sizeof *s->u, ctx);
   s->work = ps_calloc((size_t)nf, sizeof *s->u, ctx);
   s->diag_saved = ps_calloc((size_t)nf, sizeof *s->u, ctx);
-  s->arm_state_at_factor = ps_calloc((size_t)s->net->n_arm + 1, 1, ctx);
   s->pcg_work = ps_calloc((size_t)(4 * nf), sizeof *s->u, ctx);
   if (!s->pcg_work || !s->u_prev || !s->work_dof || !s->u || !s->u_saved || !s->ubar ||
       !s->f || !s->u_trial || !s->f_trial || !s->rhs || !s->du || !s->work ||
-      !s->diag_saved || !s->arm_state_at_factor)
+      !s->diag_saved)
     return PS_ERR_NOMEM;
   return PS_OK;
 }
@@ -158,17 +133,18 @@ int ps_solver_create(ps_solver **out, const ps_particles *P,
   if ((status = check_directions(net, fixed, ctx)) != PS_OK) return status;
   ps_solver *s = ps_calloc(1, sizeof *s, ctx);
   if (!s) return PS_ERR_NOMEM;
-  s->P = P;
-  s->net = net;
   s->opts = *opts;
   s->linear = linear;
-  PS_CHECK_GOTO(ps_model_create(&s->model, type, P, net, mat, ctx));
-  PS_CHECK_GOTO(ps_system_create_pattern(&s->sys, net, fixed, type->family_coupling, ctx));
-  PS_CHECK_GOTO(ps_arm_state_alloc(&s->st, net->n_arm, ctx));
-  PS_CHECK_GOTO(ps_arm_state_alloc(&s->st_saved, net->n_arm, ctx));
-  if ((status = create_linear(s, type, fixed, ctx)) < 0) goto cleanup; /* traced */
-  if ((status = alloc_work(s, ctx)) != PS_OK) goto cleanup;
-  for (ps_int j = 0; j < s->sys.n_dof; j++) s->ubar[j] = fixed[j] ? ubar[j] : 0.0;
+  /* the tangent is kept as data and applied matrix-free where CG uses it
+   * (opts.reuse_factor) and opts.matrix_free; a majorant where CG uses it
+   * and the model has family terms */
+  PS_CHECK_GOTO(ps_pd_create(&s->pd, P, net, type, mat, fixed,
+                             opts->majorant && opts->reuse_factor,
+                             opts->reuse_factor && opts->matrix_free, ctx));
+  s->prob = ps_pd_problem(s->pd);
+  if ((status = create_linear(s, ctx)) < 0) goto cleanup; /* traced */
+  if ((status = ps_nl_alloc_work(s, ctx)) != PS_OK) goto cleanup;
+  for (ps_int j = 0; j < s->prob.n_dof; j++) s->ubar[j] = fixed[j] ? ubar[j] : 0.0;
   /* support check: the tangent at rest must be nonsingular */
   PS_CHECK_GOTO(ps_nl_eval(s, s->u, s->f, &s->energy, 1, ctx));
   status = ps_nl_factor_tangent(s, ctx);
@@ -193,15 +169,13 @@ cleanup:
 }
 
 void ps_solver_commit(ps_solver *s) {
-  ps_int na = s->net->n_arm;
-  memcpy(s->st.eps_p, s->st.eps_p_trial, (size_t)(2 * na) * sizeof *s->st.eps_p);
-  ps_arm_state_copy(&s->st_saved, &s->st);
-  memcpy(s->u_saved, s->u, (size_t)s->sys.n_dof * sizeof *s->u);
+  ps_pd_commit(s->pd);
+  memcpy(s->u_saved, s->u, (size_t)s->prob.n_dof * sizeof *s->u);
 }
 
 void ps_solver_restore(ps_solver *s) {
-  ps_arm_state_copy(&s->st, &s->st_saved);
-  memcpy(s->u, s->u_saved, (size_t)s->sys.n_dof * sizeof *s->u);
+  ps_pd_restore(s->pd);
+  memcpy(s->u, s->u_saved, (size_t)s->prob.n_dof * sizeof *s->u);
 }
 
 /* The predictor of the increment lambda0 -> lambda (dl = lambda -
@@ -212,8 +186,9 @@ void ps_solver_restore(ps_solver *s) {
  *     K_ff du_f = -(r_f + K_fp du_p) + dl fext_f;
  * then u_p = lambda ubar_p. Returns PS_OK or fatal. */
 static int predict(ps_solver *s, double lambda, ps_ctx *ctx) {
-  const ps_system *sys = &s->sys;
-  double lambda0 = s->lambda, dl = lambda - lambda0;
+  const ps_nl_problem *sys = &s->prob;
+  const double *fext = s->pd->fext;
+  double lambda0 = s->pd->lambda, dl = lambda - lambda0;
   ps_int nd = sys->n_dof, nf = sys->n_free;
   int secant = s->have_prev && lambda0 > s->lambda_prev;
   double *u_start = s->u_trial; /* the start, for the secant history */
@@ -226,23 +201,23 @@ static int predict(ps_solver *s, double lambda, ps_ctx *ctx) {
     }
   } else if (s->have_factor) {
     for (ps_int j = 0; j < nd; j++) s->work_dof[j] = sys->fixed[j] ? dl * s->ubar[j] : 0.0;
-    ps_system_coupling(&s->sys, s->work_dof, s->work);
+    ps_pd_coupling(s->pd, s->work_dof, s->work);
     for (ps_int k = 0; k < nf; k++) {
       ps_int j = sys->dof_of_free[k];
-      s->rhs[k] = -(s->f[j] + s->work[k]) + (s->fext ? dl * s->fext[j] : 0.0);
+      s->rhs[k] = -(s->f[j] + s->work[k]) + (fext ? dl * fext[j] : 0.0);
     }
     PS_CHECK(ps_linsolve_solve((ps_linsolve *)s->ls_last, s->rhs, s->du, ctx));
     for (ps_int k = 0; k < nf; k++) s->u[sys->dof_of_free[k]] += s->du[k];
   }
   for (ps_int j = 0; j < nd; j++)
     if (sys->fixed[j]) s->u[j] = lambda * s->ubar[j];
-  s->lambda = lambda;
+  s->pd->lambda = lambda;
   memcpy(s->u_prev, u_start, (size_t)nd * sizeof *s->u); /* u_trial is reused */
   return PS_OK;
 }
 
 int ps_solver_step(ps_solver *s, double lambda, ps_ctx *ctx) {
-  double lambda0 = s->lambda;
+  double lambda0 = s->pd->lambda;
   int status = predict(s, lambda, ctx);
   if (status < 0) return status; /* traced */
   status = ps_newton_solve(s, ctx);
@@ -257,7 +232,7 @@ int ps_solver_step(ps_solver *s, double lambda, ps_ctx *ctx) {
      * try (the majorant's when there is one: it preconditions CG as well
      * as the tangent's own factor, at a fraction of its cost) */
     ps_solver_restore(s);
-    s->lambda = lambda0;
+    s->pd->lambda = lambda0;
     PS_CHECK(ps_nl_eval(s, s->u, s->f, &s->energy, 1, ctx));
     int st2 = ps_nl_fresh_factor(s, ctx);
     if (st2 < 0) return st2;
@@ -267,7 +242,7 @@ int ps_solver_step(ps_solver *s, double lambda, ps_ctx *ctx) {
 
 int ps_solver_break_round(ps_solver *s, ps_int max_count, ps_int *n_broken,
                           ps_ctx *ctx) {
-  PS_CHECK(s->model.type->break_arms(&s->model, &s->st, max_count, n_broken, ctx));
+  PS_CHECK(ps_pd_break_arms(s->pd, max_count, n_broken, ctx));
   if (*n_broken == 0) return PS_OK;
   s->have_prev = 0; /* no secant predictor across a break */
   ps_log(ctx, 2, "    %lld arms broke, re-equilibrating\n", (long long)*n_broken);
@@ -281,11 +256,7 @@ int ps_solver_evaluate(ps_solver *s, ps_ctx *ctx) {
   return ps_nl_eval(s, s->u, s->f, &s->energy, 0, ctx);
 }
 
-ps_int ps_solver_count_yielding(const ps_solver *s) {
-  ps_int n = 0;
-  for (ps_int i = 0; i < s->net->n_arm; i++) n += s->st.yielding[i] && !s->st.broken[i];
-  return n;
-}
+ps_int ps_solver_count_yielding(const ps_solver *s) { return ps_pd_count_yielding(s->pd); }
 
 void ps_solver_get_stats(const ps_solver *s, ps_solver_stats *st) {
   memset(st, 0, sizeof *st);
@@ -303,14 +274,14 @@ void ps_solver_get_stats(const ps_solver *s, ps_solver_stats *st) {
   st->stagnated = s->n_stagnated;
   st->handovers = s->n_handovers;
   st->line_search_cuts = s->n_line_search_cuts;
-  st->n_free = s->sys.n_free;
+  st->n_free = s->prob.n_free;
   st->threads = ps_team_size(s->team);
   st->serial_share = s->have_majorant ? s->ls_pre.stats.serial_share : s->ls.stats.serial_share;
-  st->nnz_tangent = s->sys.A.p ? (double)s->sys.A.p[s->sys.n_free] : 0.0;
+  st->nnz_tangent = ps_pd_nnz_tangent(s->pd);
   st->nnz_factor = s->ls.stats.nnz_factor;
   st->flops_factor = s->ls.stats.flops_factor;
   st->nnz_majorant_factor = s->ls_pre.stats.nnz_factor;
-  st->t_assembly = s->t_assembly;
+  st->t_assembly = s->pd->t_assembly;
   st->t_analyze = s->ls.stats.t_analyze + s->ls_fallback.stats.t_analyze;
   st->t_factor = s->ls.stats.t_factor + s->ls_fallback.stats.t_factor;
   st->t_solve = s->ls.stats.t_solve + s->ls_fallback.stats.t_solve;
@@ -318,11 +289,11 @@ void ps_solver_get_stats(const ps_solver *s, ps_solver_stats *st) {
   st->t_cg = s->t_pcg;
 }
 
-double ps_solver_lambda(const ps_solver *s) { return s->lambda; }
+double ps_solver_lambda(const ps_solver *s) { return s->pd->lambda; }
 const double *ps_solver_u(const ps_solver *s) { return s->u; }
-const double *ps_solver_arm_tension(const ps_solver *s) { return s->sys.T; }
-const double *ps_solver_arm_direction(const ps_solver *s) { return s->sys.q; }
-const double *ps_solver_arm_elongation(const ps_solver *s) { return s->sys.dl; }
-const ps_arm_state *ps_solver_arm_state(const ps_solver *s) { return &s->st; }
+const double *ps_solver_arm_tension(const ps_solver *s) { return s->pd->sys.T; }
+const double *ps_solver_arm_direction(const ps_solver *s) { return s->pd->sys.q; }
+const double *ps_solver_arm_elongation(const ps_solver *s) { return s->pd->sys.dl; }
+const ps_arm_state *ps_solver_arm_state(const ps_solver *s) { return &s->pd->st; }
 int ps_solver_last_reason(const ps_solver *s) { return s->last_reason; }
 double ps_solver_last_residual(const ps_solver *s) { return s->last_residual; }

@@ -1,36 +1,40 @@
 /* solver_impl.h: what the files of src/nonlinear share and no other layer
- * sees: the solver's struct, the evaluation of the system at a trial u,
+ * sees: the solver's struct, the evaluation of the problem at a trial u,
  * and the direction strategy (direction.c) that Newton (newton.c) and the
- * path steps (solver.c) call. Outside src/nonlinear only its own unit
- * test (t210) includes it. */
+ * path steps (solver.c) call. Newton and the direction strategy reach the
+ * problem only through s->prob (ps_nl_problem.h); the peridynamic problem
+ * behind it (s->pd, problem_pd.h) is solver.c's. Outside src/nonlinear
+ * only its own unit test (t210) includes it. */
 #ifndef PS_SOLVER_IMPL_H
 #define PS_SOLVER_IMPL_H
 
 #include "ps_solver.h"
 #include "forcing.h"
 #include "linesearch.h"
+#include "ps_nl_problem.h"
+
+struct ps_pd; /* problem_pd.h */
 
 /* The solver's state (ps_solver.h's opaque type). */
 struct ps_solver {
-  const ps_particles *P;
-  const ps_network *net;
-  ps_model model;
-  ps_system sys;
-  ps_arm_state st, st_saved;
+  ps_nl_problem prob;        /* all Newton and the directions see */
+  struct ps_pd *pd;         /* the peridynamic problem behind prob (NULL
+                               for a problem made by hand) */
   const ps_linsolve_type *linear; /* opts.linear resolved */
   ps_linsolve ls;           /* the chosen backend */
   ps_linsolve ls_fallback;  /* UMFPACK, created on first need */
   const ps_linsolve *ls_last; /* which one holds the current factor */
   int have_majorant;        /* 1: the direction strategy uses a majorant
-                               (opts.majorant, a model with family terms,
-                               opts.reuse_factor); sys_pre and ls_pre exist */
-  ps_system sys_pre;        /* one-horizon majorant of sys's tangent */
-  ps_linsolve ls_pre;       /* its CHOLMOD factor */
+                               (prob.has_majorant: opts.majorant, a model
+                               with family terms, opts.reuse_factor);
+                               ls_pre exists */
+  ps_linsolve ls_pre;       /* the majorant's CHOLMOD factor */
   ps_team *team;            /* opts.threads threads (NULL: one) */
   int have_factor;          /* a factor of a recent tangent is available */
   ps_solver_opts opts;
 
-  double lambda;            /* current load factor */
+  /* the load factor lambda and the external forces are the problem's
+   * (pd->lambda, pd->fext) */
   double *u, *u_saved;      /* [n_dof] displacements, m */
   double *u_prev;           /* [n_dof] converged u of the previous load
                                factor lambda_prev (secant predictor) */
@@ -45,9 +49,6 @@ struct ps_solver {
   double *u_trial, *f_trial;/* [n_dof] line-search work */
   double *work_dof;         /* [n_dof] */
   double *diag_saved;       /* [n_free] diagonal of the tangent while shifted */
-  const double *fext;       /* [n_dof] external forces at load factor 1 (N;
-                               per unit thickness in 2D), zero on prescribed
-                               dofs, or NULL; not owned */
 
   /* statistics of the run */
   ps_int newton_iterations, n_fallback, n_line_search_cuts;
@@ -62,23 +63,24 @@ struct ps_solver {
                                on with the fixed rule */
   ps_int n_stagnated;       /* Newton solves ended as stagnated
                                (opts.max_small_steps) */
-  unsigned char *arm_state_at_factor; /* [n_arm] yielding | 2 broken, when the
-                               last factor was computed */
   double cg_rtol;           /* CG tolerance of the current Newton iteration */
   double t_pcg;             /* wall seconds spent in CG */
-  double t_assembly;
   int last_reason;          /* enum ps_newton_reason of the last solve */
   int last_iterations;      /* iterations of the last solve */
   double last_residual;     /* relative residual at its end */
 };
 
-/* f[n_dof] = f_int(u) - lambda fext and *energy = Psi(u) - lambda fext . u
- * at u[n_dof] (fext: ps_solver_set_forces, else 0); with tangent = 1 also
- * the tangent: its data only when CG applies it matrix-free
- * (opts.reuse_factor and opts.matrix_free), else assembled. Timed as
- * assembly. Returns the status of ps_system_eval. */
-int ps_nl_eval(ps_solver *s, const double *u, double *f, double *energy, int tangent,
-               ps_ctx *ctx);
+/* the problem's evaluate: f[n_dof] and *energy at u[n_dof], with tangent
+ * = 1 also the tangent (for the peridynamic problem f_int(u) - lambda
+ * fext and Psi(u) - lambda fext . u). Returns evaluate's status. */
+static inline int ps_nl_eval(ps_solver *s, const double *u, double *f, double *energy,
+                             int tangent, ps_ctx *ctx) {
+  return s->prob.ops->evaluate(s->prob.data, u, f, energy, tangent, ctx);
+}
+
+/* Allocate s's work arrays for s->prob's dofs. Returns PS_OK or
+ * PS_ERR_NOMEM (ps_solver_free releases what was allocated). */
+int ps_nl_alloc_work(ps_solver *s, ps_ctx *ctx);
 
 /* s->du = K_ff^-1 s->rhs for the tangent K of the last evaluation with
  * one: CG preconditioned by the last factor (opts.reuse_factor); when CG

@@ -1,0 +1,148 @@
+/* problem_pd.c: the peridynamic problem (problem_pd.h) and its
+ * ps_nl_problem operations: evaluation by ps_system_eval (minus lambda
+ * fext), the product and the matrices of the assembly, and the arms'
+ * yielding/broken flags as the state that changes the tangent. */
+#include "problem_pd.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* the arm's tangent-changing state: yielding | 2 broken */
+static inline unsigned char arm_state(const ps_arm_state *st, ps_int i) {
+  return (unsigned char)(st->yielding[i] | (st->broken[i] << 1));
+}
+
+static int pd_evaluate(void *prob, const double *u, double *f, double *energy,
+                       int want_tangent, ps_ctx *ctx) {
+  ps_pd *pd = prob;
+  double t = ps_wtime();
+  int want = !want_tangent ? PS_EVAL_FORCES
+             : pd->matrix_free ? PS_EVAL_OPERATOR
+                               : PS_EVAL_TANGENT;
+  int status = ps_system_eval(&pd->sys, &pd->model, &pd->st, pd->P->x, u, f, energy,
+                              want, ctx);
+  if (pd->fext && status == PS_OK)
+    for (ps_int j = 0; j < pd->sys.n_dof; j++) {
+      f[j] -= pd->lambda * pd->fext[j];
+      *energy -= pd->lambda * pd->fext[j] * u[j];
+    }
+  pd->t_assembly += ps_wtime() - t;
+  return status;
+}
+
+static void pd_apply(void *prob, const double *x, double *y) {
+  ps_pd *pd = prob;
+  ps_operator K = pd->matrix_free ? ps_system_operator(&pd->sys) : ps_csc_operator(&pd->sys.A);
+  K.apply(K.data, x, y);
+}
+
+static int pd_assemble(void *prob, int majorant, ps_csc **A, ps_ctx *ctx) {
+  ps_pd *pd = prob;
+  if (majorant) {
+    if (!pd->have_majorant) return ps_error(ctx, PS_ERR_INPUT, "no majorant");
+    PS_CHECK(ps_system_assemble_majorant(&pd->sys_pre, &pd->sys, ctx));
+    *A = &pd->sys_pre.A;
+    return PS_OK;
+  }
+  *A = &pd->sys.A;
+  if (pd->sys.assembled) return PS_OK;
+  double t = ps_wtime();
+  int status = ps_system_assemble(&pd->sys, ctx);
+  pd->t_assembly += ps_wtime() - t;
+  return status;
+}
+
+static void pd_mark(void *prob) {
+  ps_pd *pd = prob;
+  for (ps_int i = 0; i < pd->net->n_arm; i++) pd->arm_state_at_factor[i] = arm_state(&pd->st, i);
+}
+
+static ps_int pd_changed(void *prob, ps_int limit) {
+  const ps_pd *pd = prob;
+  if (limit <= 0) limit = pd->net->n_arm;
+  ps_int n = 0;
+  for (ps_int i = 0; i < pd->net->n_arm && n <= limit; i++)
+    n += pd->arm_state_at_factor[i] != arm_state(&pd->st, i);
+  return n;
+}
+
+static void pd_dof_name(void *prob, ps_int k, char *buf, size_t len) {
+  const ps_pd *pd = prob;
+  ps_system_dof_name(&pd->sys, pd->P->x, pd->sys.dof_of_free[k], buf, len);
+}
+
+static const ps_nl_problem_ops pd_ops = {pd_evaluate, pd_apply,   pd_assemble,
+                                         pd_mark,     pd_changed, pd_dof_name};
+
+ps_nl_problem ps_pd_problem(ps_pd *pd) {
+  ps_nl_problem p = {&pd_ops,          pd, pd->sys.n_dof, pd->sys.n_free, pd->sys.dof_of_free,
+                     pd->sys.fixed, pd->have_majorant};
+  return p;
+}
+
+void ps_pd_free(ps_pd *pd) {
+  if (!pd) return;
+  ps_system_free(&pd->sys_pre);
+  ps_system_free(&pd->sys);
+  ps_arm_state_free(&pd->st);
+  ps_arm_state_free(&pd->st_saved);
+  ps_model_free(&pd->model);
+  free(pd->arm_state_at_factor);
+  free(pd);
+}
+
+int ps_pd_create(ps_pd **out, const ps_particles *P, const ps_network *net,
+                 const ps_model_type *type, const ps_material *mat,
+                 const unsigned char *fixed, int majorant, int matrix_free, ps_ctx *ctx) {
+  int status = PS_OK;
+  *out = NULL;
+  ps_pd *pd = ps_calloc(1, sizeof *pd, ctx);
+  if (!pd) return PS_ERR_NOMEM;
+  pd->P = P;
+  pd->net = net;
+  pd->matrix_free = matrix_free;
+  PS_CHECK_GOTO(ps_model_create(&pd->model, type, P, net, mat, ctx));
+  PS_CHECK_GOTO(ps_system_create_pattern(&pd->sys, net, fixed, type->family_coupling, ctx));
+  PS_CHECK_GOTO(ps_arm_state_alloc(&pd->st, net->n_arm, ctx));
+  PS_CHECK_GOTO(ps_arm_state_alloc(&pd->st_saved, net->n_arm, ctx));
+  if (majorant && type->family_coupling) {
+    PS_CHECK_GOTO(ps_system_create_pattern(&pd->sys_pre, net, fixed, 0, ctx));
+    pd->have_majorant = 1;
+  }
+  pd->arm_state_at_factor = ps_calloc((size_t)net->n_arm + 1, 1, ctx);
+  if (!pd->arm_state_at_factor) status = PS_ERR_NOMEM;
+cleanup:
+  if (status < 0)
+    ps_pd_free(pd);
+  else
+    *out = pd;
+  return status;
+}
+
+void ps_pd_set_team(ps_pd *pd, ps_team *team) { pd->sys.team = team; }
+
+void ps_pd_commit(ps_pd *pd) {
+  ps_int na = pd->net->n_arm;
+  memcpy(pd->st.eps_p, pd->st.eps_p_trial, (size_t)(2 * na) * sizeof *pd->st.eps_p);
+  ps_arm_state_copy(&pd->st_saved, &pd->st);
+}
+
+void ps_pd_restore(ps_pd *pd) { ps_arm_state_copy(&pd->st, &pd->st_saved); }
+
+int ps_pd_break_arms(ps_pd *pd, ps_int max_count, ps_int *n_broken, ps_ctx *ctx) {
+  return pd->model.type->break_arms(&pd->model, &pd->st, max_count, n_broken, ctx);
+}
+
+void ps_pd_coupling(ps_pd *pd, const double *du, double *out) {
+  ps_system_coupling(&pd->sys, du, out);
+}
+
+ps_int ps_pd_count_yielding(const ps_pd *pd) {
+  ps_int n = 0;
+  for (ps_int i = 0; i < pd->net->n_arm; i++) n += pd->st.yielding[i] && !pd->st.broken[i];
+  return n;
+}
+
+double ps_pd_nnz_tangent(const ps_pd *pd) {
+  return pd->sys.A.p ? (double)pd->sys.A.p[pd->sys.n_free] : 0.0;
+}

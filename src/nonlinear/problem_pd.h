@@ -1,0 +1,67 @@
+/* problem_pd.h: the peridynamic problem behind ps_nl_problem
+ * (ps_nl_problem.h): the model, the assembled system (and the majorant's),
+ * the arm states with their committed copy, the external forces and the
+ * load factor. The solver's lifecycle and path steps (solver.c) create,
+ * commit, restore and break it through these functions; Newton and the
+ * direction strategy see only its ps_nl_problem. The one file of
+ * src/nonlinear that calls the model and the assembly (problem_pd.c). */
+#ifndef PS_PROBLEM_PD_H
+#define PS_PROBLEM_PD_H
+
+#include "../assembly/ps_assembly.h"
+#include "ps_nl_problem.h"
+
+typedef struct ps_pd {
+  const ps_particles *P;
+  const ps_network *net;
+  ps_model model;
+  ps_system sys;
+  ps_arm_state st, st_saved;  /* trial and committed arm states */
+  int have_majorant;          /* sys_pre exists (ps_nl_problem.has_majorant) */
+  ps_system sys_pre;          /* one-horizon majorant of sys's tangent */
+  unsigned char *arm_state_at_factor; /* [n_arm + 1] yielding | 2 broken at
+                                 the last mark */
+  int matrix_free;            /* 1: the tangent is kept as data and applied
+                                 matrix-free, assembled only for a factor */
+  double lambda;              /* the load factor of the residual */
+  const double *fext;         /* [n_dof] external forces at load factor 1,
+                                 zero on prescribed dofs, or NULL; not owned */
+  double t_assembly;          /* wall seconds in evaluation and assembly */
+} ps_pd;
+
+/* Create the problem: the model of `type` on the network, the system's
+ * dof map and pattern for the prescribed-dof mask fixed[n_dof], the arm
+ * states, and, with majorant = 1 and a model with family terms, the
+ * majorant's system. matrix_free: see ps_pd. Returns PS_OK or fatal (*out
+ * NULL). */
+int ps_pd_create(ps_pd **out, const ps_particles *P, const ps_network *net,
+                 const ps_model_type *type, const ps_material *mat,
+                 const unsigned char *fixed, int majorant, int matrix_free, ps_ctx *ctx);
+void ps_pd_free(ps_pd *pd);
+
+/* The problem's ps_nl_problem (data = pd). */
+ps_nl_problem ps_pd_problem(ps_pd *pd);
+
+/* threads for the matrix-free product (not owned; NULL: one) */
+void ps_pd_set_team(ps_pd *pd, ps_team *team);
+
+/* the trial arm states become the committed ones (plastic strains
+ * included) / back to the committed ones */
+void ps_pd_commit(ps_pd *pd);
+void ps_pd_restore(ps_pd *pd);
+
+/* one round of the model's breaking rule (Eq. 118) on the trial states:
+ * at most max_count arms, *n_broken of them. Returns the model's status. */
+int ps_pd_break_arms(ps_pd *pd, ps_int max_count, ps_int *n_broken, ps_ctx *ctx);
+
+/* out[n_free] = K_fp du_p (ps_system_coupling) */
+void ps_pd_coupling(ps_pd *pd, const double *du, double *out);
+
+/* arms yielding and not broken */
+ps_int ps_pd_count_yielding(const ps_pd *pd);
+
+/* nonzeros of the free tangent's upper triangle (0 before the first
+ * assembly) */
+double ps_pd_nnz_tangent(const ps_pd *pd);
+
+#endif

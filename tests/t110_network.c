@@ -410,6 +410,21 @@ static void test_network_errors(ps_ctx *ctx) {
   rc = ps_geom_sizes_eq115(&P, 5, &q);
   ps_check(rc == PS_ERR_INPUT && strstr(q.msg, "c.txt:9: particles 5 and 6 coincide"),
            "Eq. 115 names the same pair: '%s'", q.msg);
+  /* points 2e200 apart: their squared distance overflows; that is no
+   * coincidence (and no NaN) */
+  {
+    ps_particles F;
+    ps_int c2[3] = {2, 1, 1};
+    if (ps_geom_box(&F, 2, c2, d, "square", 0.0, 1, ctx)) tg_die("ps_geom_box", ctx);
+    F.x[0] = -1e200;
+    F.x[2] = 1e200;
+    F.h[0] = F.h[1] = 1e200;
+    rc = ps_network_build(&net, &F, &K, NULL, 0, &q);
+    ps_check(rc == PS_ERR_INPUT && !strstr(q.msg, "coincide") && !strstr(q.msg, "nan"),
+             "points 2e200 apart: refused, not as coincident: '%s'", q.msg);
+    if (rc == PS_OK) ps_network_free(&net);
+    ps_particles_free(&F);
+  }
   P.x[2 * 6] = INFINITY;
   rc = ps_network_build(&net, &P, &K, NULL, 0, &q);
   ps_check(rc == PS_ERR_INPUT && strstr(q.msg, "c.txt:9: particle 6: coordinate x is not "

@@ -18,6 +18,38 @@ awk 'BEGIN { printf "geometry:\n  dim: "; for (i = 0; i < 200000; i++) printf "[
 no_hang 30 1 "deep.yaml:2: nesting deeper than 32 levels" -- info "$T/deep.yaml"
 awk 'BEGIN { for (i = 0; i < 200; i++) printf "%*sa:\n", i, "" }' > "$T/deep_block.yaml"
 no_hang 30 1 "deep_block.yaml:33: nesting deeper than 32 levels" -- info "$T/deep_block.yaml"
+# the nesting is measured on libyaml's own events: no byte-order mark,
+# line break (CR, NEL, LS, PS) after a comment, quote in a continued
+# plain scalar or UTF-16 text hides the brackets from it
+awk 'BEGIN { for (i = 0; i < 60000; i++) printf "["; print "" }' > "$T/brackets"
+printf '\357\273\277' | cat - "$T/brackets" > "$T/bom.yaml"
+no_hang 30 1 "bom.yaml:1: nesting deeper than 32 levels" -- info "$T/bom.yaml"
+printf '# c\r' | cat - "$T/brackets" > "$T/cr.yaml"
+no_hang 30 1 "cr.yaml:2: nesting deeper than 32 levels" -- info "$T/cr.yaml"
+printf '# c\302\205' | cat - "$T/brackets" > "$T/nel.yaml"
+no_hang 30 1 "nel.yaml:2: nesting deeper than 32 levels" -- info "$T/nel.yaml"
+printf '# c\342\200\250' | cat - "$T/brackets" > "$T/ls.yaml"
+no_hang 30 1 "ls.yaml:2: nesting deeper than 32 levels" -- info "$T/ls.yaml"
+printf '# c\342\200\251' | cat - "$T/brackets" > "$T/ps.yaml"
+no_hang 30 1 "ps.yaml:2: nesting deeper than 32 levels" -- info "$T/ps.yaml"
+printf "x: a\n  'b\ny: " | cat - "$T/brackets" > "$T/quote.yaml"
+no_hang 30 1 "quote.yaml:3: nesting deeper than 32 levels" -- info "$T/quote.yaml"
+# UTF-16LE: a byte-order mark, then '[' and NUL 65,536 times
+printf '[\000' > "$T/u16"
+for i in 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16; do cat "$T/u16" "$T/u16" > "$T/u16x"; mv "$T/u16x" "$T/u16"; done
+printf '\377\376' | cat - "$T/u16" > "$T/utf16.yaml"
+no_hang 30 1 "utf16.yaml:1: nesting deeper than 32 levels" -- info "$T/utf16.yaml"
+# anchors and aliases: libyaml 0.2.5 registers anchors in quadratic time
+# (200,000 took minutes); case files use neither
+awk 'BEGIN { c = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789"; printf "x: [";
+  for (i = 0; i < 200000; i++)
+    printf "&%s%s%s,", substr(c, int(i / 3844) + 1, 1), substr(c, int(i / 62) % 62 + 1, 1), substr(c, i % 62 + 1, 1)
+  print "1]" }' > "$T/anchors.yaml"
+no_hang 30 1 "anchors.yaml:1: case files use no YAML anchors (&) or aliases (\*)" -- info "$T/anchors.yaml"
+printf 'kernel:\n  alpha: 5.1\n  k: *v\n' > "$T/alias.yaml"
+expect 1 "alias.yaml:3: case files use no YAML anchors (&) or aliases (\*)" -- info "$T/alias.yaml"
+printf 'kernel:\n  alpha: &v 5.1\n  k: *v\n' > "$T/anchor.yaml"
+expect 1 "anchor.yaml:2: case files use no YAML anchors (&) or aliases (\*)" -- info "$T/anchor.yaml"
 awk 'BEGIN { for (i = 0; i < 20000; i++) print "# a comment line of a case file that is far too large" }' > "$T/big.yaml"
 no_hang 30 1 "big.yaml: larger than 1 MiB (1080000 bytes); case files are small YAML texts" -- info "$T/big.yaml"
 expect 1 "big.yaml: larger than 1 MiB" -- run -o "$T/x" "$T/big.yaml"
@@ -29,6 +61,30 @@ expect 1 "utf8.yaml:4: YAML read error: .*UTF-8" -- info "$D/utf8.yaml"
 expect 1 "hex_number.yaml:4: material.E must be a decimal number (got '0x10')" -- info "$D/hex_number.yaml"
 expect 1 "blank_number.yaml:4: material.E must be a decimal number (got ' 2.1e11')" -- info "$D/blank_number.yaml"
 expect 1 "counts_range.yaml:3: geometry.counts must be an integer in 1..2147483647 (got 2147483648)" -- info "$D/counts_range.yaml"
+
+# a leading zero is octal to YAML 1.1: refused without a fraction or
+# exponent (0, 0.5 and 0e3 are decimal)
+sed 's/E: 0x10/E: 010/' "$D/hex_number.yaml" > "$T/octal.yaml"
+expect 1 "octal.yaml:4: material.E must be a decimal number (got '010')" -- info "$T/octal.yaml"
+sed 's/E: 0x10/E: 0e3/' "$D/hex_number.yaml" > "$T/zero_e.yaml"
+expect 1 "zero_e.yaml:4: material.E must be > 0 (got 0e3)" -- info "$T/zero_e.yaml"
+sed 's/E: 0x10/E: 02.1e11/' "$D/hex_number.yaml" > "$T/zero_frac.yaml"
+$P info "$T/zero_frac.yaml" > /dev/null 2>&1 && ok "E: 02.1e11 (a fraction) is decimal" ||
+  ko "E: 02.1e11 refused"
+
+# coordinates beyond 1e150 m: a crack at 1e308 was ignored (NaN in the cut
+# test), cloud points 2e200 apart "coincided" (their squares overflowed)
+sed 's/spacing: 1.0e-3}/spacing: 1.0e-3, cracks: [[[0.002, -1.0e308], [0.002, 1.0e308]]]}/' "$D/hex_number.yaml" |
+  sed 's/E: 0x10/E: 2.1e11/' > "$T/far_crack.yaml"
+expect 1 "far_crack.yaml:5: coordinates beyond 1e150 m (geometry.cracks: got -1.0e308)" -- info "$T/far_crack.yaml"
+sed 's/spacing: 1.0e-3}/spacing: 1.0e-3, origin: [0, 2.0e150], holes: [[1.0e151, 0, 1.0e-3]]}/' "$D/hex_number.yaml" |
+  sed 's/E: 0x10/E: 2.1e11/' > "$T/far_origin.yaml"
+expect 1 "far_origin.yaml:5: coordinates beyond 1e150 m (geometry.origin: got 2.0e150)" -- info "$T/far_origin.yaml"
+sed 's/origin: \[0, 2.0e150\], //' "$T/far_origin.yaml" > "$T/far_hole.yaml"
+expect 1 "far_hole.yaml:5: coordinates beyond 1e150 m (geometry.holes: got 1.0e151)" -- info "$T/far_hole.yaml"
+printf '0 0 1e-6\n1e-3 0 1e-6\n0 1e-3 1e-6\n1e-3 1e-3 1e-6\n-1e200 0 1e-6\n' > "$T/far.txt"
+printf 'geometry: {type: cloud, dim: 2, file: far.txt, sizes: eq44}\nloading:\n  type: boundary\n  boundary:\n    - {select: {x_max: 0}, fix: [x, y]}\n' > "$T/far_cloud.yaml"
+expect 1 "far.txt:5: coordinates beyond 1e150 m (x, field 1 of 'x y volume \[block\]': got '-1e200')" -- info "$T/far_cloud.yaml"
 
 # keys of another geometry
 expect 1 "file_on_disk.yaml:8: geometry.file does not apply to geometry.type disk (it is for type cloud)" -- info "$D/file_on_disk.yaml"

@@ -190,13 +190,14 @@ static int count_arg(int argc, char **argv, int *i, const char *what) {
   return (int)v;
 }
 
-/* the number of GiB > 0 after option argv[*i] (*i moves to it), or -1
- * after a message */
+/* the number of GiB after option argv[*i] (*i moves to it): a plain
+ * decimal number (ps_is_decimal) in (0, PS_MAX_MEMORY_GIB], the range of
+ * solver.max_memory_gib; or -1 after a message */
 static double memory_arg(int argc, char **argv, int *i) {
-  char *end = NULL;
-  double v = ++*i < argc ? strtod(argv[*i], &end) : 0;
-  if (*i >= argc || !end || end == argv[*i] || *end || !(v > 0) || !isfinite(v)) {
-    fprintf(stderr, "peristatic: --max-memory needs a number of GiB > 0\n");
+  double v = ++*i < argc && ps_is_decimal(argv[*i], 0) ? strtod(argv[*i], NULL) : 0;
+  if (*i >= argc || !(v > 0) || !(v <= PS_MAX_MEMORY_GIB)) {
+    fprintf(stderr, "peristatic: --max-memory needs a number of GiB > 0 (at most %g)\n",
+            PS_MAX_MEMORY_GIB);
     return -1;
   }
   return v;
@@ -389,7 +390,10 @@ int main(int argc, char **argv) {
   int status = ps_case_load(&cs, c.file, &ctx);
   if (status < 0) return fail(status, &ctx);
   ctx.verbosity = c.verbosity >= 0 ? c.verbosity : cs.output.verbosity;
-  if (c.max_memory > 0) cs.max_memory_gib = c.max_memory;
+  if (c.max_memory > 0) {
+    cs.max_memory_gib = c.max_memory;
+    cs.max_memory_key = "--max-memory";
+  }
   char outdir[1100];
   if (choose_outdir(c.out, &cs, outdir, sizeof outdir)) return 1;
   ps_problem pb;

@@ -223,7 +223,8 @@ static int estimate_counts(const ps_case *cs, int dim, int lattice, double reach
   ps_estimate_opts o = estimate_opts(cs, 1.0);
   ps_estimate_density(&e, dim, n, nb, &o);
   return ps_estimate_check(&e, e.mem_particles + e.mem_network, cs->max_memory_gib,
-                           cs->file, "building its particles and arms", ctx);
+                           cs->max_memory_key, cs->file,
+                           "building its particles and arms", ctx);
 }
 
 /* Stage 2, with the particles, sizes and supports, before the network:
@@ -239,20 +240,21 @@ static int estimate_sampled(ps_problem *pb, const ps_case *cs, double alpha,
   ps_estimate e;
   PS_CHECK(ps_estimate_sample(&e, &pb->P, alpha, cracks, n_cracks, &o, ctx));
   const char *lw;
-  double limit = ps_memory_limit(cs->max_memory_gib, &lw);
+  double limit = ps_memory_limit(cs->max_memory_gib, cs->max_memory_key, &lw);
   if (report) {
     ps_estimate_print(&e, report);
     fprintf(report, "memory_limit_MiB: %.0f (%s)\n", floor(limit / 1048576.0), lw);
     fflush(report);
   }
   if (purpose == PS_ESTIMATE_INFO)
-    return ps_estimate_check(&e, e.mem_build, cs->max_memory_gib, cs->file,
-                             "info (particles, arms and the tangent's pattern)", ctx);
+    return ps_estimate_check(&e, e.mem_build, cs->max_memory_gib, cs->max_memory_key,
+                             cs->file, "info (particles, arms and the tangent's pattern)", ctx);
   if (jobs < 1) jobs = 1;
   double need = e.mem_particles + jobs * (e.mem_run - e.mem_particles);
   char what[64];
   snprintf(what, sizeof what, jobs > 1 ? "%d runs at once" : "a run", jobs);
-  return ps_estimate_check(&e, need, cs->max_memory_gib, cs->file, what, ctx);
+  return ps_estimate_check(&e, need, cs->max_memory_gib, cs->max_memory_key, cs->file,
+                           what, ctx);
 }
 
 /* The material, the load factor's delta and the boundary conditions. */

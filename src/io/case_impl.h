@@ -66,9 +66,12 @@ static inline yaml_node_t *seq_item(ps_loader *L, const yaml_node_t *n, int i) {
  * large), PS_ERR_NOMEM. */
 int ps_case_read_text(const char *path, char **text, size_t *len, ps_ctx *ctx);
 
-/* Refuse a text nested deeper than PS_CASE_MAX_DEPTH levels before
- * libyaml parses it: "case.yaml:7: nesting deeper than 32 levels".
- * Returns PS_OK or PS_ERR_INPUT. */
+/* Refuse, on libyaml's events before its loader builds the document, a
+ * text nested deeper than PS_CASE_MAX_DEPTH levels ("case.yaml:7: nesting
+ * deeper than 32 levels") or holding a YAML anchor or alias ("case.yaml:7:
+ * case files use no YAML anchors (&) or aliases (*)"). Syntax and encoding
+ * errors are left to ps_yaml_open. Returns PS_OK, PS_ERR_INPUT or
+ * PS_ERR_NOMEM. */
 int ps_case_check_nesting(const char *path, const char *text, size_t len, ps_ctx *ctx);
 
 /* ---- case_yaml.c: libyaml's document and the typed getters ---- */
@@ -152,7 +155,11 @@ int ps_yaml_choice(ps_loader *L, yaml_node_t *n, const char *name,
 int ps_yaml_string(ps_loader *L, yaml_node_t *n, const char *name, char *dst,
                    size_t size);
 
-/* A 2D point [x, y] (a crack's end, output.j_integral.tip). */
+/* A coordinate: a decimal number (ps_yaml_real) of magnitude at most
+ * PS_MAX_COORD: "FILE:LINE: coordinates beyond 1e150 m (NAME: got X)". */
+int ps_yaml_coord(ps_loader *L, yaml_node_t *n, const char *name, double *out);
+
+/* A 2D point [x, y] of coordinates (a crack's end, output.j_integral.tip). */
 int ps_yaml_point2(ps_loader *L, yaml_node_t *n, const char *name, double *x);
 
 /* ---- the sections: allowed keys and the handler of each key ---- */

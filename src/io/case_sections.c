@@ -63,10 +63,12 @@ static int get_holes(ps_loader *L, yaml_node_t *v, const char *name) {
       return ps_yaml_fail(L, line_of(h), "%s: a hole must be [cx, cy, R] (got %s)", name,
                           ps_yaml_got(h, b));
     double *c = cs->holes[i];
-    if (ps_yaml_real(L, seq_item(L, h, 0), name, -INFINITY, 0, INFINITY, 0, &c[0]) ||
-        ps_yaml_real(L, seq_item(L, h, 1), name, -INFINITY, 0, INFINITY, 0, &c[1]) ||
+    if (ps_yaml_coord(L, seq_item(L, h, 0), name, &c[0]) ||
+        ps_yaml_coord(L, seq_item(L, h, 1), name, &c[1]) ||
         ps_yaml_real(L, seq_item(L, h, 2), name, 0.0, 1, INFINITY, 0, &c[2]))
       return PS_ERR_INPUT;
+    if (c[2] > PS_MAX_COORD)
+      return ps_yaml_coord(L, seq_item(L, h, 2), name, &c[2]);
     cs->n_holes++;
   }
   L->line_holes = line_of(v);
@@ -158,9 +160,7 @@ int ps_case_on_geometry(ps_loader *L, void *arg, const char *key, const char *na
       return ps_yaml_fail(L, line_of(v), "%s must be [x0, y0] or [x0, y0, z0] (got %s)",
                           name, ps_yaml_got(v, b));
     for (int k = 0; k < seq_len(v); k++)
-      if (ps_yaml_real(L, seq_item(L, v, k), name, -INFINITY, 0, INFINITY, 0,
-                       &cs->origin[k]))
-        return PS_ERR_INPUT;
+      if (ps_yaml_coord(L, seq_item(L, v, k), name, &cs->origin[k])) return PS_ERR_INPUT;
     return PS_OK;
   }
   if (IS("holes")) return get_holes(L, v, name);

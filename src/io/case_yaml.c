@@ -85,6 +85,7 @@ int ps_is_decimal(const char *s, int integer) {
   while (*p >= '0' && *p <= '9') p++;
   size_t n_int = (size_t)(p - d0);
   if (integer) return *p == '\0' && n_int > 0 && !(n_int > 1 && *d0 == '0');
+  if (*p == '\0' && n_int > 1 && *d0 == '0') return 0; /* "010": octal to YAML 1.1 */
   size_t n_frac = 0;
   if (*p == '.') {
     const char *f0 = ++p;
@@ -122,6 +123,17 @@ int ps_yaml_real(ps_loader *L, yaml_node_t *n, const char *name, double lo, int 
     return ps_yaml_fail(L, line_of(n), "%s must be %s (got %s)", name, rng,
                         ps_yaml_got(n, b));
   }
+  *out = v;
+  return PS_OK;
+}
+
+/* case_impl.h */
+int ps_yaml_coord(ps_loader *L, yaml_node_t *n, const char *name, double *out) {
+  double v;
+  if (ps_yaml_real(L, n, name, -INFINITY, 0, INFINITY, 0, &v) != PS_OK) return PS_ERR_INPUT;
+  if (fabs(v) > PS_MAX_COORD)
+    return ps_yaml_fail(L, line_of(n), "coordinates beyond 1e150 m (%s: got %s)",
+                        name, sval(n));
   *out = v;
   return PS_OK;
 }
@@ -269,8 +281,7 @@ int ps_yaml_point2(ps_loader *L, yaml_node_t *n, const char *name, double *x) {
     return ps_yaml_fail(L, line_of(n), "%s: each end must be [x, y] (got %s)", name,
                         ps_yaml_got(n, b));
   for (int k = 0; k < 2; k++)
-    if (ps_yaml_real(L, seq_item(L, n, k), name, -INFINITY, 0, INFINITY, 0, &x[k]))
-      return PS_ERR_INPUT;
+    if (ps_yaml_coord(L, seq_item(L, n, k), name, &x[k])) return PS_ERR_INPUT;
   return PS_OK;
 }
 

@@ -109,6 +109,11 @@ static int parse_particle(const char *path, long lineno, int dim, char *const to
                       "%s:%ld: %s (field %d of '%s') is not a finite decimal number "
                       "(got '%s')",
                       path, lineno, field_name[dim - 2][k], k + 1, form, tok[k]);
+    if (k < dim && fabs(v[k]) > PS_MAX_COORD)
+      return ps_error(ctx, PS_ERR_INPUT,
+                      "%s:%ld: coordinates beyond 1e150 m (%s, field %d of '%s': got "
+                      "'%s')",
+                      path, lineno, field_name[dim - 2][k], k + 1, form, tok[k]);
   }
   if (!(v[dim] > 0))
     return ps_error(ctx, PS_ERR_INPUT, "%s:%ld: volume must be > 0 (got %s)", path, lineno,

@@ -29,6 +29,11 @@ enum ps_load_type { PS_LOAD_EQ116 = 0, PS_LOAD_BOUNDARY = 1 };
 #define PS_CASE_MAX_BYTES ((size_t)1 << 20)
 #define PS_CASE_MAX_DEPTH 32
 
+/* The largest coordinate (m) a case (cracks, holes, origin, the J
+ * contour's tip) or a point cloud may give: squared distances of points
+ * within it stay finite ("case.yaml:9: coordinates beyond 1e150 m"). */
+#define PS_MAX_COORD 1e150
+
 /* Ranges of the kernel and horizon keys (checked when a case is read).
  * kernel.alpha and material.horizon_factor are horizons in particle
  * sizes or lattice spacings (the paper: 5.1; Fallah et al.: 3): beyond
@@ -120,6 +125,9 @@ typedef struct ps_case {
                           (default): 80% of the machine's RAM. A limit
                           of the set-up (src/app/setup.c), not a setting
                           of the solver */
+  const char *max_memory_key; /* where max_memory_gib came from, for
+                          messages: NULL (the case's
+                          solver.max_memory_gib) or "--max-memory" */
 
   /* path following (path.*), defaults ps_path_opts_default */
   ps_path_opts path;
@@ -158,8 +166,9 @@ uint64_t ps_case_fingerprint(const ps_case *cs);
 /* Is s a plain decimal number, the only kind case files and point clouds
  * take: an optional sign, digits with an optional fraction (or a fraction
  * alone), an optional exponent, and nothing else (no blanks, hex, inf,
- * nan, '_')? With integer != 0: a sign and digits only, without a leading
- * zero ("010" would be octal 8 to YAML 1.1). Whether the value fits a
+ * nan, '_')? Without a fraction or exponent, no leading zero ("010"
+ * would be octal 8 to YAML 1.1; "0", "0.5", "0e3" are fine). With
+ * integer != 0: a sign and digits only, without a leading zero. Whether the value fits a
  * double or long is the caller's check (strtod/strtol and ERANGE). */
 int ps_is_decimal(const char *s, int integer);
 

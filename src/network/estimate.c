@@ -61,6 +61,9 @@
 
 /* a horizon listed (and cracks applied) up to this many particles */
 #define PS_EST_LIST 20000
+/* a particle whose own horizon holds more than this many times the
+ * sampled mean (plus one) is an outlier the sample may have missed */
+#define PS_EST_OUTLIER 10.0
 /* two-hop pattern counted exactly up to this many particles per horizon */
 #define PS_EST_EXACT 400
 /* peak of a plastic / breaking run over the sum of its arrays and factors
@@ -163,13 +166,19 @@ void ps_estimate_density(ps_estimate *e, int dim, double n, double neighbours,
 /* The family of particle c by the arm rule r < alpha max(h_c, h_b), c
  * itself included, cracks ignored: the particles within alpha max(h_c,
  * hcap) (hcap: the largest size expected near c), filtered by the rule,
- * into (*out)[0 .. *cnt). */
+ * into (*out)[0 .. *cnt). A ball holding PS_EST_LIST particles or more is
+ * not listed: *cnt = -1 (the caller estimates without the list). */
 static int family_of(const ps_kdtree *t, const ps_particles *p, ps_int c, double alpha,
                      double hcap, ps_int **out, ps_int *cap, ps_int *cnt, ps_ctx *ctx) {
   int dim = p->dim;
   const double *x = &p->x[c * dim];
   ps_int k, m = 0;
-  PS_CHECK(ps_kdtree_radius(t, x, alpha * fmax(p->h[c], hcap), out, cap, &k, ctx));
+  double R0 = alpha * fmax(p->h[c], hcap);
+  if (ps_kdtree_count(t, x, R0, PS_EST_LIST) >= PS_EST_LIST) {
+    *cnt = -1;
+    return PS_OK;
+  }
+  PS_CHECK(ps_kdtree_radius(t, x, R0, out, cap, &k, ctx));
   for (ps_int j = 0; j < k; j++) {
     ps_int b = (*out)[j];
     double r2 = 0, R = alpha * fmax(p->h[c], p->h[b]);
@@ -190,13 +199,18 @@ static int cmp_idx(const void *u, const void *v) {
 
 /* the two-hop column of a particle whose family (itself included) is
  * fam[0..k): |union of the families of its members|, hcap the largest
- * size among them; buffers *u and *tmp with their capacities */
+ * size among them; buffers *u and *tmp with their capacities. *count < 0
+ * when a member's family is too large to list (family_of). */
 static int two_hop(const ps_kdtree *t, const ps_particles *p, double alpha,
                    const ps_int *fam, ps_int k, double hcap, ps_int **u, ps_int *ucap,
                    ps_int **tmp, ps_int *tcap, double *count, ps_ctx *ctx) {
   ps_int nu = 0, c;
   for (ps_int j = 0; j < k; j++) {
     PS_CHECK(family_of(t, p, fam[j], alpha, hcap, tmp, tcap, &c, ctx));
+    if (c < 0) {
+      *count = -1;
+      return PS_OK;
+    }
     if (nu + c > *ucap) {
       ps_int nc = 2 * (nu + c);
       PS_CHECK(ps_realloc((void **)u, (size_t)nc, sizeof **u, ctx));
@@ -233,12 +247,20 @@ static int sample_one(const ps_kdtree *t, const ps_particles *p, ps_int a,
   int dim = p->dim;
   const double *x = &p->x[a * dim];
   ps_int k = ps_kdtree_count(t, x, alpha * p->h[a], p->n), kf = 0;
-  double mine = 0, fam = 0, pairs = 0, hloc = p->h[a];
+  double mine = 0, fam = 0, pairs = -1, hloc = p->h[a];
   if (k < PS_EST_LIST) {
     /* the sizes near a bound the horizons that reach it */
     PS_CHECK(ps_kdtree_radius(t, x, alpha * p->h[a], &bufs[0], &caps[0], &k, ctx));
     hloc = max_size(p, bufs[0], k);
     PS_CHECK(family_of(t, p, a, alpha, hloc, &bufs[0], &caps[0], &kf, ctx));
+  }
+  if (k < PS_EST_LIST && kf < 0) {
+    /* a large particle near a: its horizon covers too many to list; the
+     * family is at least a's own horizon, the pattern the ball below */
+    fam = (double)(k - 1);
+    mine = 0.5 * fam;
+    kf = 0;
+  } else if (k < PS_EST_LIST) {
     ps_int m = 0;
     for (ps_int j = 0; j < kf; j++) {
       ps_int b = bufs[0][j];
@@ -262,7 +284,7 @@ static int sample_one(const ps_kdtree *t, const ps_particles *p, ps_int a,
   else if (kf > 0 && kf <= PS_EST_EXACT)
     PS_CHECK(two_hop(t, p, alpha, bufs[0], kf, hloc, &bufs[1], &caps[1], &bufs[2], &caps[2],
                      &pairs, ctx));
-  else
+  if (pairs < 0) /* too many to list: the ball of two horizons */
     pairs = (double)ps_kdtree_count(t, x, 2 * alpha * hloc, p->n);
   s->arms += mine;
   s->fam += fam;
@@ -293,12 +315,30 @@ int ps_estimate_sample(ps_estimate *e, const ps_particles *p, double alpha,
   double scale = (double)n / (double)m;
   e->arms = s.arms * scale;
   e->neighbours = s.neighbours / m;
+  /* every particle's own horizon, counted (no list): the sample can miss
+   * one outlying particle (a stray far point under Eq. 115, one volume
+   * far too large under Eq. 44) whose horizon covers the body. Each arm
+   * lies in one or both of its ends' horizons, so sum k_a / 2 bounds the
+   * arms from below (cracks aside); a particle whose horizon holds far
+   * more than the sampled mean adds its family's (k_a + 1)^2 to the
+   * pattern (family coupling) and the family slots. */
+  double sum_k = 0, out_sq = 0, big = PS_EST_OUTLIER * (e->neighbours + 1);
+  for (ps_int a = 0; a < n; a++) {
+    double k = (double)(ps_kdtree_count(t, &p->x[(size_t)a * p->dim], alpha * p->h[a], n) - 1);
+    sum_k += k;
+    if (k > big) out_sq += (k + 1) * (k + 1);
+  }
   /* families scaled to the mean 2 arms / n (the sample counts one-sided
    * horizons): sum (m + 1)^2 with m -> m r */
   double r = s.fam > 0 ? 2 * e->arms / (s.fam * scale) : 1;
   double sum_m2 = s.fam2 - 2 * s.fam - (double)m; /* sum of m^2 */
-  e->family_sq = scale * (r * r * sum_m2 + 2 * r * s.fam + (double)m);
+  e->family_sq = scale * (r * r * sum_m2 + 2 * r * s.fam + (double)m) + out_sq;
   e->pairs = s.pairs * scale;
+  e->arms = fmax(e->arms, 0.5 * sum_k);
+  if (o->family_coupling)
+    e->pairs = fmin(e->pairs + out_sq, (double)n * (double)n);
+  else
+    e->pairs = fmax(e->pairs, (double)n + 2 * e->arms);
   finish(e, o);
 cleanup:
   ps_kdtree_free(&t);
@@ -306,9 +346,9 @@ cleanup:
   return status;
 }
 
-double ps_memory_limit(double gib, const char **what) {
+double ps_memory_limit(double gib, const char *key, const char **what) {
   if (gib > 0) {
-    if (what) *what = "solver.max_memory_gib";
+    if (what) *what = key ? key : "solver.max_memory_gib";
     return gib * 1073741824.0;
   }
   if (what) *what = "80% of RAM";
@@ -328,9 +368,10 @@ static void fmt_bytes(char *buf, size_t len, double b) {
 }
 
 int ps_estimate_check(const ps_estimate *e, double need, double limit_gib,
-                      const char *where, const char *what, ps_ctx *ctx) {
+                      const char *limit_key, const char *where, const char *what,
+                      ps_ctx *ctx) {
   const char *lw;
-  double limit = ps_memory_limit(limit_gib, &lw);
+  double limit = ps_memory_limit(limit_gib, limit_key, &lw);
   if (!(need > limit)) return PS_OK;
   char nb[32], lb[32];
   fmt_bytes(nb, sizeof nb, need);

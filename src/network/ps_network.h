@@ -141,17 +141,19 @@ int ps_estimate_sample(ps_estimate *e, const ps_particles *p, double alpha,
 enum ps_estimate_purpose { PS_ESTIMATE_NONE = 0, PS_ESTIMATE_INFO = 1, PS_ESTIMATE_RUN = 2 };
 
 /* The memory limit in bytes: gib GiB when gib > 0, else 80% of the
- * physical memory (sysconf); *what gets "solver.max_memory_gib" or "80%
- * of RAM" for messages (may be NULL). */
-double ps_memory_limit(double gib, const char **what);
+ * physical memory (sysconf); *what gets key (where gib came from:
+ * "--max-memory"; NULL: "solver.max_memory_gib") or "80% of RAM" for
+ * messages (what may be NULL). */
+double ps_memory_limit(double gib, const char *key, const char **what);
 
 /* Refuse a need above the limit: PS_OK, or PS_ERR_INPUT with "<where>: this
  * case needs about 37 GiB (estimate: 1.2e9 arms, factor 3.1e9 nonzeros)
  * but the limit is 19 GiB (80% of RAM); set solver.max_memory_gib or
  * --max-memory GIB to raise it". `need` is one of e's mem_ sums (times
- * the jobs of a sweep); `what` says for what ("a run", "info"). */
+ * the jobs of a sweep); `what` says for what ("a run", "info");
+ * limit_gib and limit_key as ps_memory_limit's. */
 int ps_estimate_check(const ps_estimate *e, double need, double limit_gib,
-                      const char *where, const char *what, ps_ctx *ctx);
+                      const char *limit_key, const char *where, const char *what, ps_ctx *ctx);
 
 /* The estimate as "key: value" lines (estimate_particles, estimate_arms,
  * estimate_tangent_nnz, estimate_factor_nnz, estimate_memory_MiB, ...). */

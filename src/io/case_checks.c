@@ -96,26 +96,16 @@ static int particle_counts_check(ps_loader *L) {
 static int fixed_poisson_check(ps_loader *L) {
   const ps_case *cs = L->cs;
   const ps_model_type *type = ps_model_type_find(cs->model);
-  if (!type || !type->fixed_poisson) return PS_OK;
-  int stress = cs->dim == 2 && cs->mat.plane == PS_PLANE_STRESS;
-  double nu_fixed = type->fixed_poisson(cs->dim, cs->mat.plane);
-  if (fabs(cs->mat.nu - nu_fixed) <= 1e-3) return PS_OK;
-  char where[64], value[32];
+  if (!type || ps_model_poisson_check(type, cs->mat.nu, cs->dim, cs->mat.plane, L->ctx) ==
+                   PS_OK)
+    return PS_OK;
+  char why[sizeof L->ctx->msg], where[64];
+  snprintf(why, sizeof why, "%s", L->ctx->msg);
   if (L->line_nu)
     snprintf(where, sizeof where, "material.nu is at line %d", L->line_nu);
   else
     snprintf(where, sizeof where, "material.nu is not given: the default is 0.3");
-  if (nu_fixed == 1.0 / 3.0)
-    snprintf(value, sizeof value, "1/3");
-  else if (nu_fixed == 0.25)
-    snprintf(value, sizeof value, "1/4");
-  else
-    snprintf(value, sizeof value, "%g", nu_fixed);
-  return ps_yaml_fail(L, 0,
-                      "material.nu = %g: %s-based peridynamics has nu = %s in %s "
-                      "(Fallah et al. 2020, section 5) (%s)",
-                      cs->mat.nu, cs->model, value,
-                      cs->dim == 3 ? "3D" : stress ? "plane stress" : "plane strain", where);
+  return ps_yaml_fail(L, 0, "%s (%s)", why, where);
 }
 
 /* case_impl.h */

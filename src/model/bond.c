@@ -30,14 +30,7 @@ static int bond_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
   int N = net->dim;
   double delta = mat->horizon, dx = mat->spacing;
   PS_CHECK(ps_lattice_model_check(mat, N, P, "bond", ctx));
-  double nu_fixed = bond_fixed_poisson(N, mat->plane);
-  if (fabs(mat->nu - nu_fixed) > 1e-3)
-    return ps_error(ctx, PS_ERR_INPUT,
-                    "material.nu = %g: bond-based peridynamics has nu = %s in %s "
-                    "(Fallah et al. 2020, section 5)",
-                    mat->nu, N == 2 && mat->plane == PS_PLANE_STRESS ? "1/3" : "1/4",
-                    N == 3 ? "3D" : mat->plane == PS_PLANE_STRESS ? "plane stress"
-                                                                  : "plane strain");
+  PS_CHECK(ps_model_poisson_check(m->type, mat->nu, N, mat->plane, ctx));
   double c0 = N == 2 ? 48.0 * mat->K / (M_PI * pow(delta, 3))
                      : 90.0 * mat->K / (M_PI * pow(delta, 4));
   ps_int na = net->n_arm, np = net->n_particle;

@@ -152,6 +152,25 @@ int ps_lattice_model_check(const ps_material *mat, int dim, const ps_particles *
   return PS_OK;
 }
 
+int ps_model_poisson_check(const ps_model_type *type, double nu, int dim, int plane,
+                           ps_ctx *ctx) {
+  if (!type->fixed_poisson) return PS_OK;
+  double nu_fixed = type->fixed_poisson(dim, plane);
+  if (fabs(nu - nu_fixed) <= 1e-3) return PS_OK;
+  char value[32];
+  if (nu_fixed == 1.0 / 3.0)
+    snprintf(value, sizeof value, "1/3");
+  else if (nu_fixed == 0.25)
+    snprintf(value, sizeof value, "1/4");
+  else
+    snprintf(value, sizeof value, "%g", nu_fixed);
+  return ps_error(ctx, PS_ERR_INPUT,
+                  "material.nu = %g: %s-based peridynamics has nu = %s in %s (Fallah et al. "
+                  "2020, section 5)",
+                  nu, type->name, value,
+                  dim == 3 ? "3D" : plane == PS_PLANE_STRESS ? "plane stress" : "plane strain");
+}
+
 const ps_model_type *ps_model_type_find(const char *name) {
   const ps_model_type *const all[] = {ps_model_fibre, ps_model_bond, ps_model_state};
   for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)

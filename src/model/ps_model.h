@@ -195,6 +195,13 @@ extern const ps_model_type *const ps_model_state;
  * the horizon's edge). */
 double ps_partial_volume(double xi, double delta, double dx);
 
+/* The check of a model that fixes Poisson's ratio (type->fixed_poisson):
+ * PS_OK when nu is free or within 1e-3 of the fixed value, else
+ * PS_ERR_INPUT with "material.nu = 0.3: bond-based peridynamics has nu =
+ * 1/3 in plane stress (Fallah et al. 2020, section 5)" in ctx. */
+int ps_model_poisson_check(const ps_model_type *type, double nu, int dim, int plane,
+                           ps_ctx *ctx);
+
 /* Checks shared by the lattice models (bond, state): positions given, a
  * horizon and spacing set, elastic. Returns PS_OK or PS_ERR_INPUT naming
  * the parameter. */

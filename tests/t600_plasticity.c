@@ -60,10 +60,10 @@ int main(void) {
   double lim = 1.5 * ey * r0;
   m.mat.delta = lim * (1 + 1e-9);
   ps_int nb = -1;
-  ps_check(m.type->break_arms(&m, &st, 0, &nb, &ctx) == PS_OK && nb == 0 && !st.broken[0],
+  ps_check(ps_model_break_arms(&m, &st, 0, &nb, &ctx) == PS_OK && nb == 0 && !st.broken[0],
            "no break while eps_p r0 < delta");
   m.mat.delta = lim * (1 - 1e-9);
-  ps_check(m.type->break_arms(&m, &st, 0, &nb, &ctx) == PS_OK && nb == 1 && st.broken[0],
+  ps_check(ps_model_break_arms(&m, &st, 0, &nb, &ctx) == PS_OK && nb == 1 && st.broken[0],
            "breaks once eps_p r0 > delta");
   dl = 3 * ey * r0;
   m.type->evaluate(&m, &dl, &st, &T, &E, NULL, &ctx);
@@ -71,7 +71,7 @@ int main(void) {
   st.broken[0] = 0;
   st.eps_p[0] = -40 * ey; /* large plastic shortening */
   m.mat.delta = 1e-12;
-  ps_check(m.type->break_arms(&m, &st, 0, &nb, &ctx) == PS_OK && nb == 0,
+  ps_check(ps_model_break_arms(&m, &st, 0, &nb, &ctx) == PS_OK && nb == 0,
            "never breaks in compression");
   ps_arm_state_free(&st);
   ps_model_free(&m);

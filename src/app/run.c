@@ -68,6 +68,17 @@ static int open_outputs(run_state *r, ps_ctx *ctx) {
   return ps_report_history_open(&r->hist, r->staging, ctx);
 }
 
+/* The prescribed displacement at load factor 1 of the first measured dof
+ * along its measured direction (loading.boundary), or NAN when no
+ * measured dof has one (and for the disk's Eq. 116 field). */
+static double measured_displacement(const ps_problem *pb) {
+  ps_int nd = pb->P.n * pb->P.dim;
+  if (pb->cs.load_type == PS_LOAD_EQ116) return NAN;
+  for (ps_int j = 0; j < nd; j++)
+    if (pb->measure[j] != 0 && pb->fixed[j]) return pb->ubar[j] * pb->measure[j];
+  return NAN;
+}
+
 /* The progress line, history row and (every output.vtk_every) fields of
  * the increment the path just made. */
 static int record_increment(run_state *r, const ps_path *p, ps_ctx *ctx) {
@@ -86,7 +97,9 @@ static int record_increment(run_state *r, const ps_path *p, ps_ctx *ctx) {
                         .arms_yielding = inc->yielding,
                         .arms_broken = p->broken_total,
                         .crack_tip = inc->tip,
-                        .wall = ps_wtime() - r->t0};
+                        .wall = ps_wtime() - r->t0,
+                        .reaction = inc->sigma * r->pb->measure_length,
+                        .displacement = inc->lambda * measured_displacement(r->pb)};
   ps_report_history_row(&r->hist, &row);
   const ps_output_opts *out = &r->pb->cs.output;
   if (r->out_dir && out->fields && out->vtk_every > 0 && step % out->vtk_every == 0) {

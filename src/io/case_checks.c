@@ -108,6 +108,44 @@ static int fixed_poisson_check(ps_loader *L) {
   return ps_yaml_fail(L, 0, "%s (%s)", why, where);
 }
 
+/* Keys that belong to some models only: material.fracture, micromodulus
+ * and partial_volumes (bond, state) against material.delta (fibre). */
+static int model_keys_check(ps_loader *L) {
+  const ps_case *cs = L->cs;
+  int fibre = !strcmp(cs->model, "fibre"), bond = !strcmp(cs->model, "bond");
+  char model[64];
+  if (!fibre && !L->line_plastic) L->cs->mat.plastic = 0; /* elastic models */
+  if (L->line_model)
+    snprintf(model, sizeof model, "material.model is %s (line %d)", cs->model, L->line_model);
+  else
+    snprintf(model, sizeof model, "material.model is not given: the default is fibre");
+  if (fibre && L->line_fracture)
+    return ps_yaml_fail(L, L->line_fracture,
+                        "material.fracture is for the bond and state models: the fibre "
+                        "model breaks arms by plastic elongation, material.delta (Eq. 118) "
+                        "(%s)", model);
+  if (!fibre && L->line_delta)
+    return ps_yaml_fail(L, L->line_delta,
+                        "material.delta is the fibre model's breaking limit (Eq. 118): the "
+                        "%s model breaks arms by material.fracture: {critical_stretch: s0}",
+                        cs->model);
+  if (!bond && L->line_micromodulus)
+    return ps_yaml_fail(L, L->line_micromodulus,
+                        "material.micromodulus is for the bond model (%s)", model);
+  if (fibre && L->line_partial_volumes)
+    return ps_yaml_fail(L, L->line_partial_volumes,
+                        "material.partial_volumes is for the bond and state models (%s)",
+                        model);
+  if (!bond && L->line_fracture && cs->mat.fracture == PS_FRACTURE_ENERGY)
+    return ps_yaml_fail(L, L->line_fracture_criterion ? L->line_fracture_criterion
+                                                      : L->line_fracture,
+                        "material.fracture: the energy criterion is for the bond model; "
+                        "the %s model breaks by critical_stretch (or fracture_energy with "
+                        "criterion stretch)",
+                        cs->model);
+  return PS_OK;
+}
+
 /* case_impl.h */
 int ps_case_cross_checks(ps_loader *L) {
   static const char *const gname[] = {"disk", "box", "cloud"};
@@ -148,7 +186,9 @@ int ps_case_cross_checks(ps_loader *L) {
         "material.model %s needs geometry.type box (a regular lattice: the "
         "horizon is material.horizon_factor * geometry.spacing)",
         cs->model);
-  if (fixed_poisson_check(L) != PS_OK || particle_counts_check(L) != PS_OK) return PS_ERR_INPUT;
+  if (fixed_poisson_check(L) != PS_OK || particle_counts_check(L) != PS_OK ||
+      model_keys_check(L) != PS_OK)
+    return PS_ERR_INPUT;
   if (L->line_delta_over_c && cs->geometry != PS_GEOM_DISK)
     return ps_yaml_fail(
         L, L->line_delta_over_c,

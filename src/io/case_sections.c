@@ -188,7 +188,60 @@ static const char *const known_models[] = {"fibre", "bond", "state", NULL};
 
 const char *const ps_case_material_keys[] = {
     "model", "E", "nu", "plane", "yield_strain", "plastic", "delta",
-    "delta_over_c", "rho", "yield_rule", "horizon_factor", "surface_correction", NULL};
+    "delta_over_c", "rho", "yield_rule", "horizon_factor", "surface_correction",
+    "micromodulus", "partial_volumes", "fracture", NULL};
+
+/* material.fracture (bond and state models): one of critical_stretch (s0),
+ * fracture_energy (G_c, J/m^2, with criterion stretch or energy) and
+ * critical_micropotential (w_c). */
+static const char *const fracture_keys[] = {"critical_stretch", "fracture_energy",
+                                            "critical_micropotential", "criterion", NULL};
+
+static int on_fracture(ps_loader *L, void *arg, const char *key, const char *name,
+                       yaml_node_t *v) {
+  static const char *const criteria[] = {"stretch", "energy", NULL};
+  ps_material *m = &L->cs->mat;
+  int i;
+  (void)arg;
+  if (IS("criterion")) {
+    L->line_fracture_criterion = line_of(v);
+    if (ps_yaml_choice(L, v, name, criteria, &i)) return PS_ERR_INPUT;
+    m->fracture = i == 0 ? PS_FRACTURE_STRETCH : PS_FRACTURE_ENERGY;
+    return PS_OK;
+  }
+  L->n_fracture_given++;
+  if (IS("critical_stretch")) {
+    if (!L->line_fracture_criterion) m->fracture = PS_FRACTURE_STRETCH;
+    return ps_yaml_pos_in(L, v, name, PS_STRETCH_MIN, PS_STRETCH_MAX,
+                          "a stretch dl/xi (Peridigm's examples: 0.001)",
+                          &m->critical_stretch);
+  }
+  if (IS("fracture_energy")) {
+    if (!L->line_fracture_criterion) m->fracture = PS_FRACTURE_STRETCH;
+    return ps_yaml_pos_in(L, v, name, 1e-20, 1e20, "G_c in J/m^2 (glass: 8, steel: 1e4)",
+                          &m->fracture_energy);
+  }
+  if (!L->line_fracture_criterion) m->fracture = PS_FRACTURE_ENERGY;
+  return ps_yaml_pos_in(L, v, name, 1e-30, 1e300,
+                        "w_c in J/m^6 (3D) or J/m^5 (2D, per unit thickness)",
+                        &m->critical_micropotential);
+}
+
+/* the checks inside material.fracture once it is read */
+static int fracture_check(ps_loader *L, const char *name) {
+  ps_material *m = &L->cs->mat;
+  if (L->n_fracture_given != 1)
+    return ps_yaml_fail(L, L->line_fracture,
+                        "%s needs exactly one of critical_stretch, fracture_energy and "
+                        "critical_micropotential (got %d)",
+                        name, L->n_fracture_given);
+  if (L->line_fracture_criterion && !(m->fracture_energy > 0))
+    return ps_yaml_fail(L, L->line_fracture_criterion,
+                        "%s.criterion goes with fracture_energy (critical_stretch is the "
+                        "stretch criterion, critical_micropotential the energy one)",
+                        name);
+  return PS_OK;
+}
 
 int ps_case_on_material(ps_loader *L, void *arg, const char *key, const char *name,
                         yaml_node_t *v) {
@@ -199,6 +252,7 @@ int ps_case_on_material(ps_loader *L, void *arg, const char *key, const char *na
   int i;
   (void)arg;
   if (IS("model")) {
+    L->line_model = line_of(v);
     if (ps_yaml_choice(L, v, name, known_models, &i)) return PS_ERR_INPUT;
     strcpy(cs->model, known_models[i]);
     return PS_OK;
@@ -223,7 +277,10 @@ int ps_case_on_material(ps_loader *L, void *arg, const char *key, const char *na
     return ps_yaml_pos_in(L, v, name, PS_YIELD_STRAIN_MIN, PS_YIELD_STRAIN_MAX,
                           "a strain (steel: 0.002)", &m->yield_strain);
   }
-  if (IS("plastic")) return ps_yaml_bool(L, v, name, &m->plastic);
+  if (IS("plastic")) {
+    L->line_plastic = line_of(v);
+    return ps_yaml_bool(L, v, name, &m->plastic);
+  }
   if (IS("delta")) {
     L->line_delta = line_of(v);
     cs->delta_over_c = 0.0;
@@ -240,6 +297,25 @@ int ps_case_on_material(ps_loader *L, void *arg, const char *key, const char *na
                           "the horizon in lattice spacings (Fallah et al.: 3)",
                           &cs->horizon_factor);
   if (IS("surface_correction")) return ps_yaml_bool(L, v, name, &m->surface_correction);
+  if (IS("micromodulus")) {
+    static const char *const micro[] = {"conical", "constant", NULL};
+    L->line_micromodulus = line_of(v);
+    if (ps_yaml_choice(L, v, name, micro, &i)) return PS_ERR_INPUT;
+    m->micromodulus = i == 0 ? PS_MICRO_CONICAL : PS_MICRO_CONSTANT;
+    return PS_OK;
+  }
+  if (IS("partial_volumes")) {
+    int pv;
+    L->line_partial_volumes = line_of(v);
+    if (ps_yaml_bool(L, v, name, &pv)) return PS_ERR_INPUT;
+    m->full_volumes = !pv;
+    return PS_OK;
+  }
+  if (IS("fracture")) {
+    L->line_fracture = line_of(v);
+    if (ps_yaml_walk_map(L, v, name, fracture_keys, on_fracture, NULL)) return PS_ERR_INPUT;
+    return fracture_check(L, name);
+  }
   if (ps_yaml_choice(L, v, name, rules, &i)) return PS_ERR_INPUT; /* yield_rule */
   m->yield_rule = i == 0 ? PS_YIELD_TOTAL : PS_YIELD_DEVIATORIC;
   return PS_OK;

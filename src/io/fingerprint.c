@@ -26,7 +26,8 @@ static void fnv(uint64_t *h, const char *s) {
 /* What enters the hash, as "%.17g" text (every double exactly): the
  * algorithm version; the geometry, the size rule, cracks and holes; the
  * kernel; the material but delta (and, for the lattice models,
- * horizon_factor and surface_correction); the loading; Newton's
+ * horizon_factor and surface_correction; micromodulus, partial volumes
+ * and fracture when set); the loading; Newton's
  * tolerance, iterations, line search and small steps; the CG settings
  * that change which solves near the plastic limit converge (cg_truncate
  * off, a fixed cg_forcing); the load path and its stop rules.
@@ -67,6 +68,15 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
   const ps_model_type *type = ps_model_type_find(cs->model);
   if (type && type->lattice) {
     snprintf(b, sizeof b, "lattice %.17g %d", cs->horizon_factor, m->surface_correction);
+    fnv(&h, b);
+  }
+  if (m->micromodulus != PS_MICRO_CONICAL || m->full_volumes) {
+    snprintf(b, sizeof b, "micromodulus %d full volumes %d", m->micromodulus, m->full_volumes);
+    fnv(&h, b);
+  }
+  if (m->fracture != PS_FRACTURE_NONE) {
+    snprintf(b, sizeof b, "fracture %d %.17g %.17g %.17g", m->fracture, m->critical_stretch,
+             m->critical_micropotential, m->fracture_energy);
     fnv(&h, b);
   }
   for (int i = 0; i < cs->n_cracks; i++) {

@@ -82,6 +82,12 @@ typedef struct ps_history_row {
   ps_int arms_yielding, arms_broken;
   double crack_tip;           /* c */
   double wall;                /* s since the start of the run */
+  double reaction;            /* boundary stress x the measured length: the
+                                 force on the measured particles, N per m of
+                                 thickness in 2D, N in 3D */
+  double displacement;        /* the measured particles' prescribed
+                                 displacement along their direction, m (NAN:
+                                 none prescribed) */
 } ps_history_row;
 
 /* history.csv, written a row at a time (flushed, so tail -f follows). */

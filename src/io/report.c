@@ -172,6 +172,8 @@ static const value_spec history_columns[] = {
     {"arms_broken", V_I64, 0, H(arms_broken), 0},
     {"crack_tip_over_c", V_G, 6, H(crack_tip), 0},
     {"wall_s", V_F, 4, H(wall), 0},
+    {"reaction", V_G, 10, H(reaction), 0},
+    {"displacement_m", V_G, 10, H(displacement), 0},
 };
 #define N_HISTORY_COLUMNS (sizeof history_columns / sizeof history_columns[0])
 #undef H

@@ -5,13 +5,18 @@
  * xi <= delta (0 beyond), c0 from equating the isotropic-expansion energy
  * with the continuum's (2D: c0 = 48 K / (pi delta^3), which is Eq. 7's
  * 24 E / (pi delta^3 (1 - nu)) in plane stress; 3D: 90 K / (pi delta^4)),
- * the partial volume v of Li & Hao (2023) Eq. A.2 for bonds near the
- * horizon, and the energy-based surface correction R of their Eq. A.3-A.6
- * (optional). Forces are per unit thickness in 2D (V_a are areas), so
- * c0 is Eq. 7 with t = 1. The stored energy is sum 1/2 k dl^2 with
- * k = c V_a V_b v R / xi, so dT/dl = k: no family coupling. Elastic,
- * bonds never break here. Bond-based PD fixes Poisson's ratio: 1/3 in
- * plane stress, 1/4 in plane strain and 3D. */
+ * or the constant micromodulus of the PMB model (Silling & Askari 2005)
+ * from the same energy (2D: c = 12 K / (pi delta^3), 9 E / (pi delta^3)
+ * in plane stress, as Peridigm's plane-stress option with t = 1; 3D:
+ * 18 K / (pi delta^4)); the partial volume v of Li & Hao (2023) Eq. A.2
+ * for bonds near the horizon (or v = 1 within it: full volumes), and the
+ * energy-based surface correction R of their Eq. A.3-A.6 (optional).
+ * Forces are per unit thickness in 2D (V_a are areas), so c is Eq. 7
+ * with t = 1. The stored energy is sum 1/2 k dl^2 with k = c V_a V_b v R
+ * / xi, so dT/dl = k: no family coupling. An arm breaks for good when its
+ * stretch passes s0, or its micropotential w = 1/2 c R s^2 xi passes w_c
+ * (breaking.c). Bond-based PD fixes Poisson's ratio: 1/3 in plane stress,
+ * 1/4 in plane strain and 3D. */
 #include "ps_model.h"
 
 #include <gsl/gsl_math.h>
@@ -31,13 +36,16 @@ static int bond_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
   double delta = mat->horizon, dx = mat->spacing;
   PS_CHECK(ps_lattice_model_check(mat, N, P, "bond", ctx));
   PS_CHECK(ps_model_poisson_check(m->type, mat->nu, N, mat->plane, ctx));
-  double c0 = N == 2 ? 48.0 * mat->K / (M_PI * pow(delta, 3))
-                     : 90.0 * mat->K / (M_PI * pow(delta, 4));
+  int conical = mat->micromodulus == PS_MICRO_CONICAL;
+  double c0 = N == 2 ? (conical ? 48.0 : 12.0) * mat->K / (M_PI * pow(delta, 3))
+                     : (conical ? 90.0 : 18.0) * mat->K / (M_PI * pow(delta, 4));
   ps_int na = net->n_arm, np = net->n_particle;
   m->arm_k = ps_calloc((size_t)na, sizeof *m->arm_k, ctx);
   double *Wk = ps_calloc((size_t)np * N, sizeof *Wk, ctx);
-  if (!m->arm_k || !Wk) {
+  double *cxi = ps_calloc((size_t)na, sizeof *cxi, ctx); /* c(xi) R, breaking */
+  if (!m->arm_k || !Wk || !cxi) {
     free(Wk);
+    free(cxi);
     return PS_ERR_NOMEM;
   }
   /* uncorrected bond constants c(xi) v, and (Eq. A.3) each particle's
@@ -46,7 +54,11 @@ static int bond_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
   for (ps_int i = 0; i < na; i++) {
     ps_int a = net->a[i], b = net->b[i];
     double xi = net->r0[i];
-    double cv = xi < delta ? c0 * (1.0 - xi / delta) * ps_partial_volume(xi, delta, dx) : 0.0;
+    double c = conical ? c0 * (1.0 - xi / delta) : c0;
+    double v = mat->full_volumes ? 1.0 : ps_partial_volume(xi, delta, dx);
+    /* every arm of the network is within the horizon (up to round-off:
+     * ps_model_lattice_reach); the cone is 0 at its edge */
+    double cv = !conical || xi < delta ? c * v : 0.0;
     m->arm_k[i] = cv;
     for (int k = 0; k < N; k++) {
       double n = (P->x[b * N + k] - P->x[a * N + k]) / xi, n4 = n * n * n * n;
@@ -74,10 +86,14 @@ static int bond_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
       }
       R = 1.0 / sqrt(s);
     }
+    double c = conical ? c0 * (1.0 - xi / delta) : c0;
+    cxi[i] = m->arm_k[i] > 0 ? c * R : 0.0;
     m->arm_k[i] *= R * P->volume[a] * P->volume[b] / xi;
   }
   free(Wk);
-  return PS_OK;
+  int status = ps_model_fracture_prepare(m, cxi, ctx);
+  free(cxi);
+  return status;
 }
 
 static int bond_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
@@ -88,6 +104,7 @@ static int bond_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
   for (ps_int i = 0; i < net->n_arm; i++) {
     double k = st->broken[i] ? 0.0 : m->arm_k[i];
     T[i] = k * dl[i];
+    st->stretch[i] = dl[i] / net->r0[i];
     psi += 0.5 * k * dl[i] * dl[i];
     st->eps_p_trial[i] = st->eps_p[i];
     st->yielding[i] = 0;
@@ -103,7 +120,7 @@ static int bond_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
 
 static const ps_model_type bond_type = {.name = "bond",
                                         .evaluate = bond_evaluate,
-                                        .break_arms = ps_model_never_breaks,
+                                        .break_excess = ps_model_stretch_excess,
                                         .prepare = bond_prepare,
                                         .family_coupling = 0,
                                         .lattice = 1,

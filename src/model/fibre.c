@@ -204,59 +204,16 @@ static int fibre_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
   return m->work ? PS_OK : PS_ERR_NOMEM;
 }
 
-typedef struct {
-  double excess;
-  ps_int arm;
-} candidate;
-
-static int by_excess_desc(const void *u, const void *v) {
-  double x = ((const candidate *)u)->excess, y = ((const candidate *)v)->excess;
-  return x > y ? -1 : x < y;
-}
-
 /* plastic elongation past delta of an intact arm (Eq. 118 breaks it when
  * positive); <= 0 for a broken arm */
-static double excess(const ps_model *m, const ps_arm_state *st, ps_int i) {
+static double fibre_break_excess(const ps_model *m, const ps_arm_state *st, ps_int i) {
   if (st->broken[i]) return 0.0;
   return ps_arm_plastic_strain(st, i, m->mat.yield_rule) * m->net->r0[i] - m->mat.delta;
 }
 
-static int fibre_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
-                            ps_int *n_broken, ps_ctx *ctx) {
-  const ps_network *net = m->net;
-  double delta = m->mat.delta;
-  *n_broken = 0;
-  if (!(delta > 0) || !isfinite(delta)) return PS_OK;
-  ps_int nc = 0;
-  for (ps_int i = 0; i < net->n_arm; i++) nc += excess(m, st, i) > 0;
-  if (nc == 0) return PS_OK;
-  if (max_count <= 0 || nc <= max_count) {
-    for (ps_int i = 0; i < net->n_arm; i++)
-      if (excess(m, st, i) > 0) st->broken[i] = 1;
-    *n_broken = nc;
-    return PS_OK;
-  }
-  /* only the max_count arms past the limit by the most */
-  candidate *c = ps_calloc((size_t)nc, sizeof *c, ctx);
-  if (!c) return PS_ERR_NOMEM;
-  ps_int k = 0;
-  for (ps_int i = 0; i < net->n_arm; i++) {
-    double e = excess(m, st, i);
-    if (e > 0) {
-      c[k].excess = e;
-      c[k++].arm = i;
-    }
-  }
-  qsort(c, (size_t)nc, sizeof *c, by_excess_desc);
-  for (ps_int j = 0; j < max_count; j++) st->broken[c[j].arm] = 1;
-  free(c);
-  *n_broken = max_count;
-  return PS_OK;
-}
-
 static const ps_model_type fibre_type = {.name = "fibre",
                                          .evaluate = fibre_evaluate,
-                                         .break_arms = fibre_break_arms,
+                                         .break_excess = fibre_break_excess,
                                          .prepare = fibre_prepare,
                                          .family_coupling = 1,
                                          .lattice = 0,

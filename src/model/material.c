@@ -71,7 +71,8 @@ int ps_arm_state_alloc(ps_arm_state *st, ps_int n_arm, ps_ctx *ctx) {
   st->eps_p_trial = ps_calloc((size_t)(2 * n_arm), sizeof *st->eps_p_trial, ctx);
   st->broken = ps_calloc((size_t)n_arm, 1, ctx);
   st->yielding = ps_calloc((size_t)n_arm, 1, ctx);
-  if (!st->eps_p || !st->eps_p_trial || !st->broken || !st->yielding) {
+  st->stretch = ps_calloc((size_t)n_arm, sizeof *st->stretch, ctx);
+  if (!st->eps_p || !st->eps_p_trial || !st->broken || !st->yielding || !st->stretch) {
     ps_arm_state_free(st);
     return PS_ERR_NOMEM;
   }
@@ -83,6 +84,7 @@ void ps_arm_state_free(ps_arm_state *st) {
   free(st->eps_p_trial);
   free(st->broken);
   free(st->yielding);
+  free(st->stretch);
   memset(st, 0, sizeof *st);
 }
 
@@ -92,6 +94,7 @@ void ps_arm_state_copy(ps_arm_state *dst, const ps_arm_state *st) {
   memcpy(dst->eps_p_trial, st->eps_p_trial, 2 * n * sizeof *st->eps_p);
   memcpy(dst->broken, st->broken, n);
   memcpy(dst->yielding, st->yielding, n);
+  memcpy(dst->stretch, st->stretch, n * sizeof *st->stretch);
 }
 
 int ps_arm_tangent_alloc(ps_arm_tangent *t, const ps_network *net, ps_ctx *ctx) {
@@ -114,16 +117,6 @@ void ps_arm_tangent_free(ps_arm_tangent *t) {
   free(t->c2);
   free(t->w2);
   memset(t, 0, sizeof *t);
-}
-
-int ps_model_never_breaks(const ps_model *m, ps_arm_state *st, ps_int max_count,
-                          ps_int *n_broken, ps_ctx *ctx) {
-  (void)m;
-  (void)st;
-  (void)max_count;
-  (void)ctx;
-  *n_broken = 0;
-  return PS_OK;
 }
 
 double ps_arm_plastic_strain(const ps_arm_state *st, ps_int i, int yield_rule) {
@@ -208,6 +201,7 @@ void ps_model_free(ps_model *m) {
   free(m->R);
   free(m->epsbar);
   free(m->arm_k);
+  free(m->arm_s0);
   free(m->work);
   memset(m, 0, sizeof *m);
 }

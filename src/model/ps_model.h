@@ -14,6 +14,20 @@
 #include "../network/ps_network.h"
 
 enum ps_plane { PS_PLANE_STRAIN = 0, PS_PLANE_STRESS = 1, PS_SOLID_3D = 2 };
+/* The breaking criterion of the bond and state models (the fibre model
+ * breaks by plastic elongation, material.delta, Eq. 118). */
+enum ps_fracture {
+  PS_FRACTURE_NONE = 0,    /* arms never break */
+  PS_FRACTURE_STRETCH = 1, /* s = dl / xi > s0 (Silling & Askari 2005) */
+  PS_FRACTURE_ENERGY = 2   /* the arm's micropotential w > w_c, in tension
+                              (the energy criterion of MODEL-NOTES) */
+};
+/* The bond model's micromodulus c(xi). */
+enum ps_micromodulus {
+  PS_MICRO_CONICAL = 0, /* c0 (1 - xi/delta), Fallah et al. 2020 Eq. 7 */
+  PS_MICRO_CONSTANT = 1 /* c, Silling & Askari's PMB, as Peridigm's "Elastic
+                           Bond Based" */
+};
 enum ps_yield_rule {
   PS_YIELD_TOTAL = 0,      /* Eq. 111 as printed: |eps - eps_p| > eps_y */
   PS_YIELD_DEVIATORIC = 1  /* |eps - epsbar_a - eps_p,a| > eps_y per half-arm
@@ -37,6 +51,18 @@ typedef struct ps_material {
   double spacing;      /* lattice constant Delta x, m (partial volumes) */
   int surface_correction; /* 1: energy-based surface correction (Li & Hao
                              2023, Eq. A.3-A.6) */
+  int micromodulus;    /* enum ps_micromodulus (bond) */
+  int full_volumes;    /* 1: every neighbour within the horizon counts in
+                          full (Peridigm's default); 0: the partial volumes
+                          of Li & Hao Eq. A.2 (bond, state) */
+  /* bond and state models: breaking (enum ps_fracture). The criterion is
+   * given as s0, as w_c or as a fracture energy G_c that the model's
+   * prepare converts (ps_fracture_from_energy). */
+  int fracture;
+  double critical_stretch;        /* s0 (> 0) */
+  double critical_micropotential; /* w_c, J/m^6 in 3D, J/m^5 in 2D (per unit
+                                     thickness, areas as volumes) */
+  double fracture_energy;         /* G_c, J/m^2 (> 0), or 0: s0 or w_c given */
   /* derived by ps_material_finish: */
   double G;            /* shear modulus, Eq. 78 */
   double K;            /* bulk modulus: Eq. 79 (3D), 80 (plane stress),
@@ -55,6 +81,10 @@ typedef struct ps_material {
 #define PS_YIELD_STRAIN_MIN 1e-9
 #define PS_YIELD_STRAIN_MAX 1.0
 
+/* The accepted range of a critical stretch s0. */
+#define PS_STRETCH_MIN 1e-9
+#define PS_STRETCH_MAX 10.0
+
 /* Check the parameters (E in [PS_E_MIN, PS_E_MAX], nu in (-1, 0.5), with
  * plasticity eps_y in [PS_YIELD_STRAIN_MIN, PS_YIELD_STRAIN_MAX], rho >
  * 0) and fill the derived ones, which must come out finite and positive
@@ -72,7 +102,11 @@ typedef struct ps_arm_state {
                              (deviatoric reading) */
   double *eps_p_trial;    /* [2 n_arm] from the last evaluate (return
                              mapping from eps_p) */
-  unsigned char *broken;  /* 1: arm broken (Eq. 118), carries nothing */
+  unsigned char *broken;  /* 1: arm broken (Eq. 118 or the model's
+                             criterion), carries nothing */
+  double *stretch;        /* [n_arm] dl / r0 of the last evaluate, written
+                             by the models whose criterion reads it (bond,
+                             state) */
   unsigned char *yielding;/* 1: on the yield surface in the last evaluate */
 } ps_arm_state;
 
@@ -109,13 +143,11 @@ typedef struct ps_model_type {
    * stiffness. Returns PS_OK. */
   int (*evaluate)(const ps_model *m, const double *dl, ps_arm_state *st,
                   double *T, double *energy, ps_arm_tangent *tan, ps_ctx *ctx);
-  /* After a converged, committed state: mark the arms that break and set
-   * *n_broken to how many broke now. With max_count > 0, only the
-   * max_count arms past the limit by the most (a gentler step when
-   * re-equilibration after breaking them all fails). Returns PS_OK or
-   * PS_ERR_NOMEM (then no arm is marked and *n_broken = 0). */
-  int (*break_arms)(const ps_model *m, ps_arm_state *st, ps_int max_count,
-                    ps_int *n_broken, ps_ctx *ctx);
+  /* How far arm i of the last evaluate is past the model's breaking
+   * criterion: > 0 breaks it, the larger the further (fibre: eps_p r0 -
+   * delta, Eq. 118; bond, state: s / s0 - 1). Read only when
+   * ps_material_breaks; 0 or less for a broken arm. */
+  double (*break_excess)(const ps_model *m, const ps_arm_state *st, ps_int i);
   /* Optional (NULL: nothing to do): check the parameters against the
    * network, precompute per-arm data into m->arm_k and allocate m->work.
    * Returns PS_OK, PS_ERR_INPUT (message names the parameter),
@@ -153,6 +185,8 @@ struct ps_model {
   double *arm_k;   /* [n_arm] per-arm constants of models that prepare
                       them (bond: stiffness dT/dl, N/m; state: w v V_a
                       V_b), else NULL; read-only after prepare */
+  double *arm_s0;  /* [n_arm] critical stretch per arm (bond, state with
+                      material.fracture), else NULL */
   double *work;    /* scratch of evaluate for models that need it
                       (deviatoric fibre rule: [4 n_arm + 2 n_particle],
                       psi' and psi'' per half-arm, their family means),
@@ -168,16 +202,45 @@ extern const ps_model_type *const ps_model_fibre;
 /* Bond-based peridynamics (Fallah et al. 2020): pairwise force c s V_a V_b
  * with the conical micromodulus of Eq. 7, c(xi) = c0 (1 - xi/delta),
  * c0 = 48 K / (pi delta^3) in 2D (= 24 E / (pi delta^3 (1 - nu)) in plane
- * stress, per unit thickness) and 90 K / (pi delta^4) in 3D, partial
- * volumes at the horizon (Li & Hao Eq. A.2) and, optionally, the
- * energy-based surface correction (Eq. A.3-A.6). Elastic, no breaking;
- * nu is fixed: 1/3 in plane stress, 1/4 in plane strain and 3D. */
+ * stress, per unit thickness) and 90 K / (pi delta^4) in 3D, or the
+ * constant one of the PMB model, c = 12 K / (pi delta^3) in 2D and
+ * 18 K / (pi delta^4) in 3D; partial volumes at the horizon (Li & Hao Eq.
+ * A.2) or full ones, and, optionally, the energy-based surface correction
+ * (Eq. A.3-A.6). Arms break by critical stretch or micropotential
+ * (material.fracture). nu is fixed: 1/3 in plane stress, 1/4 in plane
+ * strain and 3D. */
 extern const ps_model_type *const ps_model_bond;
 
-/* break_arms of the elastic models: nothing ever breaks (*n_broken = 0);
- * returns PS_OK. */
-int ps_model_never_breaks(const ps_model *m, ps_arm_state *st, ps_int max_count,
-                          ps_int *n_broken, ps_ctx *ctx);
+/* 1 when the material has a breaking criterion: a finite delta > 0
+ * (fibre, Eq. 118) or material.fracture (bond, state). */
+int ps_material_breaks(const ps_material *mat);
+
+/* After a converged, committed state: mark the arms past the model's
+ * criterion (type->break_excess > 0) as broken and set *n_broken to how
+ * many broke now; nothing when !ps_material_breaks. With max_count > 0,
+ * only the max_count arms past it by the most (a gentler step when
+ * re-equilibration after breaking them all fails). One mechanism for
+ * every model (model/breaking.c). Returns PS_OK or PS_ERR_NOMEM (then no
+ * arm is marked and *n_broken = 0). */
+int ps_model_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
+                        ps_int *n_broken, ps_ctx *ctx);
+
+/* break_excess of the stretch-type criteria (bond, state): st->stretch[i]
+ * / m->arm_s0[i] - 1 (tension only; -1 for a broken arm). */
+double ps_model_stretch_excess(const ps_model *m, const ps_arm_state *st, ps_int i);
+
+/* The bond and state models' critical stretch per arm, m->arm_s0 (NULL
+ * allocated here when mat.fracture is set): s0 for the stretch criterion;
+ * for the energy criterion, the stretch at which the arm's micropotential
+ * w = 1/2 cxi s^2 xi reaches w_c, with cxi[i] the arm's micromodulus (c(xi)
+ * R, corrected; a zero cxi never breaks; cxi may be NULL for the stretch
+ * criterion). An arm whose m->arm_k is 0 (it carries nothing: beyond the
+ * horizon) never breaks. When mat.fracture_energy G_c is
+ * set, s0 or w_c are first computed from it by the closed forms of
+ * doc/fracture.md (model "bond" with the micromodulus of mat, or
+ * "state"). Returns PS_OK, PS_ERR_INPUT (a combination without a closed
+ * form), PS_ERR_NOMEM. */
+int ps_model_fracture_prepare(ps_model *m, const double *cxi, ps_ctx *ctx);
 
 /* Ordinary state-based linear elastic PD with the dilatation / deviatoric
  * split (pd-elastoplastic-animation-supplement, Eq. 26-47; Madenci &
@@ -185,9 +248,11 @@ int ps_model_never_breaks(const ps_model *m, ps_arm_state *st, ps_int max_count,
  * w e_ab V_b, influence w = delta / xi, e the arm elongation; 3D: a =
  * (K - 5G/3)/2, b = 15G/(2 pi delta^5), d = 9/(4 pi delta^4); 2D (per unit
  * thickness): a = (K - 2G)/2, b = 6G/(pi delta^4), d = 2/(pi delta^3), K
- * the 2D bulk modulus (Eq. 80/81). Partial volumes (Li & Hao A.2), no
- * surface correction, elastic, any nu. Tangent: diagonal plus one rank-one
- * term per family (the dilatation), like the fibre model's epsbar. */
+ * the 2D bulk modulus (Eq. 80/81). Partial volumes (Li & Hao A.2) or full
+ * ones, no surface correction, any nu; arms break by critical stretch
+ * (material.fracture) and then leave the dilatation sums. Tangent:
+ * diagonal plus one rank-one term per family (the dilatation), like the
+ * fibre model's epsbar. */
 extern const ps_model_type *const ps_model_state;
 
 /* Li & Hao (2023) Eq. A.2: the share of a lattice cell of size dx at

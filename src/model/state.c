@@ -12,8 +12,10 @@
  * (Eq. 39, 46, 47 in 3D; the same derivation in 2D):
  *   3D: a = (K - 5G/3)/2, b = 15G / (2 pi delta^5), d = 9 / (4 pi delta^4)
  *   2D: a = (K - 2G)/2,   b = 6G / (pi delta^4),    d = 2 / (pi delta^3)
- * (2D per unit thickness, K the 2D bulk modulus of Eq. 80/81). Elastic;
- * arms do not break. theta is kept in m->epsbar (the dilatation). */
+ * (2D per unit thickness, K the 2D bulk modulus of Eq. 80/81). With full
+ * volumes v = 1 within the horizon and 0 beyond. An arm breaks for good
+ * when its stretch e/xi passes s0 (breaking.c); a broken arm leaves the
+ * dilatation sums. theta is kept in m->epsbar (the dilatation). */
 #include "ps_model.h"
 
 #include <gsl/gsl_math.h>
@@ -48,11 +50,12 @@ static int state_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
   if (!m->arm_k) return PS_ERR_NOMEM;
   for (ps_int i = 0; i < net->n_arm; i++) {
     double xi = net->r0[i];
-    double w = xi < delta + 0.5 * dx ? delta / xi * ps_partial_volume(xi, delta, dx) : 0.0;
+    double v = mat->full_volumes ? (xi <= delta ? 1.0 : 0.0) : ps_partial_volume(xi, delta, dx);
+    double w = xi < delta + 0.5 * dx ? delta / xi * v : 0.0;
     m->arm_k[i] = w * P->volume[net->a[i]] * P->volume[net->b[i]];
   }
   for (ps_int a = 0; a < net->n_particle; a++) m->R[a] = P->volume[a]; /* V_a */
-  return PS_OK;
+  return ps_model_fracture_prepare(m, NULL, ctx);
 }
 
 static int state_evaluate(const ps_model *m, const double *dl, ps_arm_state *st, double *T,
@@ -75,6 +78,7 @@ static int state_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
   for (ps_int i = 0; i < net->n_arm; i++) {
     st->eps_p_trial[i] = st->eps_p[i];
     st->yielding[i] = 0;
+    st->stretch[i] = dl[i] / net->r0[i];
     if (st->broken[i]) {
       T[i] = 0.0;
       if (tan) tan->D[i] = 0.0;
@@ -97,7 +101,7 @@ static int state_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
 
 static const ps_model_type state_type = {.name = "state",
                                          .evaluate = state_evaluate,
-                                         .break_arms = ps_model_never_breaks,
+                                         .break_excess = ps_model_stretch_excess,
                                          .prepare = state_prepare,
                                          .family_coupling = 1,
                                          .lattice = 1,

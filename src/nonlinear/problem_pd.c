@@ -130,7 +130,7 @@ void ps_pd_commit(ps_pd *pd) {
 void ps_pd_restore(ps_pd *pd) { ps_arm_state_copy(&pd->st, &pd->st_saved); }
 
 int ps_pd_break_arms(ps_pd *pd, ps_int max_count, ps_int *n_broken, ps_ctx *ctx) {
-  return pd->model.type->break_arms(&pd->model, &pd->st, max_count, n_broken, ctx);
+  return ps_model_break_arms(&pd->model, &pd->st, max_count, n_broken, ctx);
 }
 
 void ps_pd_coupling(ps_pd *pd, const double *du, double *out) {

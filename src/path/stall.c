@@ -11,12 +11,8 @@ int ps_path_failed_attempt_is_fracture(ps_int broken_total, double sig, double p
   return broken_total > 0 && isfinite(peak) && sig < peak;
 }
 
-/* 1 when this model and delta can break arms */
-static int model_breaks(const ps_path *p) {
-  const ps_model_type *type = p->pb.model;
-  return type && type->break_arms != ps_model_never_breaks && p->pb.mat->delta > 0 &&
-         isfinite(p->pb.mat->delta);
-}
+/* 1 when the material has a breaking criterion */
+static int model_breaks(const ps_path *p) { return ps_material_breaks(p->pb.mat); }
 
 /* 1 when the last converged increments' boundary stresses fell */
 static int load_falling(const ps_path *p) {
@@ -45,10 +41,10 @@ static void stall_advice(const ps_path *p, char *buf, size_t len, int *softens) 
     snprintf(arms, sizeof arms, "%lld arms had broken", (long long)p->broken_total);
   else if (breaks)
     snprintf(arms, sizeof arms, "no arm had broken");
-  else if (type && type->break_arms != ps_model_never_breaks)
+  else if (type == ps_model_fibre)
     snprintf(arms, sizeof arms, "no arm can break (delta is infinite)");
   else
-    snprintf(arms, sizeof arms, "this model does not break arms");
+    snprintf(arms, sizeof arms, "no arm can break (no material.fracture)");
   *softens = falling && indefinite > 0 && p->broken_total == 0;
   size_t l = (size_t)snprintf(buf, len, "Seen: %s%s%s.", arms,
                               falling ? "; the boundary stress was falling over the last "

@@ -1,0 +1,126 @@
+/* breaking.c: the one breaking mechanism of every model. A model says how
+ * far each arm is past its criterion (ps_model_type.break_excess: Eq. 118
+ * for the fibre model, a critical stretch or micropotential for the bond
+ * and state models); this file marks the arms past it, all of them or the
+ * worst max_count, and turns a fracture energy G_c into the criterion's
+ * constant (the closed forms and their derivation: doc/fracture.md). */
+#include "ps_model.h"
+
+#include <gsl/gsl_math.h>
+#include <math.h>
+#include <stdlib.h>
+
+int ps_material_breaks(const ps_material *mat) {
+  return mat->fracture != PS_FRACTURE_NONE || (mat->delta > 0 && isfinite(mat->delta));
+}
+
+typedef struct {
+  double excess;
+  ps_int arm;
+} candidate;
+
+static int by_excess_desc(const void *u, const void *v) {
+  double x = ((const candidate *)u)->excess, y = ((const candidate *)v)->excess;
+  return x > y ? -1 : x < y;
+}
+
+int ps_model_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
+                        ps_int *n_broken, ps_ctx *ctx) {
+  const ps_network *net = m->net;
+  double (*excess)(const ps_model *, const ps_arm_state *, ps_int) = m->type->break_excess;
+  *n_broken = 0;
+  if (!ps_material_breaks(&m->mat) || !excess) return PS_OK;
+  ps_int nc = 0;
+  for (ps_int i = 0; i < net->n_arm; i++) nc += !st->broken[i] && excess(m, st, i) > 0;
+  if (nc == 0) return PS_OK;
+  if (max_count <= 0 || nc <= max_count) {
+    for (ps_int i = 0; i < net->n_arm; i++)
+      if (!st->broken[i] && excess(m, st, i) > 0) st->broken[i] = 1;
+    *n_broken = nc;
+    return PS_OK;
+  }
+  /* only the max_count arms past the criterion by the most */
+  candidate *c = ps_calloc((size_t)nc, sizeof *c, ctx);
+  if (!c) return PS_ERR_NOMEM;
+  ps_int k = 0;
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    double e = st->broken[i] ? 0.0 : excess(m, st, i);
+    if (e > 0) {
+      c[k].excess = e;
+      c[k++].arm = i;
+    }
+  }
+  qsort(c, (size_t)nc, sizeof *c, by_excess_desc);
+  for (ps_int j = 0; j < max_count; j++) st->broken[c[j].arm] = 1;
+  free(c);
+  *n_broken = max_count;
+  return PS_OK;
+}
+
+double ps_model_stretch_excess(const ps_model *m, const ps_arm_state *st, ps_int i) {
+  if (st->broken[i] || !m->arm_s0) return -1.0;
+  return st->stretch[i] / m->arm_s0[i] - 1.0;
+}
+
+/* s0 or w_c from G_c (doc/fracture.md): the energy of every arm crossing a
+ * unit crack, each at the criterion. With the micropotential w(xi) of an
+ * arm at breaking, G_c = int_0^delta 2 xi^2 w dxi in 2D and pi int_0^delta
+ * xi^3 w dxi in 3D. Bond, stretch criterion, w = 1/2 c(xi) s0^2 xi:
+ *   constant c = 12K/(pi d^3) (2D), 18K/(pi d^4) (3D):
+ *     s0 = sqrt(pi G_c / (3 K d)) (2D; Ha & Bobaru 2010's sqrt(4 pi G_c /
+ *     (9 E d)) in plane stress with nu = 1/3), sqrt(5 G_c / (9 K d)) (3D;
+ *     Silling & Askari 2005);
+ *   conical c0 (1 - xi/d), c0 = 48K/(pi d^3) (2D), 90K/(pi d^4) (3D):
+ *     s0 = sqrt(5 pi G_c / (12 K d)) (2D), sqrt(2 G_c / (3 K d)) (3D).
+ * Bond, energy criterion (any c): w_c = 3 G_c / (2 d^3) (2D),
+ * 4 G_c / (pi d^4) (3D). State (Madenci & Oterkus 2014, influence d/xi):
+ *   s0 = sqrt(G_c / ((6G/pi + 16/(9 pi^2) (K - 2G)) d)) (2D),
+ *        sqrt(G_c / ((3G + (3/4)^4 (K - 5G/3)) d)) (3D). */
+static int from_energy(ps_material *mat, const char *model, int dim, ps_ctx *ctx) {
+  double Gc = mat->fracture_energy, K = mat->K, G = mat->G, d = mat->horizon;
+  int bond = model[0] == 'b';
+  if (mat->fracture == PS_FRACTURE_ENERGY) {
+    if (!bond)
+      return ps_error(ctx, PS_ERR_INPUT,
+                      "material.fracture.criterion energy is for the bond model: the %s "
+                      "model breaks by critical stretch", model);
+    mat->critical_micropotential = dim == 2 ? 1.5 * Gc / pow(d, 3) : 4.0 * Gc / (M_PI * pow(d, 4));
+    return PS_OK;
+  }
+  double s2;
+  if (bond && mat->micromodulus == PS_MICRO_CONSTANT)
+    s2 = dim == 2 ? M_PI * Gc / (3.0 * K * d) : 5.0 * Gc / (9.0 * K * d);
+  else if (bond)
+    s2 = dim == 2 ? 5.0 * M_PI * Gc / (12.0 * K * d) : 2.0 * Gc / (3.0 * K * d);
+  else if (dim == 2)
+    s2 = Gc / ((6.0 * G / M_PI + 16.0 / (9.0 * M_PI * M_PI) * (K - 2.0 * G)) * d);
+  else
+    s2 = Gc / ((3.0 * G + pow(0.75, 4) * (K - 5.0 * G / 3.0)) * d);
+  mat->critical_stretch = sqrt(s2);
+  return PS_OK;
+}
+
+int ps_model_fracture_prepare(ps_model *m, const double *cxi, ps_ctx *ctx) {
+  ps_material *mat = &m->mat;
+  const ps_network *net = m->net;
+  if (mat->fracture == PS_FRACTURE_NONE) return PS_OK;
+  if (mat->fracture_energy > 0) PS_CHECK(from_energy(mat, m->type->name, net->dim, ctx));
+  double s0 = mat->critical_stretch, wc = mat->critical_micropotential;
+  if (mat->fracture == PS_FRACTURE_STRETCH ? !(s0 > 0 && isfinite(s0))
+                                           : !(wc > 0 && isfinite(wc)))
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "material.fracture: the critical %s must be a finite number > 0 "
+                    "(got %g)",
+                    mat->fracture == PS_FRACTURE_STRETCH ? "stretch" : "micropotential",
+                    mat->fracture == PS_FRACTURE_STRETCH ? s0 : wc);
+  m->arm_s0 = ps_calloc((size_t)net->n_arm, sizeof *m->arm_s0, ctx);
+  if (!m->arm_s0) return PS_ERR_NOMEM;
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    if (mat->fracture == PS_FRACTURE_STRETCH)
+      m->arm_s0[i] = s0;
+    else /* 1/2 cxi s^2 xi = w_c */
+      m->arm_s0[i] = cxi[i] > 0 ? sqrt(2.0 * wc / (cxi[i] * net->r0[i])) : INFINITY;
+    if (m->arm_k && !(m->arm_k[i] > 0)) m->arm_s0[i] = INFINITY; /* carries nothing */
+  }
+  return PS_OK;
+}

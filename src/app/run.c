@@ -99,7 +99,9 @@ static int record_increment(run_state *r, const ps_path *p, ps_ctx *ctx) {
                         .crack_tip = inc->tip,
                         .wall = ps_wtime() - r->t0,
                         .reaction = inc->sigma * r->pb->measure_length,
-                        .displacement = inc->lambda * measured_displacement(r->pb)};
+                        .displacement = inc->lambda * measured_displacement(r->pb),
+                        .broken_energy = ps_solver_arm_state(r->s)->broken_energy,
+                        .stored_energy = ps_solver_stored_energy(r->s)};
   ps_report_history_row(&r->hist, &row);
   const ps_output_opts *out = &r->pb->cs.output;
   if (r->out_dir && out->fields && out->vtk_every > 0 && step % out->vtk_every == 0) {

@@ -75,7 +75,8 @@ int ps_case_on_solver(ps_loader *L, void *arg, const char *key, const char *name
 
 const char *const ps_case_path_keys[] = {
     "load_step", "load_step_after_break", "max_load", "max_increments", "min_step",
-    "stop_crack_tip", "stop_tip_advance", "stop_load_drop", "max_break_rounds", NULL};
+    "stop_crack_tip", "stop_tip_advance", "stop_load_drop", "max_break_rounds",
+    "max_arms_per_round", NULL};
 
 int ps_case_on_path(ps_loader *L, void *arg, const char *key, const char *name,
                     yaml_node_t *v) {
@@ -92,6 +93,8 @@ int ps_case_on_path(ps_loader *L, void *arg, const char *key, const char *name,
   if (IS("stop_tip_advance")) return ps_yaml_pos(L, v, name, &o->stop_tip_advance);
   if (IS("stop_load_drop"))
     return ps_yaml_real(L, v, name, 0.0, 0, 1.0, 1, &o->stop_load_drop);
+  if (IS("max_arms_per_round"))
+    return ps_yaml_int(L, v, name, 0, INT_MAX, &o->max_arms_per_round);
   return ps_yaml_int(L, v, name, 1, INT_MAX, &o->max_break_rounds);
 }
 

@@ -112,6 +112,10 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
            po->load_step_after_break, po->max_load, po->max_increments, po->min_step,
            po->stop_crack_tip, po->stop_load_drop, po->max_break_rounds);
   fnv(&h, b);
+  if (po->max_arms_per_round > 0) { /* newer key: only when set */
+    snprintf(b, sizeof b, "arms per round %d", po->max_arms_per_round);
+    fnv(&h, b);
+  }
   ps_solver_opts so_default;
   ps_solver_opts_default(&so_default);
   if (so->max_small_steps != so_default.max_small_steps) { /* newer keys: only

@@ -88,6 +88,12 @@ typedef struct ps_history_row {
   double displacement;        /* the measured particles' prescribed
                                  displacement along their direction, m (NAN:
                                  none prescribed) */
+  double broken_energy;       /* J (per m of thickness in 2D): the stored
+                                 energy of the broken arms when they broke
+                                 (NAN: the model's energy does not split
+                                 into arms) */
+  double stored_energy;       /* J (per m of thickness in 2D): the energy
+                                 stored in the arms (ps_solver_stored_energy) */
 } ps_history_row;
 
 /* history.csv, written a row at a time (flushed, so tail -f follows). */

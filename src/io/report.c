@@ -174,6 +174,8 @@ static const value_spec history_columns[] = {
     {"wall_s", V_F, 4, H(wall), 0},
     {"reaction", V_G, 10, H(reaction), 0},
     {"displacement_m", V_G, 10, H(displacement), 0},
+    {"broken_energy", V_G, 10, H(broken_energy), 0},
+    {"stored_energy", V_G, 10, H(stored_energy), 0},
 };
 #define N_HISTORY_COLUMNS (sizeof history_columns / sizeof history_columns[0])
 #undef H

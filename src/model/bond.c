@@ -118,9 +118,16 @@ static int bond_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
   return PS_OK;
 }
 
+/* 1/2 k dl^2 at the stretch of the last evaluate */
+static double bond_arm_energy(const ps_model *m, const ps_arm_state *st, ps_int i) {
+  double dl = st->stretch[i] * m->net->r0[i];
+  return 0.5 * m->arm_k[i] * dl * dl;
+}
+
 static const ps_model_type bond_type = {.name = "bond",
                                         .evaluate = bond_evaluate,
                                         .break_excess = ps_model_stretch_excess,
+                                        .arm_energy = bond_arm_energy,
                                         .prepare = bond_prepare,
                                         .family_coupling = 0,
                                         .lattice = 1,

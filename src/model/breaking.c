@@ -24,6 +24,12 @@ static int by_excess_desc(const void *u, const void *v) {
   return x > y ? -1 : x < y;
 }
 
+/* arm i breaks: its energy goes into st->broken_energy */
+static void break_one(const ps_model *m, ps_arm_state *st, ps_int i) {
+  st->broken_energy += m->type->arm_energy ? m->type->arm_energy(m, st, i) : NAN;
+  st->broken[i] = 1;
+}
+
 int ps_model_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
                         ps_int *n_broken, ps_ctx *ctx) {
   const ps_network *net = m->net;
@@ -35,7 +41,7 @@ int ps_model_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
   if (nc == 0) return PS_OK;
   if (max_count <= 0 || nc <= max_count) {
     for (ps_int i = 0; i < net->n_arm; i++)
-      if (!st->broken[i] && excess(m, st, i) > 0) st->broken[i] = 1;
+      if (!st->broken[i] && excess(m, st, i) > 0) break_one(m, st, i);
     *n_broken = nc;
     return PS_OK;
   }
@@ -51,7 +57,7 @@ int ps_model_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
     }
   }
   qsort(c, (size_t)nc, sizeof *c, by_excess_desc);
-  for (ps_int j = 0; j < max_count; j++) st->broken[c[j].arm] = 1;
+  for (ps_int j = 0; j < max_count; j++) break_one(m, st, c[j].arm);
   free(c);
   *n_broken = max_count;
   return PS_OK;

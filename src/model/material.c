@@ -95,6 +95,7 @@ void ps_arm_state_copy(ps_arm_state *dst, const ps_arm_state *st) {
   memcpy(dst->broken, st->broken, n);
   memcpy(dst->yielding, st->yielding, n);
   memcpy(dst->stretch, st->stretch, n * sizeof *st->stretch);
+  dst->broken_energy = st->broken_energy;
 }
 
 int ps_arm_tangent_alloc(ps_arm_tangent *t, const ps_network *net, ps_ctx *ctx) {

@@ -107,6 +107,10 @@ typedef struct ps_arm_state {
   double *stretch;        /* [n_arm] dl / r0 of the last evaluate, written
                              by the models whose criterion reads it (bond,
                              state) */
+  double broken_energy;   /* the stored energy of the arms when they broke,
+                             summed, J (per unit thickness in 2D); NAN when
+                             the model's energy does not split into arms
+                             (type->arm_energy NULL) */
   unsigned char *yielding;/* 1: on the yield surface in the last evaluate */
 } ps_arm_state;
 
@@ -148,6 +152,11 @@ typedef struct ps_model_type {
    * delta, Eq. 118; bond, state: s / s0 - 1). Read only when
    * ps_material_breaks; 0 or less for a broken arm. */
   double (*break_excess)(const ps_model *m, const ps_arm_state *st, ps_int i);
+  /* Optional (NULL: the energy does not split into arms): the stored
+   * energy of intact arm i at the last evaluate, J (per unit thickness in
+   * 2D), summed into st->broken_energy when it breaks (bond: 1/2 k dl^2,
+   * the micropotential times V_a V_b v). */
+  double (*arm_energy)(const ps_model *m, const ps_arm_state *st, ps_int i);
   /* Optional (NULL: nothing to do): check the parameters against the
    * network, precompute per-arm data into m->arm_k and allocate m->work.
    * Returns PS_OK, PS_ERR_INPUT (message names the parameter),
@@ -219,8 +228,8 @@ int ps_material_breaks(const ps_material *mat);
  * criterion (type->break_excess > 0) as broken and set *n_broken to how
  * many broke now; nothing when !ps_material_breaks. With max_count > 0,
  * only the max_count arms past it by the most (a gentler step when
- * re-equilibration after breaking them all fails). One mechanism for
- * every model (model/breaking.c). Returns PS_OK or PS_ERR_NOMEM (then no
+ * re-equilibration after breaking them all fails); adds their energy to
+ * st->broken_energy. One mechanism for every model (model/breaking.c). Returns PS_OK or PS_ERR_NOMEM (then no
  * arm is marked and *n_broken = 0). */
 int ps_model_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
                         ps_int *n_broken, ps_ctx *ctx);

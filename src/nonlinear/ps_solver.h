@@ -111,6 +111,11 @@ int ps_solver_break_round(ps_solver *s, ps_int max_count, ps_int *n_broken,
  * belong to a rejected trial. */
 int ps_solver_evaluate(ps_solver *s, ps_ctx *ctx);
 
+/* The stored (elastic and plastic-incremental) energy Psi of the last
+ * evaluation, J (per unit thickness in 2D): the merit energy plus the
+ * load's potential, Psi = E + lambda fext . u. */
+double ps_solver_stored_energy(const ps_solver *s);
+
 /* Intact arms on the yield surface in the current state. */
 ps_int ps_solver_count_yielding(const ps_solver *s);
 

@@ -256,6 +256,13 @@ int ps_solver_evaluate(ps_solver *s, ps_ctx *ctx) {
   return ps_nl_eval(s, s->u, s->f, &s->energy, 0, ctx);
 }
 
+double ps_solver_stored_energy(const ps_solver *s) {
+  double psi = s->energy;
+  if (s->pd->fext)
+    for (ps_int j = 0; j < s->pd->sys.n_dof; j++) psi += s->pd->lambda * s->pd->fext[j] * s->u[j];
+  return psi;
+}
+
 ps_int ps_solver_count_yielding(const ps_solver *s) { return ps_pd_count_yielding(s->pd); }
 
 void ps_solver_get_stats(const ps_solver *s, ps_solver_stats *st) {

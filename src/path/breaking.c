@@ -22,7 +22,7 @@ double ps_path_crack_tip(const ps_path *p) {
  * fewer arms, the worst first, halving down to one: only if one arm cannot
  * be broken and re-equilibrated does the round stay failed. */
 static int round_with_retries(ps_path *p, ps_int *n_broken, ps_ctx *ctx) {
-  int settle = ps_solver_break_round(p->s, 0, n_broken, ctx);
+  int settle = ps_solver_break_round(p->s, p->o.max_arms_per_round, n_broken, ctx);
   while (settle == PS_DIVERGED && *n_broken > 1) {
     ps_int limit = *n_broken / 2;
     ps_solver_restore(p->s);

@@ -26,6 +26,10 @@ typedef struct ps_path_opts {
                                    peak (default 0.5) */
   int max_break_rounds;         /* breaking rounds per increment before the
                                    path fails (PS_ERR_SOLVER; default 500) */
+  int max_arms_per_round;       /* a breaking round breaks at most this many
+                                   arms, those past the criterion by the
+                                   most, before re-equilibrating; 0: all of
+                                   them (default) */
 } ps_path_opts;
 
 /* The defaults above, the only place they are written down (the case

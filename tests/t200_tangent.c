@@ -2,7 +2,12 @@
  * Jacobian of the internal forces, and is symmetric, on a small irregular
  * variable-size network with yielded arms, arms in compression and broken
  * arms (2D plane strain, 2D plane stress and 3D), for the fibre model and
- * (elastic, broken and compressed arms) the bond and state models. Also: T = dPsi/dl (the
+ * (elastic, broken and compressed arms) the bond and state models, these
+ * also on a point cloud as app/setup.c sets one up (the horizon as a
+ * length, arms within ps_model_cloud_reach of uniform sizes, partial
+ * volumes from each particle's cell V^(1/N), which differ between the two
+ * ends of an arm, and arms broken by a critical stretch on top of the
+ * random ones). Also: T = dPsi/dl (the
  * energy is the potential of the forces), zero force at rest and under a
  * rigid rotation. Tolerance 1e-6 on the relative Frobenius error: central
  * differences with step 1e-7 of the spacing have truncation error ~1e-10
@@ -35,8 +40,13 @@ typedef struct {
   ps_system sys;
 } fixture;
 
-static void setup(fixture *F, const ps_model_type *type, int rule, int dim, int plane,
-                  double nu, ps_ctx *ctx) {
+/* cloud (horizon models only): the set-up of a point cloud (app/setup.c),
+ * with the horizon as a length: every h the mean spacing, arms within
+ * ps_model_cloud_reach, cell sizes of the partial volumes from the
+ * volumes (mat.spacing = 0; they grow along x, so the two ends of an arm
+ * see different partial volumes), and breaking by a critical stretch. */
+static void setup_cloud(fixture *F, const ps_model_type *type, int rule, int dim, int plane,
+                        double nu, int cloud, ps_ctx *ctx) {
   memset(F, 0, sizeof *F);
   ps_int counts[3] = {7, 6, dim == 3 ? 5 : 1};
   if (ps_geom_box(&F->P, dim, counts, 1.0e-3, "square", 0.3, 7, ctx)) abort();
@@ -47,9 +57,6 @@ static void setup(fixture *F, const ps_model_type *type, int rule, int dim, int 
     F->P.h[a] *= s;
     F->P.volume[a] *= pow(s, dim);
   }
-  ps_kernel K;
-  if (ps_kernel_init(&K, dim, 2, dim == 3 ? 3.0 : 3.5, ctx)) abort();
-  if (ps_network_build(&F->net, &F->P, &K, NULL, 0, ctx)) abort();
   ps_material mat = {.E = 2.1e11, .nu = nu, .plane = plane,
                      .yield_strain = 2.0e-3, .plastic = 1, .delta = 1.0,
                      .rho = 7800, .yield_rule = rule};
@@ -59,12 +66,31 @@ static void setup(fixture *F, const ps_model_type *type, int rule, int dim, int 
     mat.spacing = 1.0e-3;
     mat.surface_correction = 1;
   }
+  double alpha = dim == 3 ? 3.0 : 3.5;
+  if (cloud) { /* the horizon in m on a cloud of graded cells */
+    mat.horizon = dim == 3 ? 2.6e-3 : 3.0e-3;
+    mat.spacing = 0.0;
+    mat.fracture = PS_FRACTURE_STRETCH;
+    mat.critical_stretch = 2.0e-3;
+    double hm = ps_mean_spacing(&F->P), dx_max = 0;
+    for (ps_int a = 0; a < F->P.n; a++) dx_max = fmax(dx_max, ps_cell_size(&mat, &F->P, a));
+    for (ps_int a = 0; a < F->P.n; a++) F->P.h[a] = hm;
+    alpha = ps_model_cloud_reach(type, &mat, dx_max) / hm;
+  }
+  ps_kernel K;
+  if (ps_kernel_init(&K, dim, 2, alpha, ctx)) abort();
+  if (ps_network_build(&F->net, &F->P, &K, NULL, 0, ctx)) abort();
   if (ps_material_finish(&mat, dim, ctx)) abort();
   if (ps_model_create(&F->model, type, &F->P, &F->net, &mat, ctx)) abort();
   if (ps_arm_state_alloc(&F->st, F->net.n_arm, ctx)) abort();
   unsigned char *fixed = calloc((size_t)(dim * F->P.n), 1);
   if (ps_system_create(&F->sys, &F->net, fixed, ctx)) abort();
   free(fixed);
+}
+
+static void setup(fixture *F, const ps_model_type *type, int rule, int dim, int plane,
+                  double nu, ps_ctx *ctx) {
+  setup_cloud(F, type, rule, dim, plane, nu, 0, ctx);
 }
 
 static void teardown(fixture *F) {
@@ -195,12 +221,12 @@ static void check_matrix_free(fixture *F, double *u, const char *label, ps_ctx *
   free(yf_ref);
 }
 
-static void run_case(const ps_model_type *type, int rule, int dim, int plane, double nu,
-                     const char *label) {
+static void run_case_cloud(const ps_model_type *type, int rule, int dim, int plane, double nu,
+                           int cloud, const char *label) {
   ps_ctx ctx;
   ps_ctx_init(&ctx);
   fixture F;
-  setup(&F, type, rule, dim, plane, nu, &ctx);
+  setup_cloud(&F, type, rule, dim, plane, nu, cloud, &ctx);
   ps_int nd = F.sys.n_dof;
   double *u = calloc((size_t)nd, sizeof *u), *f = calloc((size_t)nd, sizeof *f);
   double *fp = calloc((size_t)nd, sizeof *fp), *fm = calloc((size_t)nd, sizeof *fm);
@@ -241,6 +267,18 @@ static void run_case(const ps_model_type *type, int rule, int dim, int plane, do
   }
   gsl_rng_free(rng);
   ps_system_eval(&F.sys, &F.model, &F.st, F.P.x, u, f, &E0, 1, &ctx);
+  ps_int n_crit = 0;
+  if (cloud) { /* break the arms past the critical stretch, then evaluate */
+    if (ps_model_break_arms(&F.model, &F.st, 0, &n_crit, &ctx)) abort();
+    ps_system_eval(&F.sys, &F.model, &F.st, F.P.x, u, f, &E0, 1, &ctx);
+    ps_int n_side = 0;
+    for (ps_int i = 0; F.model.arm_side && i < F.net.n_arm; i++)
+      n_side += F.model.arm_side[i] != F.model.arm_side[F.net.n_arm + i];
+    ps_check(n_crit > 0 && (type != ps_model_state || n_side > 0),
+             "%s: %lld arms broken by the critical stretch; %lld arms whose ends see "
+             "different partial volumes (state)",
+             label, (long long)n_crit, (long long)n_side);
+  }
   ps_int ny = 0, nc = 0, nb = 0, nearkink = 0;
   for (ps_int i = 0; i < F.net.n_arm; i++) {
     if (F.st.broken[i]) {
@@ -351,6 +389,11 @@ static void run_case(const ps_model_type *type, int rule, int dim, int plane, do
   teardown(&F);
 }
 
+static void run_case(const ps_model_type *type, int rule, int dim, int plane, double nu,
+                     const char *label) {
+  run_case_cloud(type, rule, dim, plane, nu, 0, label);
+}
+
 /* An arm crushed to (nearly) zero length, as at a crack tip where a
  * perfectly plastic arm flows in compression until its particles meet:
  * the rounded length (PS_ARM_LENGTH_ROUNDING) keeps forces finite and the
@@ -441,6 +484,14 @@ int main(void) {
   run_case(ps_model_state, T, 2, PS_PLANE_STRAIN, 0.3, "state, 2D plane strain nu=0.3");
   run_case(ps_model_state, T, 2, PS_PLANE_STRESS, 0.12, "state, 2D plane stress nu=0.12");
   run_case(ps_model_state, T, 3, PS_SOLID_3D, 0.27, "state, 3D nu=0.27");
+  /* the horizon models on a point cloud (the horizon in m, cells from the
+   * volumes, arms broken by the critical stretch) */
+  run_case_cloud(ps_model_bond, T, 2, PS_PLANE_STRESS, 1.0 / 3.0, 1,
+                 "bond on a cloud, 2D plane stress, fracture");
+  run_case_cloud(ps_model_bond, T, 3, PS_SOLID_3D, 0.25, 1, "bond on a cloud, 3D, fracture");
+  run_case_cloud(ps_model_state, T, 2, PS_PLANE_STRAIN, 0.25, 1,
+                 "state on a cloud, 2D plane strain nu=0.25, fracture");
+  run_case_cloud(ps_model_state, T, 3, PS_SOLID_3D, 0.27, 1, "state on a cloud, 3D, fracture");
   crushed_arm();
   return ps_check_summary();
 }

@@ -18,7 +18,9 @@
  *    st->broken_energy is the sum of 1/2 k dl^2 of the broken arms (bond,
  *    to 1e-12); a broken state-model arm leaves the dilatation (theta of
  *    its particles equals the sum over the intact arms, 1e-12).
- * 3. Refusals: a critical stretch <= 0 and the energy criterion for the
+ * 3. At nu = 1/3 in plane stress the state model stores the PMB bond
+ *    model's energy (1e-10: K - 2G is zero only to round-off).
+ * 4. Refusals: a critical stretch <= 0 and the energy criterion for the
  *    state model are errors naming the parameter. */
 #include <gsl/gsl_integration.h>
 #include <math.h>
@@ -270,6 +272,40 @@ static void mechanism(const ps_model_type *type) {
   unmake(&L);
 }
 
+/* At nu = 1/3 in plane stress K = 2G, the state model's dilatation term
+ * vanishes and its pair term 4 b delta/xi V_a V_b e is the PMB force with
+ * c = 4 b delta = 24 G/(pi delta^3) = 9 E/(pi delta^3): the two models
+ * store the same energy (the state model's extra arms beyond the horizon
+ * carry nothing with full volumes). */
+static void state_is_pmb(void) {
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  ps_material mat = {.E = 72e9, .yield_strain = 2e-3, .nu = 1.0 / 3.0, .rho = 1.0,
+                     .plane = PS_PLANE_STRESS, .micromodulus = PS_MICRO_CONSTANT,
+                     .full_volumes = 1};
+  lattice B, S;
+  if (make(&B, ps_model_bond, 2, 9, mat, &ctx) || make(&S, ps_model_state, 2, 9, mat, &ctx))
+    die(&ctx);
+  double e[2];
+  lattice *L[2] = {&B, &S};
+  for (int k = 0; k < 2; k++) {
+    ps_int na = L[k]->net.n_arm;
+    ps_arm_state st;
+    if (ps_arm_state_alloc(&st, na, &ctx)) die(&ctx);
+    double *dl = calloc((size_t)na, sizeof *dl), *T = calloc((size_t)na, sizeof *T);
+    apply_strain(L[k], 2e-3, dl);
+    L[k]->model.type->evaluate(&L[k]->model, dl, &st, T, &e[k], NULL, &ctx);
+    free(dl);
+    free(T);
+    ps_arm_state_free(&st);
+  }
+  ps_check(B.net.n_arm < S.net.n_arm, "state has the arms beyond the horizon (%lld < %lld)",
+           (long long)B.net.n_arm, (long long)S.net.n_arm);
+  ps_check_rel(e[1], e[0], 1e-10, "nu = 1/3 plane stress: state energy = PMB energy");
+  unmake(&B);
+  unmake(&S);
+}
+
 static void refusals(void) {
   ps_ctx ctx;
   ps_ctx_init(&ctx);
@@ -298,6 +334,7 @@ int main(void) {
       for (int energy = 0; energy <= 1; energy++) calibration(dim, conical, energy);
   mechanism(ps_model_bond);
   mechanism(ps_model_state);
+  state_is_pmb();
   refusals();
   for (int k = 0; k < 3; k++) gsl_integration_workspace_free(ws[k]);
   return ps_check_summary();

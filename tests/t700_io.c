@@ -259,8 +259,6 @@ static void test_bad_cases(void) {
            (const char *const[]){"geometry.dim must be 2", "disk", NULL});
   bad_case("bad_counts.yaml", PS_ERR_INPUT, 4,
            (const char *const[]){"geometry.counts", "geometry.dim is 3", NULL});
-  bad_case("bad_bond_disk.yaml", PS_ERR_INPUT, 2,
-           (const char *const[]){"material.model bond needs geometry.type box", NULL});
   bad_case("bad_bc_traction.yaml", PS_ERR_INPUT, 5,
            (const char *const[]){"entry 1", "traction and a prescribed displacement", NULL});
   bad_case("bad_hole.yaml", PS_ERR_INPUT, 2,

@@ -118,6 +118,32 @@ fi
 sed 's/max_memory_gib: 4/max_memory_gib: 0/' "$D/max_memory.yaml" > "$T/memory0.yaml"
 expect 1 "memory0.yaml:3: solver.max_memory_gib must be in (0, " -- info "$T/memory0.yaml"
 
+# material.fracture and the bond/state keys (issue 18): each refused with
+# the file, the line and the key; the PMB notched plate is the base case
+N="$srcdir/data/cases/notched-plate-pmb.yaml"
+sed 's/critical_stretch: 1.0e-3/critical_stretch: -1.0e-3/' "$N" > "$T/s0_negative.yaml"
+expect 1 "s0_negative.yaml:30: material.fracture.critical_stretch must be > 0 (got -1.0e-3)" -- info "$T/s0_negative.yaml"
+sed 's/critical_stretch: 1.0e-3/critical_stretch: 0/' "$N" > "$T/s0_zero.yaml"
+expect 1 "s0_zero.yaml:30: material.fracture.critical_stretch must be > 0 (got 0)" -- info "$T/s0_zero.yaml"
+sed 's/critical_stretch: 1.0e-3/critical_stretch: 20/' "$N" > "$T/s0_big.yaml"
+expect 1 "s0_big.yaml:30: material.fracture.critical_stretch must be in \\[1e-09, 10\\]" -- info "$T/s0_big.yaml"
+sed 's/{critical_stretch: 1.0e-3}/{critical_stretch: 1.0e-3, fracture_energy: 5}/' "$N" > "$T/two_criteria.yaml"
+expect 1 "two_criteria.yaml:30: material.fracture needs exactly one of critical_stretch, fracture_energy and critical_micropotential (got 2)" -- info "$T/two_criteria.yaml"
+sed 's/{critical_stretch: 1.0e-3}/{critical_stretch: 1.0e-3, criterion: energy}/' "$N" > "$T/criterion_s0.yaml"
+expect 1 "criterion_s0.yaml:30: material.fracture.criterion goes with fracture_energy" -- info "$T/criterion_s0.yaml"
+sed 's/{critical_stretch: 1.0e-3}/{fracture_energy: 5, criterion: brittle}/' "$N" > "$T/criterion_bad.yaml"
+expect 1 "criterion_bad.yaml:30: material.fracture.criterion must be one of" -- info "$T/criterion_bad.yaml"
+sed -e 's/  model: bond/  model: fibre/' -e '/^  micromodulus/d' -e '/^  partial_volumes/d' -e '/^  surface_correction/d' "$N" > "$T/fibre_fracture.yaml"
+expect 1 "fibre_fracture.yaml:27: material.fracture is for the bond and state models: the fibre model breaks arms by plastic elongation, material.delta" -- info "$T/fibre_fracture.yaml"
+sed -e 's/  model: bond/  model: state/' "$N" > "$T/state_micro.yaml"
+expect 1 "state_micro.yaml:27: material.micromodulus is for the bond model (material.model is state (line 22))" -- info "$T/state_micro.yaml"
+sed -e 's/  model: bond/  model: state/' -e '/^  micromodulus/d' -e 's/{critical_stretch: 1.0e-3}/{fracture_energy: 5, criterion: energy}/' "$N" > "$T/state_energy.yaml"
+expect 1 "state_energy.yaml:29: material.fracture: the energy criterion is for the bond model" -- info "$T/state_energy.yaml"
+sed 's/  fracture: {critical_stretch: 1.0e-3}/  delta: 1.0e-6/' "$N" > "$T/bond_delta.yaml"
+expect 1 "bond_delta.yaml:30: material.delta is the fibre model's breaking limit (Eq. 118): the bond model breaks arms by material.fracture" -- info "$T/bond_delta.yaml"
+sed 's/  micromodulus: constant/  micromodulus: flat/' "$N" > "$T/micro_bad.yaml"
+expect 1 "micro_bad.yaml:27: material.micromodulus must be one of" -- info "$T/micro_bad.yaml"
+
 rm -rf "$T" "$T.partial"
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

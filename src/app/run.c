@@ -222,13 +222,30 @@ static void describe_run(const run_state *r, double delta) {
   res->t_network = pb->t_network;
 }
 
+/* the breaking criterion in words, for the first progress line */
+static void describe_breaking(const ps_material *m, double delta, char *buf, size_t len) {
+  if (m->fracture != PS_FRACTURE_NONE && m->fracture_energy > 0)
+    snprintf(buf, len, "G_c %.4g J/m^2 (%s criterion)", m->fracture_energy,
+             m->fracture == PS_FRACTURE_STRETCH ? "stretch" : "energy");
+  else if (m->fracture == PS_FRACTURE_STRETCH)
+    snprintf(buf, len, "critical stretch %.4g", m->critical_stretch);
+  else if (m->fracture == PS_FRACTURE_ENERGY)
+    snprintf(buf, len, "critical micropotential %.4g", m->critical_micropotential);
+  else if (isfinite(delta))
+    snprintf(buf, len, "delta %.4g m", delta);
+  else
+    snprintf(buf, len, "no breaking");
+}
+
 static void log_start(const run_state *r, double delta, const ps_ctx *ctx) {
   const ps_problem *pb = r->pb;
   ps_solver_stats st;
   ps_solver_get_stats(r->s, &st);
-  ps_log(ctx, 1, "# %s: %lld particles, %lld arms, %lld free dofs, delta %s%.4g m, %d thread%s\n",
+  char breaking[96];
+  describe_breaking(&r->mat, delta, breaking, sizeof breaking);
+  ps_log(ctx, 1, "# %s: %lld particles, %lld arms, %lld free dofs, %s, %d thread%s\n",
          pb->cs.name, (long long)pb->P.n, (long long)pb->net.n_arm, (long long)st.n_free,
-         isfinite(delta) ? "" : "(no breaking) ", delta, st.threads, st.threads > 1 ? "s" : "");
+         breaking, st.threads, st.threads > 1 ? "s" : "");
   ps_log(ctx, 1, "# %4s %9s %10s %6s %9s %8s %7s %6s\n", "step", "lambda", "sig/sig_y",
          "newton", "residual", "yielding", "broken", "tip/c");
 }

@@ -208,6 +208,7 @@ static int estimate_counts(const ps_case *cs, int dim, int lattice, double reach
                            int purpose, ps_ctx *ctx) {
   double n = 1, nb;
   if (purpose == PS_ESTIMATE_NONE || cs->geometry == PS_GEOM_CLOUD) return PS_OK;
+  if (lattice && !(reach > 0)) return PS_OK; /* not known before the particles */
   if (cs->geometry == PS_GEOM_DISK)
     n = (double)cs->disk.n_eta * cs->disk.n_xi * cs->disk.per_zone * cs->disk.per_zone;
   else
@@ -257,15 +258,102 @@ static int estimate_sampled(ps_problem *pb, const ps_case *cs, double alpha,
                            what, ctx);
 }
 
-/* The material, the load factor's delta and the boundary conditions. */
+/* The horizon models (bond, state; type->lattice): their horizon delta,
+ * the cell size of their partial volumes (ps_material.spacing), every
+ * particle's size h and the kernel's alpha, so that the network's rule r
+ * < alpha max(h_a, h_b) = alpha h is the model's reach:
+ *  - a box lattice of spacing d: h = d, delta = m d with m =
+ *    material.horizon_factor (or material.horizon / d when the horizon is
+ *    given as a length: then delta is that length), alpha =
+ *    ps_model_lattice_reach(m) spacings, cell size d: the arms and
+ *    constants of the lattice models as they were before clouds;
+ *  - a point cloud or the disk: h = hm, the mean spacing (sum V / n)^(1/N)
+ *    (ps_mean_spacing: the side of the mean particle's square or cube),
+ *    delta = material.horizon, or material.horizon_factor hm, alpha =
+ *    ps_model_cloud_reach / hm (the reach in metres: with partial volumes
+ *    it covers the largest cell, V^(1/N)), cell size 0: each particle's
+ *    own, V^(1/N) (ps_cell_size).
+ * Sets pb->P.h, *alpha, *delta, *dx. */
+static int horizon_setup(ps_problem *pb, const ps_case *cs, const ps_model_type *type,
+                         double *alpha, double *delta, double *dx, ps_ctx *ctx) {
+  ps_particles *P = &pb->P;
+  double h;
+  if (cs->geometry == PS_GEOM_BOX) {
+    h = *dx = cs->spacing;
+    if (cs->mat.horizon > 0) {
+      *delta = cs->mat.horizon;
+      *alpha = ps_model_lattice_reach(type, *delta / cs->spacing);
+    } else {
+      *delta = cs->horizon_factor * cs->spacing;
+      *alpha = ps_model_lattice_reach(type, cs->horizon_factor);
+    }
+  } else {
+    h = ps_mean_spacing(P);
+    *delta = cs->mat.horizon > 0 ? cs->mat.horizon : cs->horizon_factor * h;
+    *dx = 0.0;
+    double dx_max = 0.0;
+    ps_material m = cs->mat;
+    m.horizon = *delta;
+    m.spacing = 0.0;
+    for (ps_int a = 0; a < P->n; a++) dx_max = fmax(dx_max, ps_cell_size(&m, P, a));
+    *alpha = ps_model_cloud_reach(type, &m, dx_max) / h;
+  }
+  if (!(*delta > 0) || !isfinite(*delta) || !(h > 0) || !isfinite(*alpha))
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "%s: material.model %s: the horizon %g m (mean spacing %g m) is not a "
+                    "finite length > 0", cs->file, cs->model, *delta, h);
+  for (ps_int a = 0; a < P->n; a++) P->h[a] = h;
+  return PS_OK;
+}
+
+/* A horizon model needs every particle held: at least N - (its prescribed
+ * components) neighbours within the horizon delta (1 + 1e-9) (arms that
+ * carry force in every model), else its displacement is not determined
+ * (a singular tangent). The first particle short of them is named, with
+ * its cloud file and line, before the network is built (cracks aside:
+ * they may cut arms further). */
+static int horizon_neighbours_check(const ps_problem *pb, const ps_case *cs, ps_ctx *ctx) {
+  const ps_particles *P = &pb->P;
+  int N = P->dim;
+  double delta = pb->mat.horizon;
+  ps_kdtree *tree = NULL;
+  PS_CHECK(ps_kdtree_build(&tree, P->x, P->n, N, ctx));
+  ps_int bad = -1, found = 0;
+  int need = 0;
+  for (ps_int a = 0; a < P->n && bad < 0; a++) {
+    need = N;
+    for (int k = 0; k < N; k++) need -= pb->fixed[a * N + k] != 0;
+    if (need == 0) continue;
+    found = ps_kdtree_count(tree, &P->x[a * N], delta * (1 + 1e-9), need + 1) - 1;
+    if (found < need) bad = a;
+  }
+  ps_kdtree_free(&tree);
+  if (bad < 0) return PS_OK;
+  char w[1200], at[200];
+  return ps_error(ctx, PS_ERR_INPUT,
+                  "%s: %s at %s has %lld neighbour%s within the horizon delta = %g m (%s), "
+                  "fewer than %d%s: its displacement is not determined. The particles are "
+                  "too sparse for the horizon: raise it",
+                  cs->file, ps_particle_where(P, bad, w, sizeof w),
+                  ps_particle_at(P, bad, at, sizeof at), (long long)found,
+                  found == 1 ? "" : "s", delta,
+                  cs->mat.horizon > 0 ? "material.horizon" : "material.horizon_factor", need,
+                  need < N ? " (its other components are prescribed)" : "");
+}
+
+/* The material, the load factor's delta and the boundary conditions;
+ * the horizon models' horizon delta and cell size dx (horizon_setup). */
 static int setup_loading(ps_problem *pb, const ps_case *cs, int dim, int lattice,
-                         ps_ctx *ctx) {
+                         double delta, double dx, ps_ctx *ctx) {
   pb->mat = cs->mat;
   if (lattice) {
-    pb->mat.horizon = cs->horizon_factor * cs->spacing;
-    pb->mat.spacing = cs->spacing;
+    pb->mat.horizon = delta;
+    pb->mat.spacing = dx;
   }
   if (cs->delta_over_c > 0 && pb->c > 0) pb->mat.delta = cs->delta_over_c * pb->c;
+  /* the horizon models break by material.fracture, never by delta (Eq.
+   * 118: the fibre model's; a disk sets it from delta_over_c) */
+  if (lattice) pb->mat.delta = INFINITY;
   if (!(pb->mat.delta > 0)) pb->mat.delta = INFINITY;
   if (ps_material_finish(&pb->mat, dim, ctx) < 0) return in_case(ctx, PS_ERR_INPUT, cs->file);
   ps_int nd = (ps_int)dim * pb->P.n;
@@ -292,13 +380,20 @@ int ps_problem_setup_sized(ps_problem *pb, const ps_case *cs, int purpose, int j
   double t0 = ps_wtime();
   memset(pb, 0, sizeof *pb);
   pb->cs = *cs;
-  /* the lattice models (bond, state): arms within the horizon delta = m
-   * spacing (and the model's reach beyond it) */
+  /* the horizon models (bond, state): arms within the horizon delta (and
+   * the model's reach beyond it), horizon_setup */
   const ps_model_type *type = ps_model_type_find(cs->model);
   if (!type)
     return ps_error(ctx, PS_ERR_INPUT, "%s: unknown material.model %s", cs->file, cs->model);
   int lattice = type->lattice;
-  double reach = ps_model_lattice_reach(type, cs->horizon_factor);
+  /* stage 1's reach in spacings: a box's; the disk's in mean spacings
+   * when the horizon is a factor of them (the largest cell aside), else
+   * not known before the particles (0) */
+  double reach = 0.0, delta = 0.0, dx = 0.0;
+  if (cs->geometry == PS_GEOM_BOX && cs->mat.horizon > 0)
+    reach = ps_model_lattice_reach(type, cs->mat.horizon / cs->spacing);
+  else if (cs->geometry == PS_GEOM_BOX || !(cs->mat.horizon > 0))
+    reach = ps_model_lattice_reach(type, cs->horizon_factor);
   int dim = cs->geometry == PS_GEOM_DISK ? 2 : cs->dim;
   PS_CHECK(estimate_counts(cs, dim, lattice, reach, purpose, ctx));
   ps_crack *cracks = ps_calloc((size_t)(cs->n_cracks + 1 + HOLE_SIDES * cs->n_holes),
@@ -308,9 +403,8 @@ int ps_problem_setup_sized(ps_problem *pb, const ps_case *cs, int purpose, int j
   memcpy(cracks, cs->cracks, sizeof(ps_crack) * (size_t)cs->n_cracks);
   PS_CHECK_GOTO(make_particles(pb, cs, dim, cracks, &n_cracks, ctx));
   double alpha = cs->alpha;
-  if (lattice) { /* h = spacing, alpha = reach */
-    for (ps_int a = 0; a < pb->P.n; a++) pb->P.h[a] = cs->spacing;
-    alpha = reach;
+  if (lattice) { /* uniform h, alpha = the reach in h */
+    PS_CHECK_GOTO(horizon_setup(pb, cs, type, &alpha, &delta, &dx, ctx));
   } else if (cs->size_rule == PS_SIZE_EQ44) {
     ps_geom_sizes_eq44(&pb->P);
   } else {
@@ -320,7 +414,8 @@ int ps_problem_setup_sized(ps_problem *pb, const ps_case *cs, int purpose, int j
   PS_CHECK_GOTO(in_case(ctx, ps_kernel_init(&pb->kernel, dim, cs->kernel_k, alpha, ctx),
                         cs->file));
   /* the supports before the network: the estimate counts the free dofs */
-  PS_CHECK_GOTO(setup_loading(pb, cs, dim, lattice, ctx));
+  PS_CHECK_GOTO(setup_loading(pb, cs, dim, lattice, delta, dx, ctx));
+  if (lattice) PS_CHECK_GOTO(horizon_neighbours_check(pb, cs, ctx));
   PS_CHECK_GOTO(estimate_sampled(pb, cs, alpha, cracks, n_cracks, purpose, jobs, report,
                                  ctx));
   PS_CHECK_GOTO(in_case(ctx, ps_network_build(&pb->net, &pb->P, &pb->kernel, cracks,

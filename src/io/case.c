@@ -32,7 +32,8 @@ void ps_case_defaults(ps_case *cs) {
   cs->alpha = 5.1;
   cs->kernel_k = 2;
   strcpy(cs->model, "fibre");
-  cs->horizon_factor = 3.0;
+  cs->horizon_factor = 3.0; /* bond, state: spacings (a box's, or a cloud's mean) */
+  cs->mat.horizon = 0.0;    /* material.horizon, m: unset (horizon_factor applies) */
   cs->mat.surface_correction = 1;
   cs->mat.E = 210e9;
   cs->mat.nu = 0.3;

@@ -2,7 +2,9 @@
  * read (YAML keys come in any order): keys of another geometry type,
  * dim against counts, lattice, cracks, holes and J rings, the loading
  * type against the geometry, the bond model's nu, the number of
- * particles asked for, delta and the Griffith list given twice. */
+ * particles asked for, delta, the horizon and the Griffith list given
+ * twice. (The bond and state models run on every geometry: a box
+ * lattice, a point cloud, the disk; app/setup.c.) */
 #include "case_impl.h"
 
 #include <math.h>
@@ -108,8 +110,9 @@ static int fixed_poisson_check(ps_loader *L) {
   return ps_yaml_fail(L, 0, "%s (%s)", why, where);
 }
 
-/* Keys that belong to some models only: material.fracture, micromodulus
- * and partial_volumes (bond, state) against material.delta (fibre). */
+/* Keys that belong to some models only: material.fracture, micromodulus,
+ * partial_volumes and horizon (bond, state) against material.delta
+ * (fibre); material.horizon and horizon_factor not both. */
 static int model_keys_check(ps_loader *L) {
   const ps_case *cs = L->cs;
   int fibre = !strcmp(cs->model, "fibre"), bond = !strcmp(cs->model, "bond");
@@ -136,6 +139,15 @@ static int model_keys_check(ps_loader *L) {
     return ps_yaml_fail(L, L->line_partial_volumes,
                         "material.partial_volumes is for the bond and state models (%s)",
                         model);
+  if (fibre && L->line_horizon)
+    return ps_yaml_fail(L, L->line_horizon,
+                        "material.horizon is for the bond and state models: the fibre "
+                        "model's horizon is kernel.alpha particle sizes (%s)", model);
+  if (L->line_horizon && L->line_horizon_factor)
+    return ps_yaml_fail(L, L->line_horizon,
+                        "material.horizon and material.horizon_factor (line %d) are both "
+                        "given: give one (the horizon in m, or in spacings)",
+                        L->line_horizon_factor);
   if (!bond && L->line_fracture && cs->mat.fracture == PS_FRACTURE_ENERGY)
     return ps_yaml_fail(L, L->line_fracture_criterion ? L->line_fracture_criterion
                                                       : L->line_fracture,
@@ -179,13 +191,6 @@ int ps_case_cross_checks(ps_loader *L) {
     return ps_yaml_fail(L, L->line_j, "output.j_integral is 2D only (geometry.dim is 3)");
   if (cs->n_holes > 0 && (cs->dim == 3 || cs->geometry != PS_GEOM_BOX))
     return ps_yaml_fail(L, L->line_holes, "geometry.holes need a 2D box");
-  const ps_model_type *type = ps_model_type_find(cs->model);
-  if (type && type->lattice && cs->geometry != PS_GEOM_BOX)
-    return ps_yaml_fail(
-        L, L->line_type ? L->line_type : 1,
-        "material.model %s needs geometry.type box (a regular lattice: the "
-        "horizon is material.horizon_factor * geometry.spacing)",
-        cs->model);
   if (fixed_poisson_check(L) != PS_OK || particle_counts_check(L) != PS_OK ||
       model_keys_check(L) != PS_OK)
     return PS_ERR_INPUT;

@@ -189,7 +189,7 @@ static const char *const known_models[] = {"fibre", "bond", "state", NULL};
 const char *const ps_case_material_keys[] = {
     "model", "E", "nu", "plane", "yield_strain", "plastic", "delta",
     "delta_over_c", "rho", "yield_rule", "horizon_factor", "surface_correction",
-    "micromodulus", "partial_volumes", "fracture", NULL};
+    "micromodulus", "partial_volumes", "fracture", "horizon", NULL};
 
 /* material.fracture (bond and state models): one of critical_stretch (s0),
  * fracture_energy (G_c, J/m^2, with criterion stretch or energy) and
@@ -292,10 +292,19 @@ int ps_case_on_material(ps_loader *L, void *arg, const char *key, const char *na
     return ps_yaml_pos(L, v, name, &cs->delta_over_c);
   }
   if (IS("rho")) return ps_yaml_pos(L, v, name, &m->rho);
-  if (IS("horizon_factor"))
+  if (IS("horizon_factor")) {
+    /* bond, state: the horizon in spacings, the box's geometry.spacing or
+     * a point cloud's (or the disk's) mean spacing (sum V / n)^(1/N) */
+    L->line_horizon_factor = line_of(v);
     return ps_yaml_pos_in(L, v, name, PS_ALPHA_MIN, PS_ALPHA_MAX,
-                          "the horizon in lattice spacings (Fallah et al.: 3)",
+                          "the horizon in lattice or mean spacings (Fallah et al.: 3)",
                           &cs->horizon_factor);
+  }
+  if (IS("horizon")) { /* bond, state: the horizon as a length, m */
+    L->line_horizon = line_of(v);
+    return ps_yaml_pos_in(L, v, name, 1e-150, PS_MAX_COORD,
+                          "a length in m (Fallah et al.: 3 spacings)", &m->horizon);
+  }
   if (IS("surface_correction")) return ps_yaml_bool(L, v, name, &m->surface_correction);
   if (IS("micromodulus")) {
     static const char *const micro[] = {"conical", "constant", NULL};

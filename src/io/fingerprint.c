@@ -25,14 +25,17 @@ static void fnv(uint64_t *h, const char *s) {
 
 /* What enters the hash, as "%.17g" text (every double exactly): the
  * algorithm version; the geometry, the size rule, cracks and holes; the
- * kernel; the material but delta (and, for the lattice models,
- * horizon_factor and surface_correction; micromodulus, partial volumes
- * and fracture when set); the loading; Newton's
+ * kernel; the material but delta (and, for the horizon models,
+ * horizon_factor and surface_correction, material.horizon when given;
+ * micromodulus, partial volumes and fracture when set); the loading;
+ * Newton's
  * tolerance, iterations, line search and small steps; the CG settings
  * that change which solves near the plastic limit converge (cg_truncate
  * off, a fixed cg_forcing); the load path and its stop rules.
  * Not hashed (they do not change a run's result beyond the Newton
- * tolerance): the name and output keys, delta and the Griffith list, the
+ * tolerance): the name and output keys, delta and the Griffith list,
+ * path.max_break_rounds (a limit: a run that reaches it fails; its place
+ * in the text keeps the old default, 500, so that fingerprints stay), the
  * linear solver and the other CG settings (cg_tolerance, cg_skip_arms,
  * cg_single_precision, majorant, ...), and solver.max_memory_gib (a limit
  * on what may be allocated). Keys added after the first version enter
@@ -68,6 +71,10 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
   const ps_model_type *type = ps_model_type_find(cs->model);
   if (type && type->lattice) {
     snprintf(b, sizeof b, "lattice %.17g %d", cs->horizon_factor, m->surface_correction);
+    fnv(&h, b);
+  }
+  if (type && type->lattice && m->horizon > 0) { /* newer key: only when set */
+    snprintf(b, sizeof b, "horizon %.17g", m->horizon);
     fnv(&h, b);
   }
   if (m->micromodulus != PS_MICRO_CONICAL || m->full_volumes) {
@@ -110,7 +117,7 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
   snprintf(b, sizeof b, "solver %.17g %d %d path %.17g %.17g %.17g %d %.17g %.17g %.17g %d",
            so->tolerance, so->max_iterations, so->line_search, po->load_step,
            po->load_step_after_break, po->max_load, po->max_increments, po->min_step,
-           po->stop_crack_tip, po->stop_load_drop, po->max_break_rounds);
+           po->stop_crack_tip, po->stop_load_drop, 500);
   fnv(&h, b);
   if (po->max_arms_per_round > 0) { /* newer key: only when set */
     snprintf(b, sizeof b, "arms per round %d", po->max_arms_per_round);

@@ -103,9 +103,11 @@ typedef struct ps_case {
   int kernel_k;        /* default 2 */
 
   /* material */
-  char model[32];      /* "fibre" (default) | "bond" */
-  double horizon_factor; /* bond: horizon delta = m * geometry.spacing,
-                            default m = 3 (Fallah et al.) */
+  char model[32];      /* "fibre" (default) | "bond" | "state" */
+  double horizon_factor; /* bond, state: horizon delta = m * geometry.spacing
+                            (box) or m * the cloud's mean spacing
+                            (sum V / n)^(1/N), default m = 3 (Fallah et
+                            al.); material.horizon gives delta in m */
   ps_material mat;     /* E, nu, plane, yield_strain, plastic, delta, rho */
   double delta_over_c; /* disk: delta given as a fraction of c (0: unset) */
 

@@ -12,11 +12,18 @@
  * for bonds near the horizon (or v = 1 within it: full volumes), and the
  * energy-based surface correction R of their Eq. A.3-A.6 (optional).
  * Forces are per unit thickness in 2D (V_a are areas), so c is Eq. 7
- * with t = 1. The stored energy is sum 1/2 k dl^2 with k = c V_a V_b v R
- * / xi, so dT/dl = k: no family coupling. An arm breaks for good when its
- * stretch passes s0, or its micropotential w = 1/2 c R s^2 xi passes w_c
- * (breaking.c). Bond-based PD fixes Poisson's ratio: 1/3 in plane stress,
- * 1/4 in plane strain and 3D. */
+ * with t = 1. On a point cloud the cells differ: v(xi) is the share of
+ * the neighbour b's cell (size dx_b = V_b^(1/N)) in a's horizon, v_a,
+ * and that of a's cell in b's horizon, v_b; the bond's energy, counted
+ * once from each end, is that of v = (v_a + v_b) / 2, and W_k(a) of the
+ * correction (Eq. A.3) sums b with v_a (a's own horizon). On a lattice
+ * v_a = v_b = v, bit for bit. The stored energy is sum 1/2 k dl^2 with
+ * k = c V_a V_b v R / xi, so dT/dl = k: no family coupling. An arm
+ * breaks for good when its stretch passes s0, or its micropotential w =
+ * 1/2 c R s^2 xi passes w_c (breaking.c). Bond-based PD fixes Poisson's
+ * ratio: 1/3 in plane stress, 1/4 in plane strain and 3D. The arms of
+ * the constant micromodulus end at the horizon too (as Peridigm's), so
+ * its partial volumes only thin the outer half cell inside it. */
 #include "ps_model.h"
 
 #include <gsl/gsl_math.h>
@@ -33,7 +40,7 @@ static int bond_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
   const ps_network *net = m->net;
   const ps_material *mat = &m->mat;
   int N = net->dim;
-  double delta = mat->horizon, dx = mat->spacing;
+  double delta = mat->horizon;
   PS_CHECK(ps_lattice_model_check(mat, N, P, "bond", ctx));
   PS_CHECK(ps_model_poisson_check(m->type, mat->nu, N, mat->plane, ctx));
   int conical = mat->micromodulus == PS_MICRO_CONICAL;
@@ -50,20 +57,24 @@ static int bond_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
   }
   /* uncorrected bond constants c(xi) v, and (Eq. A.3) each particle's
    * energy density under the unit uniaxial strain along axis k, up to the
-   * common factor eps0^2: W_k(a) = 1/4 sum_b c v xi n_k^4 V_b */
+   * common factor eps0^2: W_k(a) = 1/4 sum_b c v_a xi n_k^4 V_b */
   for (ps_int i = 0; i < na; i++) {
     ps_int a = net->a[i], b = net->b[i];
     double xi = net->r0[i];
     double c = conical ? c0 * (1.0 - xi / delta) : c0;
-    double v = mat->full_volumes ? 1.0 : ps_partial_volume(xi, delta, dx);
+    double va = 1.0, vb = 1.0;
+    if (!mat->full_volumes) ps_arm_partial_volumes(mat, P, net, i, &va, &vb);
+    double v = 0.5 * (va + vb); /* = va on a lattice, exactly */
     /* every arm of the network is within the horizon (up to round-off:
-     * ps_model_lattice_reach); the cone is 0 at its edge */
-    double cv = !conical || xi < delta ? c * v : 0.0;
+     * ps_model_lattice_reach, ps_model_cloud_reach); the cone is 0 at its
+     * edge */
+    int in = !conical || xi < delta;
+    double cv = in ? c * v : 0.0, cva = in ? c * va : 0.0, cvb = in ? c * vb : 0.0;
     m->arm_k[i] = cv;
     for (int k = 0; k < N; k++) {
       double n = (P->x[b * N + k] - P->x[a * N + k]) / xi, n4 = n * n * n * n;
-      Wk[a * N + k] += 0.25 * cv * xi * n4 * P->volume[b];
-      Wk[b * N + k] += 0.25 * cv * xi * n4 * P->volume[a];
+      Wk[a * N + k] += 0.25 * cva * xi * n4 * P->volume[b];
+      Wk[b * N + k] += 0.25 * cvb * xi * n4 * P->volume[a];
     }
   }
   /* the continuum's value (Eq. A.4): 1/2 C11 with C11 of the plane /

@@ -131,14 +131,41 @@ double ps_partial_volume(double xi, double delta, double dx) {
   return 0.5 + (delta - xi) / dx;
 }
 
+double ps_cell_size(const ps_material *mat, const ps_particles *P, ps_int a) {
+  if (mat->spacing > 0) return mat->spacing;
+  return P->dim == 2 ? sqrt(P->volume[a]) : cbrt(P->volume[a]);
+}
+
+void ps_arm_partial_volumes(const ps_material *mat, const ps_particles *P,
+                            const ps_network *net, ps_int i, double *va, double *vb) {
+  double xi = net->r0[i], delta = mat->horizon;
+  if (mat->spacing > 0) { /* a lattice: one cell size */
+    *va = *vb = ps_partial_volume(xi, delta, mat->spacing);
+    return;
+  }
+  *va = ps_partial_volume(xi, delta, ps_cell_size(mat, P, net->b[i]));
+  *vb = ps_partial_volume(xi, delta, ps_cell_size(mat, P, net->a[i]));
+}
+
+double ps_mean_spacing(const ps_particles *P) {
+  double V = 0.0;
+  for (ps_int a = 0; a < P->n; a++) V += P->volume[a];
+  V /= (double)P->n;
+  return P->dim == 2 ? sqrt(V) : cbrt(V);
+}
+
 int ps_lattice_model_check(const ps_material *mat, int dim, const ps_particles *P,
                            const char *model, ps_ctx *ctx) {
   if (!P)
     return ps_error(ctx, PS_ERR_INPUT, "the %s model needs the particle positions", model);
-  if (!(mat->horizon > 0) || !(mat->spacing > 0))
+  if (!(mat->horizon > 0) || !isfinite(mat->horizon))
     return ps_error(ctx, PS_ERR_INPUT,
-                    "material.model %s needs a horizon and a lattice spacing (a box "
-                    "geometry with geometry.spacing and material.horizon_factor)", model);
+                    "material.model %s needs a horizon > 0 (material.horizon in m or "
+                    "material.horizon_factor spacings; got %g m)", model, mat->horizon);
+  if (!(mat->spacing >= 0) || !isfinite(mat->spacing))
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "material.model %s: the lattice spacing must be >= 0 (0: cell sizes "
+                    "from the particle volumes; got %g)", model, mat->spacing);
   if (mat->plastic)
     return ps_error(ctx, PS_ERR_INPUT,
                     "material.model %s is elastic: set material.plastic: false", model);
@@ -177,6 +204,12 @@ double ps_model_lattice_reach(const ps_model_type *type, double horizon_factor) 
   return e > 0 ? horizon_factor + e * (1 - 1e-9) : horizon_factor * (1 + 1e-9);
 }
 
+double ps_model_cloud_reach(const ps_model_type *type, const ps_material *mat,
+                            double dx_max) {
+  double e = type->reach_extra_spacings, delta = mat->horizon;
+  return e > 0 && !mat->full_volumes ? delta + e * dx_max * (1 - 1e-9) : delta * (1 + 1e-9);
+}
+
 int ps_model_create(ps_model *m, const ps_model_type *type,
                     const ps_particles *P, const ps_network *net,
                     const ps_material *mat, ps_ctx *ctx) {
@@ -203,6 +236,7 @@ void ps_model_free(ps_model *m) {
   free(m->epsbar);
   free(m->arm_k);
   free(m->arm_s0);
+  free(m->arm_side);
   free(m->work);
   memset(m, 0, sizeof *m);
 }

@@ -46,9 +46,16 @@ typedef struct ps_material {
   double rho;          /* density, kg/m^3; uniform, so it drops out of the
                           forces; gives the masses in particles.csv */
   int yield_rule;      /* enum ps_yield_rule */
-  /* bond-based model only (Fallah et al. 2020): */
-  double horizon;      /* delta, m: arms r <= horizon carry force (Eq. 7) */
-  double spacing;      /* lattice constant Delta x, m (partial volumes) */
+  /* the horizon models (bond, state; type->lattice): */
+  double horizon;      /* delta, m: arms r <= horizon carry force (Eq. 7).
+                          In a case: material.horizon when given (> 0),
+                          else 0 and the set-up makes it
+                          material.horizon_factor spacings */
+  double spacing;      /* the cell size Delta x of every particle in the
+                          partial volumes (Li & Hao Eq. A.2), m: the
+                          lattice constant of a box lattice; 0 on a point
+                          cloud (or the disk): each particle b's own cell
+                          size V_b^(1/N) (ps_cell_size) */
   int surface_correction; /* 1: energy-based surface correction (Li & Hao
                              2023, Eq. A.3-A.6) */
   int micromodulus;    /* enum ps_micromodulus (bond) */
@@ -167,16 +174,22 @@ typedef struct ps_model_type {
    * family, so the assembly needs the two-horizon pattern; 0: arms only,
    * the one-horizon pattern (bond). */
   int family_coupling;
-  /* 1: the model is defined on a box lattice (bond, state): every
-   * particle's size h is the lattice spacing, the horizon is
-   * material.horizon_factor spacings, and arms reach
-   * ps_model_lattice_reach spacings (the kernel's alpha); 0: sizes from
-   * Eq. 115 or Eq. 44 and the case's alpha (fibre). */
+  /* 1: a horizon model (bond, state; the name is historical: they were
+   * defined on box lattices only): arms carry force within a horizon
+   * delta, a length (material.horizon) or material.horizon_factor
+   * spacings, and every particle has the same size h, so that the
+   * network's rule r < alpha max(h_a, h_b) is r < alpha h, the model's
+   * reach. On a box lattice h is the lattice spacing and alpha
+   * ps_model_lattice_reach spacings; on a point cloud or the disk h is
+   * the mean spacing (ps_mean_spacing) and alpha ps_model_cloud_reach /
+   * h (app/setup.c). 0: sizes from Eq. 115 or Eq. 44 and the case's
+   * alpha (fibre). */
   int lattice;
-  /* Lattice models: how far past the horizon arms reach, in spacings:
-   * 1/2 when the partial volumes of Li & Hao (2023) Eq. A.2 carry arms up
-   * to the horizon plus half a cell (state), 0 when an arm ends at the
-   * horizon (bond: c(xi) = 0 there). */
+  /* Horizon models: how far past the horizon arms reach, in cells
+   * (spacings): 1/2 when the partial volumes of Li & Hao (2023) Eq. A.2
+   * carry arms up to the horizon plus half a cell (state), 0 when an arm
+   * ends at the horizon (bond: c(xi) = 0 there for the conical
+   * micromodulus; the constant one is cut there as Peridigm does). */
   double reach_extra_spacings;
   /* Optional (NULL: nu is free): the Poisson's ratio the model fixes in
    * dim dimensions (plane: enum ps_plane), for the check that refuses
@@ -196,6 +209,12 @@ struct ps_model {
                       V_b), else NULL; read-only after prepare */
   double *arm_s0;  /* [n_arm] critical stretch per arm (bond, state with
                       material.fracture), else NULL */
+  double *arm_side;/* [2 n_arm] state model on a cloud with partial
+                      volumes: arm i's weight w v V_a V_b in the
+                      dilatation of its end a ([i], v the share of b's
+                      cell in a's horizon) and of its end b ([n_arm + i]);
+                      NULL when both are arm_k[i] (every lattice, full
+                      volumes); read-only after prepare */
   double *work;    /* scratch of evaluate for models that need it
                       (deviatoric fibre rule: [4 n_arm + 2 n_particle],
                       psi' and psi'' per half-arm, their family means),
@@ -269,6 +288,25 @@ extern const ps_model_type *const ps_model_state;
  * the horizon's edge). */
 double ps_partial_volume(double xi, double delta, double dx);
 
+/* The cell size of particle a in the partial volumes: mat->spacing on a
+ * box lattice (> 0), else (a point cloud, the disk: mat->spacing = 0)
+ * V_a^(1/N), the side of the square (cube) of the particle's volume. */
+double ps_cell_size(const ps_material *mat, const ps_particles *P, ps_int a);
+
+/* The partial volumes (Eq. A.2) of arm i (ends a, b) of a horizon model
+ * in the horizon mat->horizon: *va the share of b's cell in a's horizon
+ * (the weight of b in a's sums), *vb that of a's cell in b's horizon. On
+ * a lattice (one cell size) *va == *vb. (Full volumes are the models'
+ * own rule.) */
+void ps_arm_partial_volumes(const ps_material *mat, const ps_particles *P,
+                            const ps_network *net, ps_int i, double *va, double *vb);
+
+/* The mean spacing of a cloud, m: (sum_a V_a / n)^(1/N), the side of the
+ * square (cube) of the mean particle volume; on a box lattice of spacing
+ * d it is d (to round-off). material.horizon_factor counts the horizon in
+ * these on a point cloud or the disk. */
+double ps_mean_spacing(const ps_particles *P);
+
 /* The check of a model that fixes Poisson's ratio (type->fixed_poisson):
  * PS_OK when nu is free or within 1e-3 of the fixed value, else
  * PS_ERR_INPUT with "material.nu = 0.3: bond-based peridynamics has nu =
@@ -276,9 +314,9 @@ double ps_partial_volume(double xi, double delta, double dx);
 int ps_model_poisson_check(const ps_model_type *type, double nu, int dim, int plane,
                            ps_ctx *ctx);
 
-/* Checks shared by the lattice models (bond, state): positions given, a
- * horizon and spacing set, elastic. Returns PS_OK or PS_ERR_INPUT naming
- * the parameter. */
+/* Checks shared by the horizon models (bond, state): positions given, a
+ * finite horizon > 0, a spacing >= 0 (0: cell sizes from the volumes),
+ * elastic. Returns PS_OK or PS_ERR_INPUT naming the parameter. */
 int ps_lattice_model_check(const ps_material *mat, int dim, const ps_particles *P,
                            const char *model, ps_ctx *ctx);
 
@@ -292,6 +330,17 @@ const ps_model_type *ps_model_type_find(const char *name);
  * for e = 0 just beyond it, m (1 + 1e-9) (an arm of exactly the
  * horizon's length is in), so that lattice round-off does not decide. */
 double ps_model_lattice_reach(const ps_model_type *type, double horizon_factor);
+
+/* The reach of a horizon model's arms on a point cloud or the disk, m,
+ * for the horizon mat->horizon and the largest cell size dx_max (the
+ * largest ps_cell_size): with partial volumes and e =
+ * reach_extra_spacings > 0, delta + e dx_max (1 - 1e-9) (the partial
+ * volume of a neighbour b is > 0 up to delta + dx_b / 2, so the largest
+ * cell sets the reach; arms beyond a smaller cell's end carry nothing);
+ * with full volumes or e = 0, delta (1 + 1e-9) (an arm of exactly the
+ * horizon's length is in). */
+double ps_model_cloud_reach(const ps_model_type *type, const ps_material *mat,
+                            double dx_max);
 
 /* Create a model on a network of the particles P (and run the type's
  * prepare). Returns PS_OK, PS_ERR_INPUT (from prepare), PS_ERR_NOMEM. */

@@ -13,7 +13,15 @@
  *   3D: a = (K - 5G/3)/2, b = 15G / (2 pi delta^5), d = 9 / (4 pi delta^4)
  *   2D: a = (K - 2G)/2,   b = 6G / (pi delta^4),    d = 2 / (pi delta^3)
  * (2D per unit thickness, K the 2D bulk modulus of Eq. 80/81). With full
- * volumes v = 1 within the horizon and 0 beyond. An arm breaks for good
+ * volumes v = 1 within the horizon and 0 beyond. On a point cloud the
+ * cells differ: a's dilatation weighs b with v_a, the share of b's cell
+ * (size dx_b = V_b^(1/N)) in a's horizon, and b's weighs a with v_b, so
+ *   theta_a = (d / V_a) sum_{i in family(a)} ks_{i,a} e_i,
+ *   T_i = 4 b kv_i e_i + 2 a d (ks_{i,a} theta_a + ks_{i,b} theta_b),
+ * ks_{i,a} = w v_a V_a V_b (m->arm_side), while the deviatoric term,
+ * counted once from each end, has kv_i = w (v_a + v_b)/2 V_a V_b. On a
+ * lattice v_a = v_b and m->arm_side is NULL: the formulas above, bit for
+ * bit. An arm breaks for good
  * when its stretch e/xi passes s0 (breaking.c); a broken arm leaves the
  * dilatation sums. theta is kept in m->epsbar (the dilatation). */
 #include "ps_model.h"
@@ -46,13 +54,28 @@ static int state_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
   const ps_material *mat = &m->mat;
   PS_CHECK(ps_lattice_model_check(mat, net->dim, P, "state", ctx));
   double delta = mat->horizon, dx = mat->spacing;
-  m->arm_k = ps_calloc((size_t)net->n_arm, sizeof *m->arm_k, ctx);
+  ps_int na = net->n_arm;
+  m->arm_k = ps_calloc((size_t)na, sizeof *m->arm_k, ctx);
   if (!m->arm_k) return PS_ERR_NOMEM;
-  for (ps_int i = 0; i < net->n_arm; i++) {
-    double xi = net->r0[i];
-    double v = mat->full_volumes ? (xi <= delta ? 1.0 : 0.0) : ps_partial_volume(xi, delta, dx);
-    double w = xi < delta + 0.5 * dx ? delta / xi * v : 0.0;
-    m->arm_k[i] = w * P->volume[net->a[i]] * P->volume[net->b[i]];
+  if (dx > 0 || mat->full_volumes) { /* one cell size, or none */
+    for (ps_int i = 0; i < na; i++) {
+      double xi = net->r0[i];
+      double v =
+          mat->full_volumes ? (xi <= delta ? 1.0 : 0.0) : ps_partial_volume(xi, delta, dx);
+      double w = mat->full_volumes || xi < delta + 0.5 * dx ? delta / xi * v : 0.0;
+      m->arm_k[i] = w * P->volume[net->a[i]] * P->volume[net->b[i]];
+    }
+  } else { /* a cloud with partial volumes: each end weighs the other's cell */
+    m->arm_side = ps_calloc((size_t)(2 * na), sizeof *m->arm_side, ctx);
+    if (!m->arm_side) return PS_ERR_NOMEM;
+    for (ps_int i = 0; i < na; i++) {
+      double xi = net->r0[i], va, vb;
+      double VV = P->volume[net->a[i]] * P->volume[net->b[i]];
+      ps_arm_partial_volumes(mat, P, net, i, &va, &vb);
+      m->arm_k[i] = delta / xi * (0.5 * (va + vb)) * VV;
+      m->arm_side[i] = delta / xi * va * VV;
+      m->arm_side[na + i] = delta / xi * vb * VV;
+    }
   }
   for (ps_int a = 0; a < net->n_particle; a++) m->R[a] = P->volume[a]; /* V_a */
   return ps_model_fracture_prepare(m, NULL, ctx);
@@ -63,13 +86,14 @@ static int state_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
   (void)ctx;
   const ps_network *net = m->net;
   state_constants c = constants(&m->mat, net->dim);
-  const double *V = m->R, *kv = m->arm_k;
+  const double *V = m->R, *kv = m->arm_k, *side = m->arm_side;
+  ps_int na = net->n_arm;
   double *theta = m->epsbar, psi = 0.0;
   for (ps_int a = 0; a < net->n_particle; a++) {
     double s = 0.0;
     for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
       ps_int i = net->fam_arm[k];
-      if (!st->broken[i]) s += kv[i] * dl[i];
+      if (!st->broken[i]) s += (side ? side[net->a[i] == a ? i : na + i] : kv[i]) * dl[i];
     }
     theta[a] = c.d * s / V[a];
     psi += V[a] * c.a * theta[a] * theta[a];
@@ -84,8 +108,12 @@ static int state_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
       if (tan) tan->D[i] = 0.0;
       continue;
     }
-    T[i] = 4.0 * c.b * kv[i] * dl[i] +
-           2.0 * c.a * c.d * kv[i] * (theta[net->a[i]] + theta[net->b[i]]);
+    if (side)
+      T[i] = 4.0 * c.b * kv[i] * dl[i] +
+             2.0 * c.a * c.d * (side[i] * theta[net->a[i]] + side[na + i] * theta[net->b[i]]);
+    else
+      T[i] = 4.0 * c.b * kv[i] * dl[i] +
+             2.0 * c.a * c.d * kv[i] * (theta[net->a[i]] + theta[net->b[i]]);
     psi += 2.0 * c.b * kv[i] * dl[i] * dl[i];
     if (tan) tan->D[i] = 4.0 * c.b * kv[i];
   }
@@ -93,7 +121,8 @@ static int state_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
     for (ps_int a = 0; a < net->n_particle; a++)
       for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
         ps_int i = net->fam_arm[k];
-        tan->w[k] = st->broken[i] ? 0.0 : c.d * kv[i] / V[a];
+        double ks = side ? side[net->a[i] == a ? i : na + i] : kv[i];
+        tan->w[k] = st->broken[i] ? 0.0 : c.d * ks / V[a];
       }
   *energy = psi;
   return PS_OK;

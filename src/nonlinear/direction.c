@@ -27,6 +27,7 @@ static int tracks_arm_state(const ps_solver *s, const ps_ctx *ctx) {
 
 /* record the problem's tangent-changing state at a new factor */
 static void snapshot_arm_state(ps_solver *s, const ps_ctx *ctx) {
+  s->its_since_factor = s->solves_since_factor = 0;
   if (!tracks_arm_state(s, ctx)) return;
   s->prob.ops->mark(s->prob.data);
 }
@@ -87,6 +88,8 @@ static int pcg(ps_solver *s, ps_linsolve *ls, int maxit, int *its, ps_ctx *ctx) 
                                s->pcg_work, its, ctx);
   s->t_pcg += ps_wtime() - t0;
   s->pcg_iterations += *its;
+  s->its_since_factor += *its;
+  s->solves_since_factor++;
   return status;
 }
 
@@ -167,6 +170,21 @@ static int old_factor_cap(const ps_solver *s) {
   return maxit;
 }
 
+/* 1 when keeping the old factor has cost more than a new one (no
+ * majorant): a fresh factor of the current tangent solves in one CG
+ * iteration, so the iterations beyond one per solve since the last
+ * factorisation are what lagging it cost; once they took longer than a
+ * mean factorisation, refactor. (A crack that runs changes the tangent a
+ * little at every breaking round: each CG stays under the cap of
+ * old_factor_cap, yet the rounds add up.) */
+static int lagging_costs_more(const ps_solver *s) {
+  const ps_linsolve_stats *ls = &s->ls_last->stats;
+  if (s->have_majorant || s->pcg_iterations == 0 || ls->n_factor == 0) return 0;
+  double t_it = s->t_pcg / (double)s->pcg_iterations;
+  double t_fac = ls->t_factor / (double)ls->n_factor;
+  return (double)(s->its_since_factor - s->solves_since_factor) * t_it > t_fac;
+}
+
 /* Steps 1 and 2 of the strategy. Returns PS_OK (du found), PS_DIVERGED
  * (factor K), or fatal. Each arm that changed state since the last factor
  * changes K by a rank-one term; with opts.pcg_skip_arms = n > 0, CG is not
@@ -179,6 +197,12 @@ static int solve_with_old_factor(ps_solver *s, ps_ctx *ctx) {
     s->pcg_skipped++;
     ps_log(ctx, 2, "    %lld+ arms changed state since the last factorisation: "
                    "refactoring\n", (long long)changed);
+    return PS_DIVERGED;
+  }
+  if (lagging_costs_more(s)) {
+    s->pcg_skipped++;
+    ps_log(ctx, 2, "    CG with the old factor has cost more than a factorisation since "
+                   "it was made: refactoring\n");
     return PS_DIVERGED;
   }
   int its;

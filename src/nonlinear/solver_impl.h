@@ -54,7 +54,11 @@ struct ps_solver {
   ps_int newton_iterations, n_fallback, n_line_search_cuts;
   ps_int n_shifted;         /* Newton directions from a shifted tangent */
   ps_int pcg_iterations, pcg_solves, pcg_failures;
-  ps_int pcg_skipped;       /* CG not tried: too many arms changed state */
+  ps_int pcg_skipped;       /* CG not tried: too many arms changed state,
+                               or (no majorant) lagging the factor cost
+                               more than a new one */
+  ps_int its_since_factor, solves_since_factor; /* CG with the current
+                               factor: iterations and solves */
   ps_int pre_failures;      /* CG with a fresh majorant factor that failed */
   ps_int pcg_truncated;     /* Newton directions from CG truncated at
                                negative curvature (opts.cg_truncate) */

@@ -17,7 +17,7 @@ void ps_path_opts_default(ps_path_opts *o) {
   o->stop_crack_tip = 9.0;
   o->stop_tip_advance = 0.0;
   o->stop_load_drop = 0.5;
-  o->max_break_rounds = 500;
+  o->max_break_rounds = 100000;
 }
 
 int ps_path_init(ps_path *p, ps_solver *s, const ps_path_problem *pb, const ps_path_opts *o,

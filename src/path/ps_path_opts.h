@@ -25,7 +25,11 @@ typedef struct ps_path_opts {
                                    stress falls below this fraction of its
                                    peak (default 0.5) */
   int max_break_rounds;         /* breaking rounds per increment before the
-                                   path fails (PS_ERR_SOLVER; default 500) */
+                                   path fails (PS_ERR_SOLVER; default
+                                   100000: each round breaks at least one
+                                   arm, and a crack that runs across a
+                                   ligament at one load needs a round per
+                                   few arms of it) */
   int max_arms_per_round;       /* a breaking round breaks at most this many
                                    arms, those past the criterion by the
                                    most, before re-equilibrating; 0: all of

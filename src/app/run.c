@@ -79,6 +79,23 @@ static double measured_displacement(const ps_problem *pb) {
   return NAN;
 }
 
+/* The displacement of the history row: the measured particles'
+ * prescribed displacement (lambda x measured_displacement), or, under
+ * tractions, the loaded particles' mean displacement along their forces,
+ * fext . u / sum |fext| (NAN for neither). */
+static double row_displacement(const run_state *r, double lambda) {
+  const ps_problem *pb = r->pb;
+  double d = measured_displacement(pb);
+  if (!isnan(d) || !pb->fext) return lambda * d;
+  const double *u = ps_solver_u(r->s);
+  double w = 0, a = 0;
+  for (ps_int j = 0; j < pb->P.n * pb->P.dim; j++) {
+    w += pb->fext[j] * u[j];
+    a += fabs(pb->fext[j]);
+  }
+  return a > 0 ? w / a : NAN;
+}
+
 /* The progress line, history row and (every output.vtk_every) fields of
  * the increment the path just made. */
 static int record_increment(run_state *r, const ps_path *p, ps_ctx *ctx) {
@@ -99,7 +116,7 @@ static int record_increment(run_state *r, const ps_path *p, ps_ctx *ctx) {
                         .crack_tip = inc->tip,
                         .wall = ps_wtime() - r->t0,
                         .reaction = inc->sigma * r->pb->measure_length,
-                        .displacement = inc->lambda * measured_displacement(r->pb),
+                        .displacement = row_displacement(r, inc->lambda),
                         .broken_energy = ps_solver_arm_state(r->s)->broken_energy,
                         .stored_energy = ps_solver_stored_energy(r->s)};
   ps_report_history_row(&r->hist, &row);
@@ -126,7 +143,7 @@ static void result_from_path(ps_run_result *res, const ps_path *p) {
   res->crack_tip = p->crack_tip;
 }
 
-/* The load path under load control, an increment at a time, recorded as
+/* The load path under the case's step controller, an increment at a time, recorded as
  * it goes. Returns PS_OK (the outcome is in res) or a fatal status. */
 static int follow_path(run_state *r, ps_ctx *ctx) {
   ps_problem *pb = r->pb;
@@ -140,7 +157,8 @@ static int follow_path(run_state *r, ps_ctx *ctx) {
                         .name = pb->cs.file,
                         .interrupted = signal_received};
   ps_path p;
-  int status = ps_path_init(&p, r->s, &pp, &pb->cs.path, ps_step_control_load, ctx);
+  int status = ps_path_init(&p, r->s, &pp, &pb->cs.path,
+                             ps_step_control_find(pb->cs.path.control), ctx);
   while (status >= 0 && ps_path_test(&p) == PS_PATH_CONTINUE) {
     ps_int before = p.increments;
     status = ps_path_iterate(&p, ctx);

@@ -76,7 +76,8 @@ int ps_case_on_solver(ps_loader *L, void *arg, const char *key, const char *name
 const char *const ps_case_path_keys[] = {
     "load_step", "load_step_after_break", "max_load", "max_increments", "min_step",
     "stop_crack_tip", "stop_tip_advance", "stop_load_drop", "max_break_rounds",
-    "max_arms_per_round", NULL};
+    "max_arms_per_round", "control", "arc_length_max", "arc_length_psi",
+    "arc_length_iterations", NULL};
 
 int ps_case_on_path(ps_loader *L, void *arg, const char *key, const char *name,
                     yaml_node_t *v) {
@@ -95,6 +96,15 @@ int ps_case_on_path(ps_loader *L, void *arg, const char *key, const char *name,
     return ps_yaml_real(L, v, name, 0.0, 0, 1.0, 1, &o->stop_load_drop);
   if (IS("max_arms_per_round"))
     return ps_yaml_int(L, v, name, 0, INT_MAX, &o->max_arms_per_round);
+  if (IS("control")) { /* the order of enum ps_path_control */
+    static const char *const controls[] = {"load", "arc_length", NULL};
+    return ps_yaml_choice(L, v, name, controls, &o->control);
+  }
+  if (IS("arc_length_max")) return ps_yaml_pos(L, v, name, &o->arc_length_max);
+  if (IS("arc_length_psi"))
+    return ps_yaml_real(L, v, name, 0.0, 0, INFINITY, 0, &o->arc_length_psi);
+  if (IS("arc_length_iterations"))
+    return ps_yaml_int(L, v, name, 1, 1000, &o->arc_length_iterations);
   return ps_yaml_int(L, v, name, 1, INT_MAX, &o->max_break_rounds);
 }
 

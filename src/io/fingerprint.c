@@ -119,6 +119,11 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
            po->load_step_after_break, po->max_load, po->max_increments, po->min_step,
            po->stop_crack_tip, po->stop_load_drop, 500);
   fnv(&h, b);
+  if (po->control != PS_CONTROL_LOAD) { /* newer keys: only off load control */
+    snprintf(b, sizeof b, "control %d %.17g %.17g %d", po->control, po->arc_length_max,
+             po->arc_length_psi, po->arc_length_iterations);
+    fnv(&h, b);
+  }
   if (po->max_arms_per_round > 0) { /* newer key: only when set */
     snprintf(b, sizeof b, "arms per round %d", po->max_arms_per_round);
     fnv(&h, b);

@@ -15,7 +15,7 @@
  *   - the step along du by the backtracking line search on the energy
  *     (linesearch.h).
  * The pieces, one file each: solver.c (lifecycle, predictor, commit,
- * breaking round, statistics), newton.c (the Newton loop), direction.c,
+ * breaking round, the arc-length step, statistics), newton.c (the Newton loop), direction.c,
  * linesearch.c, forcing.c; solver_impl.h holds the solver's struct and
  * declares what they share. The options are in ps_solver_opts.h. */
 #ifndef PS_SOLVER_H
@@ -83,6 +83,24 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx);
  * (tangent predictor). Returns PS_OK, PS_DIVERGED (state restored to
  * the last commit), or fatal. Does not commit. */
 int ps_solver_step(ps_solver *s, double lambda, ps_ctx *ctx);
+
+/* One increment of arc-length path following from the last commit (the
+ * load factor follows from the constraint; Riks/Crisfield):
+ *   r_free(u, lambda) = 0,  ||Du_f||^2 / U^2 + psi^2 Dlambda^2 = ds^2,
+ * D from the committed state, U = ||K_ff^-1 q|| at the first call (q =
+ * -dr_free/dlambda = fext_f - K_fp ubar_p), so that ds is in units of the
+ * load factor of the first (elastic) response. Tangent predictor
+ * (Dlambda v, v = K_ff^-1 q, its sign that of the last converged
+ * increment's dot product with it), then Newton with two right-hand sides
+ * per iteration (K_ff^-1 r_free and K_ff^-1 q by the direction strategy,
+ * CG truncation off), the load factor's correction the root of the
+ * constraint's quadratic whose increment turns least (the linearised
+ * constraint where the roots are complex), no line search. Stops as
+ * ps_newton_solve (tolerance, max_iterations). Returns PS_OK (not
+ * committed), PS_DIVERGED (state restored to the last commit;
+ * ps_solver_last_reason says why), or fatal (PS_ERR_INPUT when the load
+ * moves no free dof). */
+int ps_solver_arclength_step(ps_solver *s, double ds, double psi, ps_ctx *ctx);
 
 /* Load the model by the forces lambda * fext as well (tractions given as
  * forces on particles; fext zero on prescribed dofs, kept by the caller).

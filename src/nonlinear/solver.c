@@ -1,11 +1,13 @@
 /* solver.c: the solver's lifecycle (options, create with the support
  * check, free; the peridynamic problem through problem_pd.h), the path steps
- * (predictor and Newton for an increment, commit/restore of the plastic
+ * (predictor and Newton for an increment, an arc-length increment with its
+ * own Newton loop on the bordered system, commit/restore of the plastic
  * state, one round of arm breaking, Eq. 118) and the read-only views:
  * statistics and accessors. */
 #include "solver_impl.h"
 #include "problem_pd.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -51,6 +53,9 @@ void ps_solver_free(ps_solver *s) {
   free(s->work_dof);
   free(s->diag_saved);
   free(s->f_trial);
+  free(s->al_q);
+  free(s->al_v);
+  free(s->al_dr);
   free(s);
 }
 
@@ -237,6 +242,191 @@ int ps_solver_step(ps_solver *s, double lambda, ps_ctx *ctx) {
     int st2 = ps_nl_fresh_factor(s, ctx);
     if (st2 < 0) return st2;
   }
+  return status;
+}
+
+/* ---- arc-length (Riks/Crisfield) ---- */
+
+/* q[n_free] = -dr_free/dlambda = fext_f - K_fp ubar_p, with the tangent of
+ * the last evaluation with one (r_free = f_int,f(u_f, lambda ubar_p) -
+ * lambda fext_f) */
+static void load_vector(ps_solver *s, double *q) {
+  const ps_nl_problem *sys = &s->prob;
+  const double *fext = s->pd->fext;
+  for (ps_int j = 0; j < sys->n_dof; j++) s->work_dof[j] = sys->fixed[j] ? s->ubar[j] : 0.0;
+  ps_pd_coupling(s->pd, s->work_dof, q);
+  for (ps_int k = 0; k < sys->n_free; k++)
+    q[k] = (fext ? fext[sys->dof_of_free[k]] : 0.0) - q[k];
+}
+
+/* x = K_ff^-1 b by the direction strategy. Returns PS_OK, PS_SINGULAR or
+ * fatal. */
+static int solve_tangent(ps_solver *s, const double *b, double *x, ps_ctx *ctx) {
+  size_t bytes = (size_t)s->prob.n_free * sizeof *b;
+  memcpy(s->rhs, b, bytes);
+  int status = ps_nl_direction(s, ctx);
+  if (status != PS_OK) return status;
+  memcpy(x, s->du, bytes);
+  return PS_OK;
+}
+
+/* the prescribed dofs and the problem at load factor lambda */
+static void set_lambda(ps_solver *s, double lambda) {
+  const ps_nl_problem *sys = &s->prob;
+  for (ps_int j = 0; j < sys->n_dof; j++)
+    if (sys->fixed[j]) s->u[j] = lambda * s->ubar[j];
+  s->pd->lambda = lambda;
+}
+
+/* ||r_free|| / ||r_fixed|| (||r_free|| without reactions); *rn = ||r_free|| */
+static double relative_residual(const ps_solver *s, double *rn) {
+  const ps_nl_problem *sys = &s->prob;
+  double a = 0, b = 0;
+  for (ps_int j = 0; j < sys->n_dof; j++) {
+    if (sys->fixed[j])
+      b += s->f[j] * s->f[j];
+    else
+      a += s->f[j] * s->f[j];
+  }
+  *rn = sqrt(a);
+  return b > 0 ? sqrt(a / b) : sqrt(a);
+}
+
+/* The root x of A x^2 + B x + C = 0 whose increment turns least from the
+ * current one (Crisfield): cos(x) = c0 + c1 x, the larger wins. Returns 0
+ * when the roots are complex. */
+static int crisfield_root(double A, double B, double C, double c0, double c1, double *x) {
+  double disc = B * B - 4 * A * C;
+  if (!(A > 0) || !(disc >= 0)) return 0;
+  double q = -0.5 * (B + copysign(sqrt(disc), B));
+  double x1 = q / A, x2 = q != 0 ? C / q : x1;
+  *x = c0 + c1 * x1 >= c0 + c1 * x2 ? x1 : x2;
+  return 1;
+}
+
+int ps_solver_arclength_step(ps_solver *s, double ds, double psi, ps_ctx *ctx) {
+  const ps_nl_problem *sys = &s->prob;
+  const ps_int nd = sys->n_dof, nf = sys->n_free, *dof = sys->dof_of_free;
+  const double lambda0 = s->pd->lambda, p2 = psi * psi;
+  int status = PS_OK, reason = PS_NEWTON_MAX_ITER;
+  if (!s->al_q) {
+    s->al_q = ps_calloc((size_t)nf, sizeof *s->al_q, ctx);
+    s->al_v = ps_calloc((size_t)nf, sizeof *s->al_q, ctx);
+    s->al_dr = ps_calloc((size_t)nf, sizeof *s->al_q, ctx);
+    if (!s->al_q || !s->al_v || !s->al_dr) return PS_ERR_NOMEM;
+  }
+  /* exact directions: past a limit point K is indefinite, where CG's
+   * truncated iterate would not solve the bordered system */
+  int truncate = s->opts.cg_truncate;
+  s->opts.cg_truncate = 0;
+  s->cg_rtol = s->opts.pcg_rtol;
+  double *q = s->al_q, *v = s->al_v, *dr = s->al_dr;
+
+  /* the tangent predictor at the committed state: du = dlambda v, v =
+   * K^-1 q, |dlambda| from the constraint, its sign that of the last
+   * increment's dot product with (v, 1) */
+  if ((status = ps_nl_eval(s, s->u, s->f, &s->energy, 1, ctx)) < 0) goto done;
+  load_vector(s, q);
+  if ((status = solve_tangent(s, q, v, ctx)) < 0) goto done;
+  if (status > 0) {
+    reason = PS_NEWTON_SINGULAR;
+    goto failed;
+  }
+  double vv = 0;
+  for (ps_int k = 0; k < nf; k++) vv += v[k] * v[k];
+  if (!(s->al_scale > 0)) {
+    s->al_scale = sqrt(vv);
+    if (!(s->al_scale > 0) || !isfinite(s->al_scale)) {
+      status = ps_error(ctx, PS_ERR_INPUT, "arc-length: the load moves no free dof (the "
+                                           "tangent's response to the load is zero)");
+      goto done;
+    }
+  }
+  const double U2 = s->al_scale * s->al_scale;
+  double dlam = ds / sqrt(vv / U2 + p2);
+  if (s->al_have_dir) {
+    double d = 0;
+    for (ps_int k = 0; k < nf; k++) d += (s->u_saved[dof[k]] - s->u_prev[dof[k]]) * v[k];
+    if (d / U2 + p2 * (lambda0 - s->lambda_prev) < 0) dlam = -dlam;
+  }
+  for (ps_int k = 0; k < nf; k++) s->u[dof[k]] += dlam * v[k];
+  set_lambda(s, lambda0 + dlam);
+
+  /* the corrector: Newton on r_free = 0 and the constraint
+   * ||Du_f||^2 / U^2 + psi^2 Dlambda^2 = ds^2 (D: from the committed
+   * state), each iterate on it (Crisfield's quadratic; its linearisation
+   * where the roots are complex) */
+  double rel0 = NAN;
+  for (int it = 0;; it++) {
+    double rn;
+    if ((status = ps_nl_eval(s, s->u, s->f, &s->energy, 1, ctx)) < 0) goto done;
+    double rel = relative_residual(s, &rn);
+    s->last_iterations = it;
+    s->last_residual = rel;
+    ps_log(ctx, 2, "    arc-length %2d  |r|/|R| = %.3e  load factor = %.10g\n", it, rel,
+           s->pd->lambda);
+    if (!isfinite(rel) || !isfinite(s->energy)) {
+      reason = PS_NEWTON_NOT_FINITE;
+      goto failed;
+    }
+    if (rel <= s->opts.tolerance || rn == 0.0) break;
+    if (it == 0) rel0 = rel;
+    if (it >= s->opts.max_iterations || (it > 2 && rel > 1e6 * rel0)) {
+      reason = PS_NEWTON_MAX_ITER;
+      goto failed;
+    }
+    load_vector(s, q);
+    for (ps_int k = 0; k < nf; k++) s->work[k] = -s->f[dof[k]];
+    if ((status = solve_tangent(s, s->work, dr, ctx)) == PS_OK)
+      status = solve_tangent(s, q, v, ctx);
+    if (status < 0) goto done;
+    if (status > 0) {
+      reason = PS_NEWTON_SINGULAR;
+      goto failed;
+    }
+    s->newton_iterations++;
+    double dl = s->pd->lambda - lambda0;
+    double a = 0, b = 0, c = 0, e = 0, f = 0, g = 0;
+    for (ps_int k = 0; k < nf; k++) {
+      double Du = s->u[dof[k]] - s->u_saved[dof[k]], w = Du + dr[k];
+      a += v[k] * v[k];
+      b += w * v[k];
+      c += w * w;
+      e += Du * v[k];
+      f += Du * w;
+      g += Du * Du;
+    }
+    double x;
+    if (!crisfield_root(a / U2 + p2, 2 * (b / U2 + p2 * dl), c / U2 + p2 * dl * dl - ds * ds,
+                        f / U2 + p2 * dl * dl, e / U2 + p2 * dl, &x)) {
+      double den = 2 * (e / U2 + p2 * dl);
+      x = -(g / U2 + p2 * dl * dl - ds * ds + 2 * (f - g) / U2) / den;
+      ps_log(ctx, 2, "    arc-length: complex roots, linearised constraint\n");
+      if (!isfinite(x)) {
+        reason = PS_NEWTON_NOT_FINITE;
+        goto failed;
+      }
+    }
+    for (ps_int k = 0; k < nf; k++) s->u[dof[k]] += dr[k] + x * v[k];
+    set_lambda(s, s->pd->lambda + x);
+  }
+  /* converged: the increment's start is the next predictor's reference */
+  memcpy(s->u_prev, s->u_saved, (size_t)nd * sizeof *s->u);
+  s->lambda_prev = lambda0;
+  s->al_have_dir = 1;
+  s->have_prev = 0;
+  s->last_reason = PS_NEWTON_CONVERGED;
+  goto done;
+failed:
+  s->last_reason = reason;
+  s->have_prev = 0;
+  ps_solver_restore(s);
+  s->pd->lambda = lambda0;
+  if ((status = ps_nl_eval(s, s->u, s->f, &s->energy, 1, ctx)) < 0) goto done;
+  if ((status = ps_nl_fresh_factor(s, ctx)) < 0) goto done;
+  status = PS_DIVERGED;
+done:
+  s->opts.cg_truncate = truncate;
   return status;
 }
 

@@ -50,6 +50,15 @@ struct ps_solver {
   double *work_dof;         /* [n_dof] */
   double *diag_saved;       /* [n_free] diagonal of the tangent while shifted */
 
+  /* arc-length path following (ps_solver_arclength_step; allocated at
+   * its first call) */
+  double *al_q;             /* [n_free] load vector -dr_free/dlambda */
+  double *al_v;             /* [n_free] K_ff^-1 al_q */
+  double *al_dr;            /* [n_free] K_ff^-1 (-r_free) */
+  double al_scale;          /* U: norm of K_ff^-1 q at the first step, m */
+  int al_have_dir;          /* u_prev, lambda_prev hold the start of the
+                               last converged arc-length increment */
+
   /* statistics of the run */
   ps_int newton_iterations, n_fallback, n_line_search_cuts;
   ps_int n_shifted;         /* Newton directions from a shifted tangent */

@@ -1,7 +1,8 @@
 /* path.c: the load path as init / iterate / test: one increment per
- * iterate (attempts cut by the step controller, the commit, the breaking
- * rounds), the peak of the settled states, and the stop rules; the
- * default options (ps_path_opts.h). */
+ * iterate (attempts cut by the step controller: a target load factor for
+ * ps_solver_step, or the controller's own step, as arc-length's; the
+ * commit, the breaking rounds), the peak of the settled states, and the
+ * stop rules; the default options (ps_path_opts.h). */
 #include "ps_path.h"
 
 #include <math.h>
@@ -18,6 +19,10 @@ void ps_path_opts_default(ps_path_opts *o) {
   o->stop_tip_advance = 0.0;
   o->stop_load_drop = 0.5;
   o->max_break_rounds = 100000;
+  o->control = PS_CONTROL_LOAD;
+  o->arc_length_max = 0.0;
+  o->arc_length_psi = 0.0;
+  o->arc_length_iterations = 5;
 }
 
 int ps_path_init(ps_path *p, ps_solver *s, const ps_path_problem *pb, const ps_path_opts *o,
@@ -60,10 +65,16 @@ static int attempt(ps_path *p, ps_int *its0, ps_ctx *ctx) {
   ps_solver *s = p->s;
   for (;;) {
     ps_solver_stats st;
-    double target = p->control->target(p->control_state, ps_solver_lambda(s), &p->o);
+    double target;
+    int status;
     ps_solver_get_stats(s, &st);
     *its0 = st.newton_iterations;
-    int status = ps_solver_step(s, target, ctx);
+    if (p->control->step) {
+      status = p->control->step(p->control_state, s, &p->o, &target, ctx);
+    } else {
+      target = p->control->target(p->control_state, ps_solver_lambda(s), &p->o);
+      status = ps_solver_step(s, target, ctx);
+    }
     if (status < 0) return status;
     if (status != PS_DIVERGED) return PS_OK;
     p->step_cuts++;
@@ -114,6 +125,13 @@ int ps_path_iterate(ps_path *p, ps_ctx *ctx) {
     p->peak = last->sigma;
     p->lambda_peak = last->lambda;
   }
+  if (converged && last->lambda > p->lambda_max) {
+    p->lambda_max = last->lambda;
+    /* arc-length without a boundary-stress measure: the peak's load
+     * factor is that of the largest load factor */
+    if (p->o.control == PS_CONTROL_ARC_LENGTH && !(p->pb.measure_length > 0) && settled)
+      p->lambda_peak = last->lambda;
+  }
   if (converged) {
     const int nr = (int)(sizeof p->recent / sizeof p->recent[0]);
     memmove(p->recent, p->recent + 1, (size_t)(nr - 1) * sizeof *p->recent);
@@ -149,6 +167,14 @@ static int stop_rule(ps_path *p) {
     p->end = PS_PATH_FRACTURED;
     snprintf(p->stop_reason, sizeof p->stop_reason,
              "boundary stress fell below %.3g of its peak", o->stop_load_drop);
+    return 1;
+  }
+  if (o->control == PS_CONTROL_ARC_LENGTH && p->broken_total == 0 && p->lambda_max > 0 &&
+      last->lambda < o->stop_load_drop * p->lambda_max) {
+    p->end = PS_PATH_LOAD_DROP;
+    snprintf(p->stop_reason, sizeof p->stop_reason,
+             "past a limit point the load factor fell below %.3g of its largest value "
+             "%.6g, no arm broken", o->stop_load_drop, p->lambda_max);
     return 1;
   }
   if (last->lambda >= o->max_load) { /* exact: the target snaps to max_load */

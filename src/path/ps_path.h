@@ -6,7 +6,8 @@
  * factor behind a replaceable step controller (ps_step_control_type).
  *
  *   ps_path p;
- *   PS_CHECK(ps_path_init(&p, solver, &problem, &opts, ps_step_control_load, ctx));
+ *   PS_CHECK(ps_path_init(&p, solver, &problem, &opts,
+ *                         ps_step_control_find(opts.control), ctx));
  *   while (ps_path_test(&p) == PS_PATH_CONTINUE) {
  *     PS_CHECK(ps_path_iterate(&p, ctx));     (one increment)
  *     ... print p.last, write history and fields ...
@@ -48,8 +49,10 @@ typedef struct ps_path_problem {
  * converge (the solver is back at the last committed state); accept after
  * an increment was committed and its breaking rounds ended. An
  * implementation keeps its state in `size` bytes that the path allocates
- * (zeroed). Load control (ps_step_control_load) is the only one today;
- * arc-length control (issue 20) will plug in here. */
+ * (zeroed). Load control (ps_step_control_load) chooses the load factor
+ * (target); arc-length control (ps_step_control_arc_length) makes the
+ * attempt itself (step), the load factor following from its constraint.
+ * ps_step_control_find maps path.control to one of them. */
 typedef struct ps_step_control_type {
   const char *name;
   size_t size;
@@ -61,6 +64,12 @@ typedef struct ps_step_control_type {
   double (*cut)(void *state, const ps_path_opts *o);
   /* an increment was accepted; broken_total = arms broken so far */
   void (*accept)(void *state, ps_int broken_total, const ps_path_opts *o);
+  /* optional: the attempt itself, for a controller whose load factor
+   * follows from a constraint (NULL: target, then ps_solver_step). Sets
+   * *lambda to the load factor reached (on failure: the one it started
+   * from). Returns PS_OK, PS_DIVERGED (the solver is back at the last
+   * commit) or a fatal status. */
+  int (*step)(void *state, ps_solver *s, const ps_path_opts *o, double *lambda, ps_ctx *ctx);
 } ps_step_control_type;
 
 /* Load control: increments of load_step (min(load_step,
@@ -68,6 +77,20 @@ typedef struct ps_step_control_type {
  * attempt and doubled back towards the nominal one after two accepted
  * increments in a row; the target snaps to max_load. */
 extern const ps_step_control_type *const ps_step_control_load;
+
+/* Arc-length control (control_arclength.c; ps_solver_arclength_step):
+ * increments of arc length ds, in units of the load factor of the first
+ * (elastic) response, starting at load_step; after each accepted
+ * increment ds is scaled by sqrt(arc_length_iterations / Newton
+ * iterations), within [ds/2, 2 ds], not above arc_length_max (0:
+ * load_step) and not up in the two increments after a cut; halved on
+ * each failed attempt. Once an arm has broken, ds is at most
+ * load_step_after_break for good. Breaking rounds stay at the load
+ * factor of the increment, as under load control. */
+extern const ps_step_control_type *const ps_step_control_arc_length;
+
+/* The controller of path.control (enum ps_path_control). */
+const ps_step_control_type *ps_step_control_find(int control);
 
 /* How a path ended (ps_path_test). */
 enum ps_path_end {
@@ -83,7 +106,10 @@ enum ps_path_end {
                                  and what can help */
   PS_PATH_MAX_LOAD = 3,       /* max_load reached */
   PS_PATH_MAX_INCREMENTS = 4, /* max_increments done */
-  PS_PATH_INTERRUPTED = 5     /* problem.interrupted said so */
+  PS_PATH_INTERRUPTED = 5,    /* problem.interrupted said so */
+  PS_PATH_LOAD_DROP = 6       /* arc-length: the load factor fell below
+                                 stop_load_drop of its largest value with
+                                 no arm broken (past a limit point) */
 };
 
 /* The last increment, for the caller's progress line, history row and
@@ -110,11 +136,15 @@ typedef struct ps_path {
   int interrupted;            /* problem.interrupted's value, 0 if none */
   double peak;                /* peak boundary stress of the converged and
                                  settled states, Pa (-inf: none yet) */
-  double lambda_peak;         /* load factor at the peak (0: none) */
+  double lambda_peak;         /* load factor at the peak (0: none);
+                                 under arc-length without a measure, the
+                                 largest settled load factor */
   double crack_tip;           /* tip of the last converged state, c */
   ps_int increments, step_cuts;
   ps_int gentle_rounds;       /* breaking rounds retried with fewer arms */
   ps_int broken_total;        /* arms broken so far */
+  double lambda_max;          /* largest load factor of the converged
+                                 increments (0: none yet) */
   ps_path_increment last;
 
   /* private */
@@ -146,8 +176,10 @@ int ps_path_init(ps_path *p, ps_solver *s, const ps_path_problem *pb, const ps_p
 int ps_path_iterate(ps_path *p, ps_ctx *ctx);
 
 /* The stop rules, in this order: an end already reached; interruption;
- * after an increment the tip advance, the crack tip, the load drop and
- * max_load; then max_increments. Returns p->end (PS_PATH_CONTINUE to go
+ * after an increment the tip advance, the crack tip, the load drop, under
+ * arc-length with no arm broken the load factor below stop_load_drop of
+ * its largest value (PS_PATH_LOAD_DROP), and max_load (under arc-length
+ * the last increment may pass it); then max_increments. Returns p->end (PS_PATH_CONTINUE to go
  * on) and sets p->stop_reason. */
 int ps_path_test(ps_path *p);
 

@@ -34,7 +34,22 @@ typedef struct ps_path_opts {
                                    arms, those past the criterion by the
                                    most, before re-equilibrating; 0: all of
                                    them (default) */
+  int control;                  /* the step controller: PS_CONTROL_LOAD
+                                   (default) or PS_CONTROL_ARC_LENGTH */
+  double arc_length_max;        /* arc-length: the largest arc length, in
+                                   units of the load factor of the first
+                                   (elastic) response; 0: load_step
+                                   (default) */
+  double arc_length_psi;        /* arc-length: the weight of the load
+                                   factor in the constraint (0: cylindrical,
+                                   the default; 1: spherical) */
+  int arc_length_iterations;    /* arc-length: the Newton iterations per
+                                   increment the arc length adapts to
+                                   (default 5) */
 } ps_path_opts;
+
+/* path.control */
+enum ps_path_control { PS_CONTROL_LOAD = 0, PS_CONTROL_ARC_LENGTH = 1 };
 
 /* The defaults above, the only place they are written down (the case
  * reader starts from them). Defined in path.c. */

@@ -7,7 +7,11 @@
  * length, arms within ps_model_cloud_reach of uniform sizes, partial
  * volumes from each particle's cell V^(1/N), which differ between the two
  * ends of an arm, and arms broken by a critical stretch on top of the
- * random ones). Also: T = dPsi/dl (the
+ * random ones). The threebody model (arm rotations, non-central forces)
+ * likewise, in plane stress and plane strain (nu 0.2), at kappa = 0 (plane
+ * stress 1/3) and on the cloud (the micropotential criterion instead of the
+ * critical stretch), its deformed state turned by 0.4 rad, 15% of its arms
+ * broken and one particle left with two collinear arms. Also: T = dPsi/dl (the
  * energy is the potential of the forces), zero force at rest and under a
  * rigid rotation. Tolerance 1e-6 on the relative Frobenius error: central
  * differences with step 1e-7 of the spacing have truncation error ~1e-10
@@ -24,6 +28,7 @@
  * predictor; evaluations of forces alone in between do not change it.
  * And an arm crushed to zero length (crushed_arm below). */
 #include <gsl/gsl_eigen.h>
+#include <gsl/gsl_math.h>
 #include <gsl/gsl_rng.h>
 #include <math.h>
 #include <stdlib.h>
@@ -81,6 +86,12 @@ static void setup_cloud(fixture *F, const ps_model_type *type, int rule, int dim
   if (ps_kernel_init(&K, dim, 2, alpha, ctx)) abort();
   if (ps_network_build(&F->net, &F->P, &K, NULL, 0, ctx)) abort();
   if (ps_material_finish(&mat, dim, ctx)) abort();
+  if (type->rotations && cloud) { /* threebody: the micropotential criterion,
+                                     w_c of a 1 mm arm at stretch 2e-3 */
+    mat.fracture = PS_FRACTURE_ENERGY;
+    mat.critical_micropotential =
+        0.5 * 12.0 * mat.K / (M_PI * pow(mat.horizon, 3)) * 4e-6 * 1e-3;
+  }
   if (ps_model_create(&F->model, type, &F->P, &F->net, &mat, ctx)) abort();
   if (ps_arm_state_alloc(&F->st, F->net.n_arm, ctx)) abort();
   unsigned char *fixed = calloc((size_t)(dim * F->P.n), 1);
@@ -263,7 +274,29 @@ static void run_case_cloud(const ps_model_type *type, int rule, int dim, int pla
   for (ps_int i = 0; i < F.net.n_arm; i++) {
     F.st.eps_p[i] = 1.0e-3 * (gsl_rng_uniform(rng) - 0.3);
     F.st.eps_p[F.net.n_arm + i] = 1.0e-3 * (gsl_rng_uniform(rng) - 0.3); /* b side */
-    F.st.broken[i] = gsl_rng_uniform(rng) < 0.05;
+    F.st.broken[i] = gsl_rng_uniform(rng) < (type->rotations ? 0.15 : 0.05);
+  }
+  ps_int n_collinear = 0;
+  if (type->rotations) {
+    /* a model with arm rotations: the deformed state turned by 0.4 rad
+     * (finite rotation), larger displacement noise (1e-2 of the spacing),
+     * and one particle left with two collinear arms (its x neighbours) */
+    for (ps_int a = 0; a < F.P.n; a++) {
+      double *ua = &u[a * dim], yx = F.P.x[a * dim] + ua[0], yy = F.P.x[a * dim + 1] + ua[1];
+      yx += 1e-5 * (gsl_rng_uniform(rng) - 0.5);
+      yy += 1e-5 * (gsl_rng_uniform(rng) - 0.5);
+      double c = cos(0.4), sn = sin(0.4);
+      ua[0] = c * yx - sn * yy - F.P.x[a * dim];
+      ua[1] = sn * yx + c * yy - F.P.x[a * dim + 1];
+    }
+    ps_int p = 3 + 7 * 2; /* an interior particle: keep its two arms along x
+                             to its nearest x neighbours */
+    for (ps_int k = F.net.fam_ptr[p]; k < F.net.fam_ptr[p + 1]; k++) {
+      ps_int i = F.net.fam_arm[k], o = F.net.a[i] == p ? F.net.b[i] : F.net.a[i];
+      int keep = (o == p - 1 || o == p + 1);
+      F.st.broken[i] = (unsigned char)!keep;
+      n_collinear += keep;
+    }
   }
   gsl_rng_free(rng);
   ps_system_eval(&F.sys, &F.model, &F.st, F.P.x, u, f, &E0, 1, &ctx);
@@ -288,13 +321,16 @@ static void run_case_cloud(const ps_model_type *type, int rule, int dim, int pla
     double eps = F.sys.dl[i] / F.net.r0[i];
     double e = eps - F.st.eps_p[i];
     ny += F.st.yielding[i];
-    nc += F.sys.T[i] < 0;
+    nc += type->rotations ? F.sys.dl[i] < 0 : F.sys.T[i] < 0; /* rotations: T q is
+                                                                 the force vector */
     if (rule == PS_YIELD_TOTAL && fabs(fabs(e) - 2.0e-3) < 1e-7) nearkink++;
   }
-  ps_check((ny > 0 || type != ps_model_fibre) && nc > 0 && nb > 0 && nearkink == 0,
+  ps_check((ny > 0 || type != ps_model_fibre) && nc > 0 && nb > 0 && nearkink == 0 &&
+               (!type->rotations || (n_collinear == 2 && nb >= 0.15 * F.net.n_arm)),
            "%s: %lld arms, %lld yielding, %lld in compression, %lld broken, none on "
-           "the kink",
-           label, (long long)F.net.n_arm, (long long)ny, (long long)nc, (long long)nb);
+           "the kink%s",
+           label, (long long)F.net.n_arm, (long long)ny, (long long)nc, (long long)nb,
+           type->rotations ? "; turned by 0.4 rad, a particle with two collinear arms" : "");
   /* dense copy of the analytic tangent (all dofs free) */
   dense(&F.sys.A, nd, Kd);
   /* symmetry of Kfull (both triangles assembled independently) */
@@ -492,6 +528,15 @@ int main(void) {
   run_case_cloud(ps_model_state, T, 2, PS_PLANE_STRAIN, 0.25, 1,
                  "state on a cloud, 2D plane strain nu=0.25, fracture");
   run_case_cloud(ps_model_state, T, 3, PS_SOLID_3D, 0.27, 1, "state on a cloud, 3D, fracture");
+  /* the threebody model (arm rotations): nu = 0.2 in both planes, kappa
+   * = 0 (plane stress 1/3), and on a cloud with the micropotential
+   * criterion; the lattice cases with the surface correction */
+  run_case(ps_model_threebody, T, 2, PS_PLANE_STRESS, 0.2, "threebody, plane stress nu=0.2");
+  run_case(ps_model_threebody, T, 2, PS_PLANE_STRAIN, 0.2, "threebody, plane strain nu=0.2");
+  run_case(ps_model_threebody, T, 2, PS_PLANE_STRESS, 1.0 / 3.0,
+           "threebody, plane stress nu=1/3 (kappa = 0)");
+  run_case_cloud(ps_model_threebody, T, 2, PS_PLANE_STRESS, 0.25, 1,
+                 "threebody on a cloud, plane stress nu=0.25, fracture");
   crushed_arm();
   return ps_check_summary();
 }

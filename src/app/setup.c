@@ -194,6 +194,10 @@ static ps_estimate_opts estimate_opts(const ps_case *cs, double free_fraction) {
   o.single_precision = cs->solver.cg_single_precision;
   o.lu = !strcmp(cs->solver.linear, "umfpack");
   o.free_fraction = free_fraction;
+  /* per arm: a critical stretch when arms break by a criterion (8); the
+   * three-body model's rotations, moments and their gradients (64) */
+  o.arm_bytes = (cs->mat.fracture != PS_FRACTURE_NONE ? 8.0 : 0.0) +
+                (type && type->rotations ? 64.0 : 0.0);
   return o;
 }
 

@@ -28,6 +28,7 @@ void ps_asm_assemble_arms(ps_system *dst, const ps_system *src, const double *D)
   for (ps_int i = 0; i < net->n_arm; i++) {
     if (D[i] == 0.0 && src->tTl[i] == 0.0) continue; /* broken */
     ps_asm_arm_block(d, &src->tq[i * d], D[i], src->tTl[i], kmat);
+    if (src->tr) ps_asm_arm_block_rot(&src->tr[2 * i], src->tan.Dr[i], src->tM[i], kmat);
     ps_int a = net->a[i], b = net->b[i];
     add_block(dst, a, dst->slot_diag[a], kmat, 1.0);
     add_block(dst, b, dst->slot_diag[b], kmat, 1.0);

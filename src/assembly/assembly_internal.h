@@ -46,6 +46,17 @@ static inline void ps_asm_arm_block(int d, const double *q, double D, double Tl,
       kmat[be * d + al] = D * q[al] * q[be] + Tl * ((al == be) - q[al] * q[be]);
 }
 
+/* kmat (2 x 2, column-major) += the rotation part of an arm's stiffness
+ * (models with rotations), Dr r r^T - M (p r^T + r p^T), p = (r_y, -r_x)
+ * = y/|y|^2: Dr dth dth^T + M d2th/dy2 */
+static inline void ps_asm_arm_block_rot(const double *r, double Dr, double M,
+                                        double *kmat) {
+  double p[2] = {r[1], -r[0]};
+  for (int be = 0; be < 2; be++)
+    for (int al = 0; al < 2; al++)
+      kmat[be * 2 + al] += Dr * r[al] * r[be] - M * (p[al] * r[be] + r[al] * p[be]);
+}
+
 /* particle c's rank-one family term `term` (0: c w, 1: c2 w2) of the
  * tangent, c_c g g^T: returns its coefficient (0: no such term), its m
  * members M and their gradient g[m x dim] (in G[term]) */

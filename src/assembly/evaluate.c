@@ -50,6 +50,13 @@ static void arm_geometry(eval_job *j, int part, ps_int i0, ps_int i1) {
     /* l - l(r0) = (2 dX.du + du.du)/(l + l(r0)): no cancellation at
      * small strain */
     s->dl[i] = (2.0 * dXdu + du2) / (l + sqrt(r0 * r0 + e2));
+    if (s->th) { /* 2D: rotation from dX to y = dX + du, dX x y = dX x du */
+      double dX0 = X[b * d] - X[a * d], dX1 = X[b * d + 1] - X[a * d + 1];
+      double du0 = u[b * d] - u[a * d], du1 = u[b * d + 1] - u[a * d + 1];
+      s->th[i] = atan2(dX0 * du1 - dX1 * du0, dX0 * q[0] + dX1 * q[1]);
+      s->r[2 * i] = -q[1] / l2;
+      s->r[2 * i + 1] = q[0] / l2;
+    }
     for (int k = 0; k < d; k++) q[k] /= l;
   }
 }
@@ -62,6 +69,19 @@ static void arm_forces(eval_job *j, int part, ps_int i0, ps_int i1) {
   const int d = s->dim;
   double *f = part == 0 ? j->f : s->f_part;
   memset(f, 0, (size_t)s->n_dof * sizeof *f);
+  if (s->M) { /* not central: dPsi/dy_b = T q + M r (2D) */
+    for (ps_int i = i0; i < i1; i++) {
+      double T = s->T[i], Mi = s->M[i];
+      if (T == 0.0 && Mi == 0.0) continue;
+      const double *q = &s->q[i * 2], *r = &s->r[i * 2];
+      for (int k = 0; k < 2; k++) {
+        double F = T * q[k] + Mi * r[k];
+        f[net->a[i] * 2 + k] -= F;
+        f[net->b[i] * 2 + k] += F;
+      }
+    }
+    return;
+  }
   for (ps_int i = i0; i < i1; i++) {
     double T = s->T[i];
     if (T == 0.0) continue;
@@ -81,6 +101,11 @@ static void arm_tangent(eval_job *j, ps_int i0, ps_int i1) {
   for (ps_int i = i0; i < i1; i++) {
     for (int k = 0; k < d; k++) s->tq[i * d + k] = s->q[i * d + k];
     s->tTl[i] = j->st->broken[i] ? 0.0 : s->T[i] / s->l[i];
+    if (s->tr) {
+      s->tr[2 * i] = s->r[2 * i];
+      s->tr[2 * i + 1] = s->r[2 * i + 1];
+      s->tM[i] = j->st->broken[i] ? 0.0 : s->M[i];
+    }
   }
 }
 
@@ -98,9 +123,12 @@ static void eval_part(void *arg, int part) {
 
 /* g[m x dim] = the gradient of sum_k w[k] l_k (k over particle c's
  * family positions) with respect to the positions of c's m members
- * (fam_members, in that order), with the tangent's directions tq: w q
- * for a member b (q from c to b), minus their sum for c itself */
-static void family_gradient(const ps_system *s, ps_int c, const double *wt, double *g) {
+ * (fam_members, in that order), with the tangent's directions dir = tq:
+ * w q for a member b (q from c to b), minus their sum for c itself; or,
+ * for a family term on the arm rotations (tan.rot), of sum_k w[k] th_k
+ * with dir = tr (dth/dy_b = r, dth/dy_a = -r: the same signs) */
+static void family_gradient(const ps_system *s, ps_int c, const double *wt,
+                            const double *dir, double *g) {
   const ps_network *net = s->net;
   int d = s->dim;
   const ps_int *Mk = &s->fam_member_arm[s->fam_members_ptr[c]];
@@ -114,7 +142,7 @@ static void family_gradient(const ps_system *s, ps_int c, const double *wt, doub
     ps_int i = net->fam_arm[Mk[p]];
     double w = wt[Mk[p]];
     double sgn = net->a[i] == c ? 1.0 : -1.0; /* unit vector c -> other */
-    for (int k = 0; k < d; k++) gp[k] = w * sgn * s->tq[i * d + k];
+    for (int k = 0; k < d; k++) gp[k] = w * sgn * dir[i * d + k];
   }
   double *gs = &g[self * d];
   for (int k = 0; k < d; k++) gs[k] = 0.0;
@@ -135,6 +163,7 @@ static void gradient_part(void *arg, int part) {
       double cc = term == 0 ? s->tan.c[c] : s->tan.c2[c];
       if (cc == 0.0) continue;
       family_gradient(s, c, term == 0 ? s->tan.w : s->tan.w2,
+                      s->tan.rot[term] ? s->tr : s->tq,
                       &s->G[term][(ps_int)s->dim * s->fam_members_ptr[c]]);
     }
 }
@@ -176,11 +205,50 @@ static int family_storage(ps_system *s, ps_ctx *ctx) {
   return PS_OK;
 }
 
+/* the arrays of a model with rotations (on its first evaluation) */
+static int rotation_storage(ps_system *s, ps_ctx *ctx) {
+  ps_int na = s->net->n_arm;
+  if (s->dim != 2)
+    return ps_error(ctx, PS_ERR_INPUT, "a model with arm rotations needs a 2D network");
+  s->th = ps_calloc((size_t)na, sizeof *s->th, ctx);
+  s->M = ps_calloc((size_t)na, sizeof *s->M, ctx);
+  s->r = ps_calloc((size_t)(2 * na), sizeof *s->r, ctx);
+  s->tr = ps_calloc((size_t)(2 * na), sizeof *s->tr, ctx);
+  s->tM = ps_calloc((size_t)na, sizeof *s->tM, ctx);
+  if (!s->tan.Dr) s->tan.Dr = ps_calloc((size_t)na, sizeof *s->tan.Dr, ctx);
+  if (!s->th || !s->M || !s->r || !s->tr || !s->tM || !s->tan.Dr) {
+    free(s->th), free(s->M), free(s->r), free(s->tr), free(s->tM);
+    s->th = s->M = s->r = s->tr = s->tM = NULL;
+    return PS_ERR_NOMEM;
+  }
+  return PS_OK;
+}
+
+/* a model with rotations: T and q become the arm's force dPsi/dy_b =
+ * T q + M r as a length and a unit direction (ps_system), for the
+ * consumers of forces; the evaluation and the tangent are done with them */
+static void force_vectors(ps_system *s) {
+  for (ps_int i = 0; i < s->net->n_arm; i++) {
+    double *q = &s->q[2 * i], F0 = s->T[i] * q[0] + s->M[i] * s->r[2 * i];
+    double F1 = s->T[i] * q[1] + s->M[i] * s->r[2 * i + 1], F = hypot(F0, F1);
+    s->T[i] = F;
+    if (F > 0) {
+      q[0] = F0 / F;
+      q[1] = F1 / F;
+    }
+  }
+}
+
 int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
                    const double *X, const double *u, double *f,
                    double *energy, int want, ps_ctx *ctx) {
   const ps_network *net = s->net;
   int want_tangent = want != PS_EVAL_FORCES;
+  if (model->type->rotations && !s->th) PS_CHECK(rotation_storage(s, ctx));
+  if (!model->type->rotations && s->th)
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "the system was evaluated with a model with arm rotations: it cannot "
+                    "serve the %s model", model->type->name);
   eval_job job = {s, st, X, u, f, 0, {-1, -1}};
   ps_team_run(s->team, PS_PARTS, eval_part, &job);
   for (int p = 0; p < PS_PARTS; p++)
@@ -189,17 +257,25 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
       return ps_error(ctx, PS_ERR_SOLVER, "arm %lld: particles %lld and %lld: length %g",
                       (long long)i, (long long)net->a[i], (long long)net->b[i], s->l[i]);
     }
-  PS_CHECK(model->type->evaluate(model, s->dl, st, s->T, energy,
-                                 want_tangent ? &s->tan : NULL, ctx));
+  if (model->type->rotations)
+    PS_CHECK(model->type->evaluate_rot(model, s->dl, s->th, st, s->T, s->M, energy,
+                                       want_tangent ? &s->tan : NULL, ctx));
+  else
+    PS_CHECK(model->type->evaluate(model, s->dl, st, s->T, energy,
+                                   want_tangent ? &s->tan : NULL, ctx));
   job.phase = 1;
   ps_team_run(s->team, PS_PARTS, eval_part, &job);
   ps_asm_add_second_part(f, s->f_part, s->n_dof);
-  if (!want_tangent) return PS_OK;
+  if (!want_tangent) {
+    if (s->M) force_vectors(s);
+    return PS_OK;
+  }
 
   /* keep the tangent's geometry, free bodies and family gradients */
   s->assembled = 0;
   job.phase = 2;
   ps_team_run(s->team, PS_PARTS, eval_part, &job);
+  if (s->M) force_vectors(s);
   ps_int any_free = mark_free_bodies(s, st);
   PS_CHECK(family_storage(s, ctx));
   ps_team_run(s->team, PS_PARTS, gradient_part, &job);

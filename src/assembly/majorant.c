@@ -3,7 +3,10 @@
  * with each positive rank-one family term replaced by arm stiffnesses that
  * bound it by Cauchy-Schwarz,
  *   c (sum_k w_k dl_k)^2 <= c (sum_k |w_k| r0_k) sum_k |w_k| dl_k^2 / r0_k,
- * and each negative one dropped (it only lowers K). */
+ * and each negative one dropped (it only lowers K). A model with arm
+ * rotations (threebody) has only negative family terms (-kappa/(2 S_a),
+ * on the rotations): they are dropped, and its arm blocks, rotation
+ * parts included (ps_asm_assemble_arms), are K's. */
 #include "assembly_internal.h"
 
 #include <math.h>
@@ -22,6 +25,9 @@ int ps_system_assemble_majorant(ps_system *pre, const ps_system *K, ps_ctx *ctx)
       double cc = term == 0 ? K->tan.c[c] : K->tan.c2[c];
       const double *w = term == 0 ? K->tan.w : K->tan.w2;
       if (!(cc > 0.0)) continue;
+      if (K->tan.rot[term]) /* the bound below is for length terms */
+        return ps_error(ctx, PS_ERR_INPUT,
+                        "majorant: a positive family term on the arm rotations");
       /* S = sum_k |w_k| r0_k; D_k += c S |w_k| / r0_k */
       double S = 0.0;
       for (ps_int k = net->fam_ptr[c]; k < net->fam_ptr[c + 1]; k++)

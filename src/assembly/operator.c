@@ -32,6 +32,22 @@ static PS_ALWAYS_INLINE void apply_terms_dim(const ps_system *s, const double *x
       ya[k] -= kv;
     }
   }
+  if (s->tr) /* models with rotations (2D): Dr r r^T - M (p r^T + r p^T) */
+    for (ps_int i = i0; i < i1; i++) {
+      double Dr = s->tan.Dr[i], Mi = s->tM[i];
+      if (Dr == 0.0 && Mi == 0.0) continue;
+      const double *r = &s->tr[i * 2];
+      const double *xa = &x[net->a[i] * 2], *xb = &x[net->b[i] * 2];
+      double dx0 = xb[0] - xa[0], dx1 = xb[1] - xa[1];
+      double p0 = r[1], p1 = -r[0];
+      double rv = r[0] * dx0 + r[1] * dx1, pv = p0 * dx0 + p1 * dx1;
+      double k0 = Dr * r[0] * rv - Mi * (p0 * rv + r[0] * pv);
+      double k1 = Dr * r[1] * rv - Mi * (p1 * rv + r[1] * pv);
+      y[net->b[i] * 2] += k0;
+      y[net->b[i] * 2 + 1] += k1;
+      y[net->a[i] * 2] -= k0;
+      y[net->a[i] * 2 + 1] -= k1;
+    }
   for (ps_int c = c0; c < c1; c++) {
     ps_int m;
     const ps_int *M;
@@ -86,6 +102,7 @@ void ps_asm_tangent_diagonal(const ps_system *s, double *diag) {
   double kmat[9];
   for (ps_int i = 0; i < net->n_arm; i++) {
     ps_asm_arm_block(d, &s->tq[i * d], s->tan.D[i], s->tTl[i], kmat);
+    if (s->tr) ps_asm_arm_block_rot(&s->tr[2 * i], s->tan.Dr[i], s->tM[i], kmat);
     for (int k = 0; k < d; k++) {
       diag[net->a[i] * d + k] += kmat[k * d + k];
       diag[net->b[i] * d + k] += kmat[k * d + k];

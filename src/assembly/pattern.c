@@ -62,6 +62,11 @@ void ps_system_free(ps_system *s) {
   free(s->yw);
   free(s->yw_part);
   free(s->f_part);
+  free(s->th);
+  free(s->M);
+  free(s->r);
+  free(s->tr);
+  free(s->tM);
   ps_arm_tangent_free(&s->tan);
   memset(s, 0, sizeof *s);
 }

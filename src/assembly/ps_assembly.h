@@ -88,6 +88,18 @@ typedef struct ps_system {
                                when a model has a second term */
   int family_coupling;      /* 1: two-horizon pattern with the family
                                terms; 0: arms only (one horizon) */
+  /* models with arm rotations (ps_model_type.rotations, threebody; 2D),
+   * allocated by the first evaluation of such a model, else NULL: per
+   * arm the rotation th = atan2(n x y, n . y) from the reference
+   * direction n to the current (unrounded) arm vector y, the moment M =
+   * dPsi/dth, r = dth/dy_b = (z x y)/|y|^2 [2 n_arm]; the tangent's
+   * copies tr, tM (tan.Dr the model's rotational stiffnesses). The arm's
+   * force is not central: dPsi/dy_b = T q + M r = -dPsi/dy_a. For such a
+   * model, T and q above hold that force after ps_system_eval, for the
+   * consumers of forces (post: PD stress, boundary stress, J): q its unit
+   * direction, T >= 0 its length, T q = dPsi/dy_b (for central models T q
+   * is that force already). */
+  double *th, *M, *r, *tr, *tM;
 } ps_system;
 
 /* Build the dof map and the pattern for a network and a prescribed-dof
@@ -118,7 +130,8 @@ enum ps_eval_want {
  * residual, at prescribed dofs the reactions), *energy; and the tangent as
  * `want` (enum ps_eval_want) says. Returns PS_OK, PS_ERR_SOLVER if an arm
  * length is not finite (names the particles),
- * PS_ERR_INPUT if the model has family terms and the pattern none. */
+ * PS_ERR_INPUT if the model has family terms and the pattern none, or if
+ * a system evaluated with a model with arm rotations is handed another. */
 int ps_system_eval(ps_system *sys, const ps_model *model, ps_arm_state *st,
                    const double *X, const double *u, double *f,
                    double *energy, int want, ps_ctx *ctx);

@@ -110,12 +110,51 @@ static int fixed_poisson_check(ps_loader *L) {
   return ps_yaml_fail(L, 0, "%s (%s)", why, where);
 }
 
+/* The threebody model (model/threebody.c): 2D only; nu at most 1/3 in
+ * plane stress and 1/4 in plane strain (a non-negative bond-shear
+ * stiffness kappa), within the 1e-3 of fixed_poisson; breaking by the arm
+ * micropotential only: critical_micropotential, or fracture_energy with
+ * criterion energy (its default here). The model checks the same when it
+ * is prepared; here the messages name the line. */
+static int threebody_check(ps_loader *L, const char *model) {
+  ps_case *cs = L->cs;
+  if (cs->dim != 2)
+    return ps_yaml_fail(L, L->line_dim ? L->line_dim : L->line_model,
+                        "material.model threebody is 2D only (geometry.dim is %d): its "
+                        "finite-rotation form has no 3D counterpart (doc/design-threebody.md); "
+                        "use model state or bond in 3D", cs->dim);
+  int stress = cs->mat.plane == PS_PLANE_STRESS;
+  double numax = stress ? 1.0 / 3.0 : 0.25;
+  if (cs->mat.nu > numax + 1e-3)
+    return ps_yaml_fail(L, L->line_nu ? L->line_nu : L->line_model,
+                        "material.nu = %g%s: the threebody model needs a non-negative "
+                        "bond-shear stiffness, nu <= 1/3 in plane stress and nu <= 1/4 in "
+                        "plane strain (kappa = %s would be negative; this case is plane "
+                        "%s); use model state for this nu",
+                        cs->mat.nu, L->line_nu ? "" : " (the default)",
+                        stress ? "6E(1-3nu)/(pi delta^3 (1-nu^2))"
+                               : "6E(1-4nu)/(pi delta^3 (1+nu)(1-2nu))",
+                        stress ? "stress" : "strain");
+  if (!L->line_fracture) return PS_OK;
+  if (cs->mat.fracture_energy > 0 && !L->line_fracture_criterion)
+    cs->mat.fracture = PS_FRACTURE_ENERGY; /* the threebody's default */
+  if (cs->mat.fracture == PS_FRACTURE_STRETCH)
+    return ps_yaml_fail(L, L->line_fracture_criterion ? L->line_fracture_criterion
+                                                      : L->line_fracture,
+                        "material.fracture: the threebody model breaks by its arm "
+                        "micropotential (stretch and shear energy; Li & Hao 2023): give "
+                        "critical_micropotential or fracture_energy (criterion energy), "
+                        "not a critical stretch (%s)", model);
+  return PS_OK;
+}
+
 /* Keys that belong to some models only: material.fracture, micromodulus,
  * partial_volumes and horizon (bond, state) against material.delta
  * (fibre); material.horizon and horizon_factor not both. */
 static int model_keys_check(ps_loader *L) {
   const ps_case *cs = L->cs;
   int fibre = !strcmp(cs->model, "fibre"), bond = !strcmp(cs->model, "bond");
+  int threebody = !strcmp(cs->model, "threebody");
   char model[64];
   if (!fibre && !L->line_plastic) L->cs->mat.plastic = 0; /* elastic models */
   if (L->line_model)
@@ -148,11 +187,13 @@ static int model_keys_check(ps_loader *L) {
                         "material.horizon and material.horizon_factor (line %d) are both "
                         "given: give one (the horizon in m, or in spacings)",
                         L->line_horizon_factor);
-  if (!bond && L->line_fracture && cs->mat.fracture == PS_FRACTURE_ENERGY)
+  if (threebody) {
+    if (threebody_check(L, model) != PS_OK) return PS_ERR_INPUT;
+  } else if (!bond && L->line_fracture && cs->mat.fracture == PS_FRACTURE_ENERGY)
     return ps_yaml_fail(L, L->line_fracture_criterion ? L->line_fracture_criterion
                                                       : L->line_fracture,
-                        "material.fracture: the energy criterion is for the bond model; "
-                        "the %s model breaks by critical_stretch (or fracture_energy with "
+                        "material.fracture: the energy criterion is for the bond model "
+                        "(and threebody); the %s model breaks by critical_stretch (or fracture_energy with "
                         "criterion stretch)",
                         cs->model);
   return PS_OK;

@@ -184,16 +184,18 @@ int ps_case_on_kernel(ps_loader *L, void *arg, const char *key, const char *name
 /* ---- material ---- */
 
 /* The material models a case can name (ps_model_type_find knows them). */
-static const char *const known_models[] = {"fibre", "bond", "state", NULL};
+static const char *const known_models[] = {"fibre", "bond", "state", "threebody",
+                                            NULL};
 
 const char *const ps_case_material_keys[] = {
     "model", "E", "nu", "plane", "yield_strain", "plastic", "delta",
     "delta_over_c", "rho", "yield_rule", "horizon_factor", "surface_correction",
     "micromodulus", "partial_volumes", "fracture", "horizon", NULL};
 
-/* material.fracture (bond and state models): one of critical_stretch (s0),
- * fracture_energy (G_c, J/m^2, with criterion stretch or energy) and
- * critical_micropotential (w_c). */
+/* material.fracture (bond, state and threebody models): one of
+ * critical_stretch (s0), fracture_energy (G_c, J/m^2, with criterion
+ * stretch or energy; threebody: energy, the default there, set by the
+ * cross checks) and critical_micropotential (w_c). */
 static const char *const fracture_keys[] = {"critical_stretch", "fracture_energy",
                                             "critical_micropotential", "criterion", NULL};
 

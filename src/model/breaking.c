@@ -79,20 +79,28 @@ double ps_model_stretch_excess(const ps_model *m, const ps_arm_state *st, ps_int
  *   conical c0 (1 - xi/d), c0 = 48K/(pi d^3) (2D), 90K/(pi d^4) (3D):
  *     s0 = sqrt(5 pi G_c / (12 K d)) (2D), sqrt(2 G_c / (3 K d)) (3D).
  * Bond, energy criterion (any c): w_c = 3 G_c / (2 d^3) (2D),
- * 4 G_c / (pi d^4) (3D). State (Madenci & Oterkus 2014, influence d/xi):
+ * 4 G_c / (pi d^4) (3D); threebody (2D, energy criterion only): the same
+ * w_c, the arm micropotential summed over stretch and shear
+ * (doc/design-threebody.md, decision 5). State (Madenci & Oterkus 2014, influence d/xi):
  *   s0 = sqrt(G_c / ((6G/pi + 16/(9 pi^2) (K - 2G)) d)) (2D),
  *        sqrt(G_c / ((3G + (3/4)^4 (K - 5G/3)) d)) (3D). */
 static int from_energy(ps_material *mat, const char *model, int dim, ps_ctx *ctx) {
   double Gc = mat->fracture_energy, K = mat->K, G = mat->G, d = mat->horizon;
-  int bond = model[0] == 'b';
+  int bond = model[0] == 'b', threebody = model[0] == 't';
   if (mat->fracture == PS_FRACTURE_ENERGY) {
-    if (!bond)
+    if (!bond && !threebody)
       return ps_error(ctx, PS_ERR_INPUT,
-                      "material.fracture.criterion energy is for the bond model: the %s "
+                      "material.fracture.criterion energy is for the bond model (and "
+                      "threebody): the %s "
                       "model breaks by critical stretch", model);
     mat->critical_micropotential = dim == 2 ? 1.5 * Gc / pow(d, 3) : 4.0 * Gc / (M_PI * pow(d, 4));
     return PS_OK;
   }
+  if (threebody)
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "material.fracture: the threebody model breaks by its arm "
+                    "micropotential: give fracture_energy (criterion energy) or "
+                    "critical_micropotential");
   double s2;
   if (bond && mat->micromodulus == PS_MICRO_CONSTANT)
     s2 = dim == 2 ? M_PI * Gc / (3.0 * K * d) : 5.0 * Gc / (9.0 * K * d);

@@ -117,6 +117,7 @@ void ps_arm_tangent_free(ps_arm_tangent *t) {
   free(t->w);
   free(t->c2);
   free(t->w2);
+  free(t->Dr);
   memset(t, 0, sizeof *t);
 }
 
@@ -193,7 +194,8 @@ int ps_model_poisson_check(const ps_model_type *type, double nu, int dim, int pl
 }
 
 const ps_model_type *ps_model_type_find(const char *name) {
-  const ps_model_type *const all[] = {ps_model_fibre, ps_model_bond, ps_model_state};
+  const ps_model_type *const all[] = {ps_model_fibre, ps_model_bond, ps_model_state,
+                                      ps_model_threebody};
   for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
     if (strcmp(all[i]->name, name) == 0) return all[i];
   return NULL;

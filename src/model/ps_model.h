@@ -46,7 +46,7 @@ typedef struct ps_material {
   double rho;          /* density, kg/m^3; uniform, so it drops out of the
                           forces; gives the masses in particles.csv */
   int yield_rule;      /* enum ps_yield_rule */
-  /* the horizon models (bond, state; type->lattice): */
+  /* the horizon models (bond, state, threebody; type->lattice): */
   double horizon;      /* delta, m: arms r <= horizon carry force (Eq. 7).
                           In a case: material.horizon when given (> 0),
                           else 0 and the set-up makes it
@@ -61,8 +61,9 @@ typedef struct ps_material {
   int micromodulus;    /* enum ps_micromodulus (bond) */
   int full_volumes;    /* 1: every neighbour within the horizon counts in
                           full (Peridigm's default); 0: the partial volumes
-                          of Li & Hao Eq. A.2 (bond, state) */
-  /* bond and state models: breaking (enum ps_fracture). The criterion is
+                          of Li & Hao Eq. A.2 (bond, state, threebody) */
+  /* bond, state and threebody models: breaking (enum ps_fracture;
+   * threebody: the energy criterion only). The criterion is
    * given as s0, as w_c or as a fracture energy G_c that the model's
    * prepare converts (ps_fracture_from_energy). */
   int fracture;
@@ -113,7 +114,9 @@ typedef struct ps_arm_state {
                              criterion), carries nothing */
   double *stretch;        /* [n_arm] dl / r0 of the last evaluate, written
                              by the models whose criterion reads it (bond,
-                             state) */
+                             state; threebody: in tension the stretch s_eq
+                             whose 1/2 c R xi s_eq^2 is the arm's
+                             micropotential, stretch and shear) */
   double broken_energy;   /* the stored energy of the arms when they broke,
                              summed, J (per unit thickness in 2D); NAN when
                              the model's energy does not split into arms
@@ -138,6 +141,14 @@ typedef struct ps_arm_tangent {
   double *c2; /* [n_particle] a second rank-one family term c2 w2 w2^T
                  (deviatoric reading), 0 when unused */
   double *w2; /* [2 n_arm] */
+  /* models with arm rotations (ps_model_type.rotations; threebody):
+   * Dr[i] = d^2 Psi / d theta_i^2 of the arm terms (N m per radian^2,
+   * per unit thickness), allocated by the assembly on first use (NULL
+   * for the other models); rot[term] = 1: family term `term` acts on the
+   * arm rotations theta (its w are weights of dtheta/dy), 0: on the arm
+   * lengths */
+  double *Dr;
+  unsigned char rot[2];
 } ps_arm_tangent;
 
 int ps_arm_tangent_alloc(ps_arm_tangent *t, const ps_network *net, ps_ctx *ctx);
@@ -196,6 +207,20 @@ typedef struct ps_model_type {
    * another one when the case is read (bond: 1/3 in plane stress, 1/4 in
    * plane strain and 3D, Fallah et al. 2020 section 5). */
   double (*fixed_poisson)(int dim, int plane);
+  /* 1: the energy depends on the arm rotations theta_i as well as on the
+   * lengths (threebody, 2D): the assembly calls evaluate_rot instead of
+   * evaluate, with theta_i = atan2(n x y, n . y) (n the reference
+   * direction, y the current arm vector, unrounded), and the arm forces
+   * are not central: T q + M r on b, r = dtheta/dy_b = (z x y)/|y|^2. 0:
+   * evaluate, central forces (fibre, bond, state). */
+  int rotations;
+  /* the evaluation of a model with rotations: as evaluate, plus the arm
+   * rotations th[n_arm] (rad) in and the arm moments M[i] = dPsi/dtheta_i
+   * (N m per unit thickness) out; the tangent gains tan->Dr and the
+   * family terms may act on rotations (tan->rot). NULL when !rotations. */
+  int (*evaluate_rot)(const ps_model *m, const double *dl, const double *th,
+                      ps_arm_state *st, double *T, double *M, double *energy,
+                      ps_arm_tangent *tan, ps_ctx *ctx);
 } ps_model_type;
 
 struct ps_model {
@@ -283,6 +308,22 @@ int ps_model_fracture_prepare(ps_model *m, const double *cxi, ps_ctx *ctx);
  * fibre model's epsbar. */
 extern const ps_model_type *const ps_model_state;
 
+/* The three-body model (bond stretch plus bond shear, Li & Hao 2023, in
+ * the form of doc/design-threebody.md), 2D: Psi = sum_i [1/2 c k_i s_i^2
+ * + 1/4 kappa (k_ai g_ai^2 + k_bi g_bi^2)], s the arm stretch, g_ai the
+ * arm's rotation relative to the k-weighted mean rotation of a's family,
+ * finite rotations; c = 12 K beta / (pi delta^3), kappa = 12 (G - lambda)
+ * beta / (pi delta^3) (derived; >= 0 needs nu <= 1/3 in plane stress, <=
+ * 1/4 in plane strain), beta the lattice factor; partial volumes (Eq.
+ * A.2), surface correction (Eq. A.3-A.6, bulk-lattice W_inf), breaking
+ * by the arm micropotential (criterion energy). See threebody.c. */
+extern const ps_model_type *const ps_model_threebody;
+
+/* The largest Poisson's ratio of the three-body model in a 2D plane
+ * (kappa >= 0): 1/3 in plane stress, 1/4 in plane strain; the check
+ * allows 1e-3 more (kappa then taken as 0). */
+double ps_threebody_max_poisson(int plane);
+
 /* Li & Hao (2023) Eq. A.2: the share of a lattice cell of size dx at
  * distance xi inside a horizon delta (1 inside, 0 beyond, linear across
  * the horizon's edge). */
@@ -320,7 +361,8 @@ int ps_model_poisson_check(const ps_model_type *type, double nu, int dim, int pl
 int ps_lattice_model_check(const ps_material *mat, int dim, const ps_particles *P,
                            const char *model, ps_ctx *ctx);
 
-/* Look a model type up by name ("fibre", "bond", "state"); NULL if unknown. */
+/* Look a model type up by name ("fibre", "bond", "state", "threebody");
+ * NULL if unknown. */
 const ps_model_type *ps_model_type_find(const char *name);
 
 /* The reach of a lattice model's arms, in spacings, for a horizon of

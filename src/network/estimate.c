@@ -134,7 +134,9 @@ static void finish(ps_estimate *e, const ps_estimate_opts *o) {
   e->mem_pattern = pattern_bytes(d, n, arms, e->pairs, e->tangent_nnz, sq, ff, 0);
   double fbytes = 8 + (o->single_precision ? 4 : 0);
   if (o->lu) fbytes = 12; /* values and row indices, no float copy */
-  double solver = e->factor_nnz * fbytes + e->dofs * 128 + arms * 68 /* states */
+  /* arm states, trial and committed: eps_p, eps_p_trial, stretch,
+   * broken, yielding (2 x 42 bytes) */
+  double solver = e->factor_nnz * fbytes + e->dofs * 128 + arms * (84 + o->arm_bytes)
                   + (o->family_coupling ? 16.0 * d * (2 * arms + n) : 0); /* G */
   if (o->majorant)
     solver += pattern_bytes(d, n, arms, n + 2 * arms, e->majorant_nnz, 0, ff, 0) +

@@ -89,6 +89,9 @@ typedef struct ps_estimate_opts {
   int single_precision; /* float copies of the factors (solver) */
   int lu;               /* solver.linear umfpack: LU, not Cholesky */
   double free_fraction; /* free dofs / all dofs (1 when not known) */
+  double arm_bytes;     /* per-arm bytes the model adds to the common arm
+                           states (critical stretches, the three-body
+                           model's rotations and moments) */
 } ps_estimate_opts;
 
 /* Sizes and memory of a case before it is built. Counts are doubles: an

@@ -19,6 +19,8 @@
  * (opts.cg_truncate). */
 #include "solver_impl.h"
 
+#include <math.h>
+
 /* the count of changes since the last factor (ps_nl_problem changed) is
  * needed only by opts.pcg_skip_arms and the verbose log */
 static int tracks_arm_state(const ps_solver *s, const ps_ctx *ctx) {
@@ -152,20 +154,30 @@ static int solve_by_majorant(ps_solver *s, ps_ctx *ctx) {
   return PS_DIVERGED;
 }
 
+/* How many CG iterations with the current factor cost as much as a new
+ * factorisation, from the factor's own counts, not from timings (so
+ * that a run's result does not depend on the machine's load): a CG
+ * iteration is dominated by the two triangular solves, 4 nnz(L) flops,
+ * and a supernodal factorisation runs its flops_factor about
+ * PS_FACTOR_RATE times faster than the solves run theirs (measured 4-7
+ * on the development machine, doc/performance.md). At least 2. */
+#define PS_FACTOR_RATE 5.0
+static double factor_in_iterations(const ps_linsolve_stats *ls) {
+  if (!(ls->nnz_factor > 0 && ls->flops_factor > 0)) return 2.0;
+  return fmax(2.0, ls->flops_factor / (PS_FACTOR_RATE * 4.0 * ls->nnz_factor));
+}
+
 /* The iteration cap of CG with the old factor. Without a majorant, a
  * failed CG is followed by a factorisation of K, so CG pays while its
  * iterations cost less than one: the cap is min(pcg_max_iterations,
- * max(2, mean factorisation time / mean CG iteration time)). With a
- * majorant the next step is CG again, with a fresh majorant factor, which
- * needs about as many iterations: the cap is pcg_max_iterations. */
+ * factor_in_iterations). With a majorant the next step is CG again, with
+ * a fresh majorant factor, which needs about as many iterations: the cap
+ * is pcg_max_iterations. */
 static int old_factor_cap(const ps_solver *s) {
   int maxit = s->opts.pcg_max_iterations;
-  const ps_linsolve_stats *ls = &s->ls_last->stats;
-  if (!s->have_majorant && s->pcg_iterations > 0 && ls->n_factor > 0) {
-    double t_it = s->t_pcg / (double)s->pcg_iterations;
-    double t_fac = ls->t_factor / (double)ls->n_factor;
-    double cap = t_fac / t_it;
-    if (cap < maxit) maxit = cap < 2 ? 2 : (int)cap;
+  if (!s->have_majorant && s->ls_last->stats.n_factor > 0) {
+    double cap = factor_in_iterations(&s->ls_last->stats);
+    if (cap < maxit) maxit = (int)cap;
   }
   return maxit;
 }
@@ -173,16 +185,14 @@ static int old_factor_cap(const ps_solver *s) {
 /* 1 when keeping the old factor has cost more than a new one (no
  * majorant): a fresh factor of the current tangent solves in one CG
  * iteration, so the iterations beyond one per solve since the last
- * factorisation are what lagging it cost; once they took longer than a
- * mean factorisation, refactor. (A crack that runs changes the tangent a
+ * factorisation are what lagging it cost; once they are more than a
+ * factorisation's worth (factor_in_iterations), refactor. (A crack that runs changes the tangent a
  * little at every breaking round: each CG stays under the cap of
  * old_factor_cap, yet the rounds add up.) */
 static int lagging_costs_more(const ps_solver *s) {
   const ps_linsolve_stats *ls = &s->ls_last->stats;
-  if (s->have_majorant || s->pcg_iterations == 0 || ls->n_factor == 0) return 0;
-  double t_it = s->t_pcg / (double)s->pcg_iterations;
-  double t_fac = ls->t_factor / (double)ls->n_factor;
-  return (double)(s->its_since_factor - s->solves_since_factor) * t_it > t_fac;
+  if (s->have_majorant || ls->n_factor == 0) return 0;
+  return (double)(s->its_since_factor - s->solves_since_factor) > factor_in_iterations(ls);
 }
 
 /* Steps 1 and 2 of the strategy. Returns PS_OK (du found), PS_DIVERGED

@@ -547,8 +547,8 @@ static void refusals(void) {
   cloud_case_text(text, sizeof text, 2, cloud, "fibre", 0.25, "strain", "horizon: 0.002",
                   "  plastic: false\n");
   refused("horizon for the fibre model", text,
-          (const char *const[]){"t390_tmp_case.yaml:11: material.horizon is for the bond "
-                                "and state models",
+          (const char *const[]){"t390_tmp_case.yaml:11: material.horizon is for the bond, "
+                                "state and threebody models",
                                 NULL});
   cloud_case_text(text, sizeof text, 2, cloud, "state", 0.25, "strain", "horizon: 0.0015",
                   NULL);

@@ -134,7 +134,7 @@ expect 1 "criterion_s0.yaml:30: material.fracture.criterion goes with fracture_e
 sed 's/{critical_stretch: 1.0e-3}/{fracture_energy: 5, criterion: brittle}/' "$N" > "$T/criterion_bad.yaml"
 expect 1 "criterion_bad.yaml:30: material.fracture.criterion must be one of" -- info "$T/criterion_bad.yaml"
 sed -e 's/  model: bond/  model: fibre/' -e '/^  micromodulus/d' -e '/^  partial_volumes/d' -e '/^  surface_correction/d' "$N" > "$T/fibre_fracture.yaml"
-expect 1 "fibre_fracture.yaml:27: material.fracture is for the bond and state models: the fibre model breaks arms by plastic elongation, material.delta" -- info "$T/fibre_fracture.yaml"
+expect 1 "fibre_fracture.yaml:27: material.fracture is for the bond, state and threebody models: the fibre model breaks arms by plastic elongation, material.delta" -- info "$T/fibre_fracture.yaml"
 sed -e 's/  model: bond/  model: state/' "$N" > "$T/state_micro.yaml"
 expect 1 "state_micro.yaml:27: material.micromodulus is for the bond model (material.model is state (line 22))" -- info "$T/state_micro.yaml"
 sed -e 's/  model: bond/  model: state/' -e '/^  micromodulus/d' -e 's/{critical_stretch: 1.0e-3}/{fracture_energy: 5, criterion: energy}/' "$N" > "$T/state_energy.yaml"

@@ -163,7 +163,7 @@ static int model_keys_check(ps_loader *L) {
     snprintf(model, sizeof model, "material.model is not given: the default is fibre");
   if (fibre && L->line_fracture)
     return ps_yaml_fail(L, L->line_fracture,
-                        "material.fracture is for the bond and state models: the fibre "
+                        "material.fracture is for the bond, state and threebody models: the fibre "
                         "model breaks arms by plastic elongation, material.delta (Eq. 118) "
                         "(%s)", model);
   if (!fibre && L->line_delta)
@@ -176,11 +176,11 @@ static int model_keys_check(ps_loader *L) {
                         "material.micromodulus is for the bond model (%s)", model);
   if (fibre && L->line_partial_volumes)
     return ps_yaml_fail(L, L->line_partial_volumes,
-                        "material.partial_volumes is for the bond and state models (%s)",
+                        "material.partial_volumes is for the bond, state and threebody models (%s)",
                         model);
   if (fibre && L->line_horizon)
     return ps_yaml_fail(L, L->line_horizon,
-                        "material.horizon is for the bond and state models: the fibre "
+                        "material.horizon is for the bond, state and threebody models: the fibre "
                         "model's horizon is kernel.alpha particle sizes (%s)", model);
   if (L->line_horizon && L->line_horizon_factor)
     return ps_yaml_fail(L, L->line_horizon,

@@ -230,6 +230,11 @@ int ps_case_cross_checks(ps_loader *L) {
                         "geometry.cracks are 2D only (geometry.dim is 3)");
   if (cs->output.n_j_rings > 0 && cs->dim == 3)
     return ps_yaml_fail(L, L->line_j, "output.j_integral is 2D only (geometry.dim is 3)");
+  if (L->line_j_crack && cs->output.j_crack >= cs->n_cracks)
+    return ps_yaml_fail(L, L->line_j_crack,
+                        "output.j_integral.crack %d is not in geometry.cracks (%d given, "
+                        "counted from 0)",
+                        cs->output.j_crack, cs->n_cracks);
   if (cs->n_holes > 0 && (cs->dim == 3 || cs->geometry != PS_GEOM_BOX))
     return ps_yaml_fail(L, L->line_holes, "geometry.holes need a 2D box");
   if (fixed_poisson_check(L) != PS_OK || particle_counts_check(L) != PS_OK ||

@@ -26,6 +26,7 @@ typedef struct ps_loader {
   ps_ctx *ctx;
   int line_type, line_dim, line_counts, n_counts, line_lattice, line_cracks, line_holes;
   int line_j, line_j_tip;
+  int line_j_dir, line_j_crack, line_j_tips; /* output.j_integral */
   int line_load_type, line_boundary, line_delta, line_delta_over_c;
   int line_sweep_list, line_sweep_den;
   int line_E, line_nu, line_yield_strain, line_plane;

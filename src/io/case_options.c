@@ -2,7 +2,7 @@
  * reported, each read straight into the option struct of the layer that
  * takes it: solver (Newton, the linear solver, CG: cs->solver, but
  * max_memory_gib), path (the load increments and the stop rules:
- * cs->path), output (folder, VTK, J-integral rings: cs->output) and
+ * cs->path), output (folder, VTK, J-integral tips and rings: cs->output) and
  * griffith (the sweep's list of delta/c: cs->sweep). */
 #include "case_impl.h"
 
@@ -113,7 +113,7 @@ int ps_case_on_path(ps_loader *L, void *arg, const char *key, const char *name,
 const char *const ps_case_output_keys[] = {"dir", "vtk_every", "fields", "verbosity",
                                            "j_integral", NULL};
 
-static const char *const j_keys[] = {"tip", "rings", NULL};
+static const char *const j_keys[] = {"tip", "direction", "crack", "tips", "rings", NULL};
 
 static int on_j(ps_loader *L, void *arg, const char *key, const char *name,
                 yaml_node_t *v) {
@@ -123,6 +123,27 @@ static int on_j(ps_loader *L, void *arg, const char *key, const char *name,
   if (IS("tip")) {
     L->line_j_tip = line_of(v);
     return ps_yaml_point2(L, v, name, o->j_tip);
+  }
+  if (IS("direction")) {
+    double d[2];
+    L->line_j_dir = line_of(v);
+    if (ps_yaml_point2(L, v, name, d)) return PS_ERR_INPUT;
+    double n = hypot(d[0], d[1]);
+    if (!(n > 0) || !isfinite(n))
+      return ps_yaml_fail(L, line_of(v), "%s must be a nonzero vector [dx, dy] (got [%g, %g])",
+                          name, d[0], d[1]);
+    o->j_dir[0] = d[0] / n;
+    o->j_dir[1] = d[1] / n;
+    return PS_OK;
+  }
+  if (IS("crack")) {
+    L->line_j_crack = line_of(v);
+    return ps_yaml_int(L, v, name, 0, PS_MAX_CRACKS - 1, &o->j_crack);
+  }
+  if (IS("tips")) { /* the order of enum ps_j_tips */
+    static const char *const tips[] = {"both", "start", "end", NULL};
+    L->line_j_tips = line_of(v);
+    return ps_yaml_choice(L, v, name, tips, &o->j_tips);
   }
   if (v->type != YAML_SEQUENCE_NODE || seq_len(v) < 1 || seq_len(v) > PS_MAX_J_RINGS)
     return ps_yaml_fail(L, line_of(v),
@@ -145,9 +166,18 @@ int ps_case_on_output(ps_loader *L, void *arg, const char *key, const char *name
   if (IS("j_integral")) {
     L->line_j = line_of(v);
     if (ps_yaml_walk_map(L, v, name, j_keys, on_j, NULL)) return PS_ERR_INPUT;
-    if (!L->line_j_tip || !o->n_j_rings)
-      return ps_yaml_fail(L, L->line_j, "%s needs both tip: [x, y] and rings: [l, ...]",
+    if ((!L->line_j_tip && !L->line_j_crack) || !o->n_j_rings)
+      return ps_yaml_fail(L, L->line_j,
+                          "%s needs both tip: [x, y] (or crack: i) and rings: [l, ...]",
                           name);
+    if (L->line_j_tip && L->line_j_crack)
+      return ps_yaml_fail(L, L->line_j_crack,
+                          "%s: give either tip (and direction) or crack (and tips), not "
+                          "both", name);
+    if (L->line_j_dir && !L->line_j_tip)
+      return ps_yaml_fail(L, L->line_j_dir, "%s.direction goes with tip: [x, y]", name);
+    if (L->line_j_tips && !L->line_j_crack)
+      return ps_yaml_fail(L, L->line_j_tips, "%s.tips goes with crack: i", name);
     return PS_OK;
   }
   return ps_yaml_int(L, v, name, 0, 3, &o->verbosity);

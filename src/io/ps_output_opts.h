@@ -7,6 +7,10 @@
 /* output.j_integral: at most this many rings */
 #define PS_MAX_J_RINGS 8
 
+/* output.j_integral.tips: which ends of the crack segment [p0, p1] are
+ * tips (p0: "start", direction p0 - p1; p1: "end", direction p1 - p0) */
+enum ps_j_tips { PS_J_TIPS_BOTH = 0, PS_J_TIPS_START = 1, PS_J_TIPS_END = 2 };
+
 typedef struct ps_output_opts {
   char dir[1024];      /* [dir] "" (default): the command line uses
                           out/<case name> */
@@ -15,11 +19,20 @@ typedef struct ps_output_opts {
   int fields;          /* [fields] 0: no VTK and no particles.csv, only
                           history.csv and summary.txt (default 1) */
   int n_j_rings;       /* [j_integral] J of the final state by Eq. 39 and
-                          Eq. 36 (Fallah) for each square ring, into
+                          Eq. 36 (Fallah) and K_I, K_II (interaction
+                          integral) for each tip and square ring, into
                           summary.txt (2D; contour between particle rows,
                           geometry.spacing apart); 0: none (default) */
-  double j_tip[2];     /* [j_integral.tip] crack tip, m (the crack runs
-                          along +x to it) */
+  double j_tip[2];     /* [j_integral.tip] crack tip, m */
+  double j_dir[2];     /* [j_integral.direction] unit vector from the
+                          crack into the material ahead of the tip (with
+                          tip; default [1, 0]: a crack running along +x
+                          to the tip) */
+  int j_crack;         /* [j_integral.crack] index (from 0) into
+                          geometry.cracks: the tips are that segment's
+                          ends, each with the direction of the segment
+                          out of it; -1 (default): tip and direction */
+  int j_tips;          /* [j_integral.tips] with crack: enum ps_j_tips */
   double j_rings[PS_MAX_J_RINGS]; /* [j_integral.rings] outer half-widths l
                           of the square rings, m (q = 1 inside l/2, 0
                           outside l) */

@@ -2,7 +2,8 @@
  * table of keys/columns that the writer and the reader share, and the
  * fields of a state (VTK, particles.csv) with damage (Eq. 119), arm
  * strains and the PD stress tensor (Fallah et al. Eq. 24); J of the final
- * state (Eq. 39, Eq. 36) in summary.txt; the defaults of the output
+ * state (Eq. 39, Eq. 36) and K_I, K_II (interaction integral) per crack
+ * tip and ring in summary.txt; the defaults of the output
  * options (ps_output_opts.h). */
 #include "ps_report.h"
 
@@ -18,6 +19,10 @@ void ps_output_opts_default(ps_output_opts *o) {
   o->fields = 1;
   o->n_j_rings = 0;
   o->j_tip[0] = o->j_tip[1] = 0.0;
+  o->j_dir[0] = 1.0;
+  o->j_dir[1] = 0.0;
+  o->j_crack = -1;
+  o->j_tips = PS_J_TIPS_BOTH;
   for (int i = 0; i < PS_MAX_J_RINGS; i++) o->j_rings[i] = 0.0;
   o->verbosity = 1;
 }
@@ -180,9 +185,55 @@ static const value_spec history_columns[] = {
 #define N_HISTORY_COLUMNS (sizeof history_columns / sizeof history_columns[0])
 #undef H
 
-/* J of the final state (Eq. 39 and 36) around cs->output.j_tip, per ring */
+/* The tips of output.j_integral: the given tip and direction (no key
+ * prefix), or the ends of crack j_crack (prefixes tip_start_, tip_end_).
+ * Returns how many (0: the crack index is beyond geometry.cracks). */
+static int j_tips(const ps_case *cs, double tip[2][2], double dir[2][2],
+                  const char *prefix[2]) {
+  const ps_output_opts *o = &cs->output;
+  if (o->j_crack < 0) {
+    for (int k = 0; k < 2; k++) {
+      tip[0][k] = o->j_tip[k];
+      dir[0][k] = o->j_dir[k];
+    }
+    prefix[0] = "";
+    return 1;
+  }
+  if (o->j_crack >= cs->n_cracks) return 0;
+  const ps_crack *c = &cs->cracks[o->j_crack];
+  double L = hypot(c->p1[0] - c->p0[0], c->p1[1] - c->p0[1]);
+  if (!(L > 0)) return 0;
+  int n = 0;
+  if (o->j_tips != PS_J_TIPS_END) { /* p0, pointing away from p1 */
+    tip[n][0] = c->p0[0];
+    tip[n][1] = c->p0[1];
+    dir[n][0] = (c->p0[0] - c->p1[0]) / L;
+    dir[n][1] = (c->p0[1] - c->p1[1]) / L;
+    prefix[n++] = "tip_start_";
+  }
+  if (o->j_tips != PS_J_TIPS_START) {
+    tip[n][0] = c->p1[0];
+    tip[n][1] = c->p1[1];
+    dir[n][0] = (c->p1[0] - c->p0[0]) / L;
+    dir[n][1] = (c->p1[1] - c->p0[1]) / L;
+    prefix[n++] = "tip_end_";
+  }
+  return n;
+}
+
+/* J of the final state (Eq. 39 and 36) and K_I, K_II (interaction
+ * integral) per tip and ring, in the crack-tip frame */
 static int write_j_integral(const ps_report_state *s, const ps_case *cs, FILE *f,
                             ps_ctx *ctx) {
+  double tip[2][2], dir[2][2];
+  const char *prefix[2];
+  int nt = j_tips(cs, tip, dir, prefix);
+  if (nt == 0) {
+    ps_log(ctx, 1, "# J-integral: output.j_integral.crack %d is not a crack segment of "
+                   "geometry.cracks (%d given): no J\n",
+           cs->output.j_crack, cs->n_cracks);
+    return PS_OK;
+  }
   double *sig = ps_calloc(4 * (size_t)s->P->n, sizeof *sig, ctx);
   double *H = ps_calloc(4 * (size_t)s->P->n, sizeof *H, ctx);
   char b[40];
@@ -193,18 +244,28 @@ static int write_j_integral(const ps_report_state *s, const ps_case *cs, FILE *f
   }
   ps_post_stress_tensor(s->P, s->net, s->T, s->q, sig);
   ps_post_displacement_gradient(s->P, s->net, s->st, s->u, H);
-  for (int i = 0; i < cs->output.n_j_rings; i++) {
-    double l = cs->output.j_rings[i];
-    double J = ps_post_j_domain(s->P, sig, H, cs->output.j_tip, 0.5 * l, l);
-    double Jc =
-        ps_post_j_contour(s->P, s->net, s->T, s->q, sig, H, cs->output.j_tip, l, cs->spacing);
-    fprintf(f, "j_domain_ring_%.6gm_N_per_m: %s\n", l, ps_fmt_or_na(J, 8, b, sizeof b));
-    fprintf(f, "j_contour_%.6gm_N_per_m: %s\n", l, ps_fmt_or_na(Jc, 8, b, sizeof b));
-    ps_log(ctx, 1, "# J-integral around (%.6g, %.6g), square of half-width %.4g m: "
-                   "%.6g N/m (domain form, Eq. 39, q from l/2 to l), %.6g N/m (contour "
-                   "form, Eq. 36)\n",
-           cs->output.j_tip[0], cs->output.j_tip[1], l, J, Jc);
-  }
+  for (int t = 0; t < nt; t++)
+    for (int i = 0; i < cs->output.n_j_rings; i++) {
+      double l = cs->output.j_rings[i], K[2];
+      double J = ps_post_j_domain_dir(s->P, sig, H, tip[t], dir[t], 0.5 * l, l);
+      double Jc = ps_post_j_contour_dir(s->P, s->net, s->T, s->q, sig, H, tip[t], dir[t], l,
+                                        cs->spacing);
+      ps_post_k_interaction(s->P, sig, H, tip[t], dir[t], 0.5 * l, l, s->mat->E,
+                            s->mat->nu, s->mat->plane, K);
+      fprintf(f, "%sj_domain_ring_%.6gm_N_per_m: %s\n", prefix[t], l,
+              ps_fmt_or_na(J, 8, b, sizeof b));
+      fprintf(f, "%sj_contour_%.6gm_N_per_m: %s\n", prefix[t], l,
+              ps_fmt_or_na(Jc, 8, b, sizeof b));
+      fprintf(f, "%sk_I_ring_%.6gm_Pa_sqrt_m: %s\n", prefix[t], l,
+              ps_fmt_or_na(K[0], 8, b, sizeof b));
+      fprintf(f, "%sk_II_ring_%.6gm_Pa_sqrt_m: %s\n", prefix[t], l,
+              ps_fmt_or_na(K[1], 8, b, sizeof b));
+      ps_log(ctx, 1, "# J-integral around (%.6g, %.6g), crack direction (%.4g, %.4g), "
+                     "square of half-width %.4g m: %.6g N/m (domain form, Eq. 39, q from "
+                     "l/2 to l), %.6g N/m (contour form, Eq. 36); K_I %.6g, K_II %.6g "
+                     "Pa sqrt(m) (interaction integral)\n",
+             tip[t][0], tip[t][1], dir[t][0], dir[t][1], l, J, Jc, K[0], K[1]);
+    }
   free(sig);
   free(H);
   return PS_OK;

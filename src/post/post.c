@@ -1,5 +1,7 @@
-/* post.c: damage, boundary stress, crack tip, strain fit, RMS error, line
- * fit. */
+/* post.c: damage, boundary stress, crack tip, PD stress tensor,
+ * displacement gradient, J (domain and contour forms) and K_I, K_II (the
+ * interaction integral) in the crack-tip frame, strain fit, RMS error,
+ * line fit. */
 #include "ps_post.h"
 
 #include <gsl/gsl_fit.h>
@@ -122,25 +124,82 @@ static double energy_density_2d(const double *sigma, const double *H, ps_int a) 
   return 0.5 * (s[0] * h[0] + s[1] * h[1] + s[2] * h[2] + s[3] * h[3]);
 }
 
-/* distance from the tip in the max norm (square contours) */
-static double rho_tip(const ps_particles *P, ps_int a, const double *tip) {
-  return fmax(fabs(P->x[2 * a] - tip[0]), fabs(P->x[2 * a + 1] - tip[1]));
+/* The crack-tip frame: e1 = dir (unit, along the crack into the material
+ * ahead of the tip), e2 = e1 rotated by +90 degrees; R has rows e1, e2. */
+typedef struct tip_frame {
+  double x0, y0, c, s; /* tip, e1 = (c, s) */
+} tip_frame;
+
+static tip_frame make_frame(const double *tip, const double *dir) {
+  tip_frame f = {tip[0], tip[1], 1.0, 0.0};
+  if (dir) {
+    double n = hypot(dir[0], dir[1]);
+    if (n > 0) {
+      f.c = dir[0] / n;
+      f.s = dir[1] / n;
+    }
+  }
+  return f;
 }
 
-double ps_post_j_domain(const ps_particles *P, const double *sigma, const double *H,
-                        const double *tip, double l_in, double l_out) {
-  double J = 0.0, w = l_out - l_in;
+/* local coordinates of particle a: x1 = (x - tip) . e1, x2 = (x - tip) . e2 */
+static void local_xy(const tip_frame *f, const ps_particles *P, ps_int a, double *x1,
+                     double *x2) {
+  double dx = P->x[2 * a] - f->x0, dy = P->x[2 * a + 1] - f->y0;
+  *x1 = f->c * dx + f->s * dy;
+  *x2 = -f->s * dx + f->c * dy;
+}
+
+/* a vector in the local frame: v' = R v */
+static void local_vec(const tip_frame *f, const double *v, double *vl) {
+  vl[0] = f->c * v[0] + f->s * v[1];
+  vl[1] = -f->s * v[0] + f->c * v[1];
+}
+
+/* a 2x2 tensor (row-major) in the local frame: A' = R A R^T (sigma and
+ * du_j/dx_k alike; the identity frame reproduces A exactly) */
+static void local_tensor(const tip_frame *f, const double *A, double *Al) {
+  const double R[4] = {f->c, f->s, -f->s, f->c};
+  for (int i = 0; i < 2; i++)
+    for (int j = 0; j < 2; j++)
+      Al[2 * i + j] = R[2 * i] * (A[0] * R[2 * j] + A[1] * R[2 * j + 1]) +
+                      R[2 * i + 1] * (A[2] * R[2 * j] + A[3] * R[2 * j + 1]);
+}
+
+/* distance from the tip in the max norm of the local frame (square
+ * contours aligned with the crack) */
+static double rho_local(const tip_frame *f, const ps_particles *P, ps_int a) {
+  double x1, x2;
+  local_xy(f, P, a, &x1, &x2);
+  return fmax(fabs(x1), fabs(x2));
+}
+
+/* the gradient of the trapezoidal q (1 for rho <= l_in, 0 for rho >=
+ * l_out, linear in between) at local (x1, x2), in the local frame; 0 when
+ * outside the ring */
+static int q_gradient(double x1, double x2, double l_in, double l_out, double *gq) {
+  double rho = fmax(fabs(x1), fabs(x2)), w = l_out - l_in;
+  gq[0] = gq[1] = 0.0;
+  if (rho <= l_in || rho >= l_out) return 0;
+  if (fabs(x1) >= fabs(x2))
+    gq[0] = -(x1 > 0 ? 1.0 : -1.0) / w;
+  else
+    gq[1] = -(x2 > 0 ? 1.0 : -1.0) / w;
+  return 1;
+}
+
+double ps_post_j_domain_dir(const ps_particles *P, const double *sigma, const double *H,
+                            const double *tip, const double *dir, double l_in,
+                            double l_out) {
+  tip_frame f = make_frame(tip, dir);
+  double J = 0.0;
   for (ps_int a = 0; a < P->n; a++) {
-    double dx = P->x[2 * a] - tip[0], dy = P->x[2 * a + 1] - tip[1];
-    double rho = rho_tip(P, a, tip);
-    if (rho <= l_in || rho >= l_out) continue; /* grad q = 0 */
-    double gq[2] = {0, 0}; /* q = (l_out - rho) / w */
-    if (fabs(dx) >= fabs(dy))
-      gq[0] = -(dx > 0 ? 1.0 : -1.0) / w;
-    else
-      gq[1] = -(dy > 0 ? 1.0 : -1.0) / w;
-    const double *s = &sigma[4 * a], *h = &H[4 * a]; /* h[j*2 + k] = du_j/dx_k */
-    double W = energy_density_2d(sigma, H, a);
+    double x1, x2, gq[2], s[4], h[4]; /* h[j*2 + k] = du_j/dx_k, local */
+    local_xy(&f, P, a, &x1, &x2);
+    if (!q_gradient(x1, x2, l_in, l_out, gq)) continue;
+    local_tensor(&f, &sigma[4 * a], s);
+    local_tensor(&f, &H[4 * a], h);
+    double W = energy_density_2d(sigma, H, a); /* invariant */
     for (int i = 0; i < 2; i++) {
       double t = s[i * 2 + 0] * h[0 * 2 + 0] + s[i * 2 + 1] * h[1 * 2 + 0]; /* sigma_ij u_j,1 */
       if (i == 0) t -= W;
@@ -150,30 +209,113 @@ double ps_post_j_domain(const ps_particles *P, const double *sigma, const double
   return J;
 }
 
-double ps_post_j_contour(const ps_particles *P, const ps_network *net, const double *T,
-                         const double *q, const double *sigma, const double *H,
-                         const double *tip, double l, double dx) {
+double ps_post_j_domain(const ps_particles *P, const double *sigma, const double *H,
+                        const double *tip, double l_in, double l_out) {
+  return ps_post_j_domain_dir(P, sigma, H, tip, NULL, l_in, l_out);
+}
+
+double ps_post_j_contour_dir(const ps_particles *P, const ps_network *net, const double *T,
+                             const double *q, const double *sigma, const double *H,
+                             const double *tip, const double *dir, double l, double dx) {
+  tip_frame f = make_frame(tip, dir);
   double Jw = 0.0, Jt = 0.0;
-  for (ps_int a = 0; a < P->n; a++) { /* W n_x ds on the vertical sides */
-    double ax = fabs(P->x[2 * a] - tip[0]), ay = fabs(P->x[2 * a + 1] - tip[1]);
+  for (ps_int a = 0; a < P->n; a++) { /* W n_1 ds on the sides x1 = +-l */
+    double x1, x2;
+    local_xy(&f, P, a, &x1, &x2);
+    double ax = fabs(x1), ay = fabs(x2);
     if (fabs(ax - l) >= dx || ay >= l) continue;
     double W = energy_density_2d(sigma, H, a);
     /* hat weight: 1/2 each for the two columns beside a contour between
      * them, 1 for a column on the contour */
     double hat = 1.0 - fabs(ax - l) / dx;
-    Jw += hat * W * (P->x[2 * a] > tip[0] ? 1.0 : -1.0) * dx;
+    Jw += hat * W * (x1 > 0 ? 1.0 : -1.0) * dx;
   }
   for (ps_int i = 0; i < net->n_arm; i++) { /* arms across the contour */
     if (T[i] == 0.0) continue;
     ps_int a = net->a[i], b = net->b[i];
-    double ra = rho_tip(P, a, tip), rb = rho_tip(P, b, tip);
+    double ra = rho_local(&f, P, a), rb = rho_local(&f, P, b);
     if ((ra < l) == (rb < l)) continue;
     ps_int k = ra < l ? a : b, m = ra < l ? b : a;
     double sg = k == a ? 1.0 : -1.0; /* q runs a -> b: the force on k is T q_km */
-    for (int j = 0; j < 2; j++)
-      Jt += sg * T[i] * q[2 * i + j] * 0.5 * (H[4 * k + 2 * j] + H[4 * m + 2 * j]);
+    double F[2], Fl[2], hk[4], hm[4];
+    for (int j = 0; j < 2; j++) F[j] = sg * T[i] * q[2 * i + j];
+    local_vec(&f, F, Fl);
+    local_tensor(&f, &H[4 * k], hk);
+    local_tensor(&f, &H[4 * m], hm);
+    for (int j = 0; j < 2; j++) Jt += Fl[j] * 0.5 * (hk[2 * j] + hm[2 * j]);
   }
   return Jw - Jt;
+}
+
+double ps_post_j_contour(const ps_particles *P, const ps_network *net, const double *T,
+                         const double *q, const double *sigma, const double *H,
+                         const double *tip, double l, double dx) {
+  return ps_post_j_contour_dir(P, net, T, q, sigma, H, tip, NULL, l, dx);
+}
+
+void ps_post_williams(int mode, double x1, double x2, double E, double nu, int plane,
+                      double *sig, double *Hu) {
+  double mu = E / (2.0 * (1.0 + nu));
+  double kappa = plane == PS_PLANE_STRESS ? (3.0 - nu) / (1.0 + nu) : 3.0 - 4.0 * nu;
+  double r = hypot(x1, x2), th = atan2(x2, x1);
+  double c = cos(0.5 * th), s = sin(0.5 * th), c3 = cos(1.5 * th), s3 = sin(1.5 * th);
+  double ct = cos(th), st = sin(th);
+  double A = 1.0 / sqrt(2.0 * M_PI * r);      /* stresses, K = 1 */
+  double C = 1.0 / (2.0 * mu * sqrt(2.0 * M_PI)); /* u = C sqrt(r) f(theta) */
+  double f[2], fp[2]; /* f_j(theta) and df_j/dtheta */
+  if (mode == 1) {
+    sig[0] = A * c * (1.0 - s * s3);
+    sig[3] = A * c * (1.0 + s * s3);
+    sig[1] = sig[2] = A * s * c * c3;
+    f[0] = C * c * (kappa - 1.0 + 2.0 * s * s);
+    fp[0] = C * (-0.5 * s * (kappa - 1.0 + 2.0 * s * s) + 2.0 * s * c * c);
+    f[1] = C * s * (kappa + 1.0 - 2.0 * c * c);
+    fp[1] = C * (0.5 * c * (kappa + 1.0 - 2.0 * c * c) + 2.0 * s * s * c);
+  } else {
+    sig[0] = -A * s * (2.0 + c * c3);
+    sig[3] = A * s * c * c3;
+    sig[1] = sig[2] = A * c * (1.0 - s * s3);
+    f[0] = C * s * (kappa + 1.0 + 2.0 * c * c);
+    fp[0] = C * (0.5 * c * (kappa + 1.0 + 2.0 * c * c) - 2.0 * s * s * c);
+    f[1] = -C * c * (kappa - 1.0 - 2.0 * s * s);
+    fp[1] = -C * (-0.5 * s * (kappa - 1.0 - 2.0 * s * s) - 2.0 * s * c * c);
+  }
+  /* u_j = sqrt(r) f_j: d/dx1 = cos th d/dr - sin th / r d/dth, d/dx2 =
+   * sin th d/dr + cos th / r d/dth */
+  double sr = sqrt(r);
+  for (int j = 0; j < 2; j++) {
+    Hu[2 * j + 0] = (ct * 0.5 * f[j] - st * fp[j]) / sr;
+    Hu[2 * j + 1] = (st * 0.5 * f[j] + ct * fp[j]) / sr;
+  }
+}
+
+void ps_post_k_interaction(const ps_particles *P, const double *sigma, const double *H,
+                           const double *tip, const double *dir, double l_in, double l_out,
+                           double E, double nu, int plane, double *K) {
+  tip_frame f = make_frame(tip, dir);
+  double I[2] = {0.0, 0.0};
+  for (ps_int a = 0; a < P->n; a++) {
+    double x1, x2, gq[2], s[4], h[4];
+    local_xy(&f, P, a, &x1, &x2);
+    if (!q_gradient(x1, x2, l_in, l_out, gq)) continue;
+    local_tensor(&f, &sigma[4 * a], s);
+    local_tensor(&f, &H[4 * a], h);
+    for (int mode = 1; mode <= 2; mode++) {
+      double sa[4], ha[4];
+      ps_post_williams(mode, x1, x2, E, nu, plane, sa, ha);
+      double Wint = 0.0; /* the cross term of W = sigma_ij u_i,j / 2 */
+      for (int k = 0; k < 4; k++) Wint += 0.5 * (s[k] * ha[k] + sa[k] * h[k]);
+      for (int i = 0; i < 2; i++) {
+        double t = s[2 * i] * ha[0] + s[2 * i + 1] * ha[2] + sa[2 * i] * h[0] +
+                   sa[2 * i + 1] * h[2]; /* sigma_ij u^aux_j,1 + sigma^aux_ij u_j,1 */
+        if (i == 0) t -= Wint;
+        I[mode - 1] += t * gq[i] * P->volume[a];
+      }
+    }
+  }
+  double Ep = plane == PS_PLANE_STRESS ? E : E / (1.0 - nu * nu);
+  K[0] = 0.5 * Ep * I[0];
+  K[1] = 0.5 * Ep * I[1];
 }
 
 int ps_post_fit_strain(const ps_particles *P, const double *u,

@@ -73,6 +73,43 @@ double ps_post_j_contour(const ps_particles *P, const ps_network *net, const dou
                          const double *q, const double *sigma, const double *H,
                          const double *tip, double l, double dx);
 
+/* The crack-tip frame of a straight crack of any direction (2D): dir is
+ * the unit vector e1 from the crack into the material ahead of the tip
+ * (normalised here; NULL: +x), e2 = e1 turned by +90 degrees. The square
+ * rings and contours below are aligned with e1, e2 (rho = max(|x1|,
+ * |x2|), x1, x2 the local coordinates of x - tip); stresses, displacement
+ * gradients and the gradient of q are taken in that frame (A' = R A R^T,
+ * R with rows e1, e2). With dir = +x (or NULL) the numbers are those of
+ * ps_post_j_domain / ps_post_j_contour to the bit. */
+double ps_post_j_domain_dir(const ps_particles *P, const double *sigma, const double *H,
+                            const double *tip, const double *dir, double l_in,
+                            double l_out);
+double ps_post_j_contour_dir(const ps_particles *P, const ps_network *net, const double *T,
+                             const double *q, const double *sigma, const double *H,
+                             const double *tip, const double *dir, double l, double dx);
+
+/* The Williams near-tip fields of a crack along -x1 with K = 1 Pa sqrt(m)
+ * (mode 1: K_I, 2: K_II) at local (x1, x2): stress sig[2i + j] (Pa) and
+ * displacement gradient Hu[2j + k] = du_j/dx_k, mu = E / (2 (1 + nu)),
+ * kappa = 3 - 4 nu (plane strain) or (3 - nu)/(1 + nu) (plane stress:
+ * plane == PS_PLANE_STRESS). Anderson, Fracture Mechanics, Tables 2.1-2.2. */
+void ps_post_williams(int mode, double x1, double x2, double E, double nu, int plane,
+                      double *sig, double *Hu);
+
+/* K_I, K_II (Pa sqrt(m)) of the tip by the interaction integral in its
+ * domain form, in the crack-tip frame (same ring and q as
+ * ps_post_j_domain_dir):
+ *   I_m = sum_k (sigma_ij u^m_j,1 + sigma^m_ij u_j,1 - W_m delta_1i) q,_i V_k,
+ *   W_m = (sigma_ij u^m_i,j + sigma^m_ij u_i,j) / 2,
+ * the auxiliary field m the Williams field of mode m with K = 1
+ * (ps_post_williams), sigma and u_,j as for J; K_I = E' I_1 / 2, K_II =
+ * E' I_2 / 2, E' = E (plane stress) or E / (1 - nu^2) (plane strain).
+ * Then J = (K_I^2 + K_II^2) / E' for a linear elastic field. K[0] = K_I,
+ * K[1] = K_II. 2D. */
+void ps_post_k_interaction(const ps_particles *P, const double *sigma, const double *H,
+                           const double *tip, const double *dir, double l_in, double l_out,
+                           double E, double nu, int plane, double *K);
+
 /* Least-squares affine fit u(x) = u0 + H x over the particles with
  * mask[a] != 0; writes the symmetric strain eps[i*dim + j] = (H_ij + H_ji)/2.
  * Returns PS_OK, or PS_ERR_INPUT when fewer than dim + 1 particles are

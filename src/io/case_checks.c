@@ -89,6 +89,14 @@ static int particle_counts_check(ps_loader *L) {
   return PS_OK;
 }
 
+/* A model's own message (in L->ctx) at a line of the case file, with a
+ * note after it. Returns PS_ERR_INPUT. */
+static int fail_with_model_message(ps_loader *L, int line, const char *note) {
+  char why[sizeof L->ctx->msg];
+  snprintf(why, sizeof why, "%s", L->ctx->msg);
+  return ps_yaml_fail(L, line, "%s%s", why, note);
+}
+
 /* A model that fixes Poisson's ratio (the type's fixed_poisson; bond-based
  * PD, Fallah et al. 2020: 1/3 in plane stress, 1/4 in plane strain and
  * 3D) refuses another one here, so that `info` refuses what `run` would
@@ -101,50 +109,37 @@ static int fixed_poisson_check(ps_loader *L) {
   if (!type || ps_model_poisson_check(type, cs->mat.nu, cs->dim, cs->mat.plane, L->ctx) ==
                    PS_OK)
     return PS_OK;
-  char why[sizeof L->ctx->msg], where[64];
-  snprintf(why, sizeof why, "%s", L->ctx->msg);
+  char where[64];
   if (L->line_nu)
-    snprintf(where, sizeof where, "material.nu is at line %d", L->line_nu);
+    snprintf(where, sizeof where, " (material.nu is at line %d)", L->line_nu);
   else
-    snprintf(where, sizeof where, "material.nu is not given: the default is 0.3");
-  return ps_yaml_fail(L, 0, "%s (%s)", why, where);
+    snprintf(where, sizeof where, " (material.nu is not given: the default is 0.3)");
+  return fail_with_model_message(L, 0, where);
 }
 
 /* The threebody model (model/threebody.c): 2D only; nu at most 1/3 in
  * plane stress and 1/4 in plane strain (a non-negative bond-shear
  * stiffness kappa), within the 1e-3 of fixed_poisson; breaking by the arm
  * micropotential only: critical_micropotential, or fracture_energy with
- * criterion energy (its default here). The model checks the same when it
- * is prepared; here the messages name the line. */
-static int threebody_check(ps_loader *L, const char *model) {
+ * criterion energy (its default here). The model's own checks
+ * (ps_threebody_*_check) give the messages; here they get the line. */
+static int threebody_check(ps_loader *L) {
   ps_case *cs = L->cs;
   if (cs->dim != 2)
     return ps_yaml_fail(L, L->line_dim ? L->line_dim : L->line_model,
                         "material.model threebody is 2D only (geometry.dim is %d): its "
                         "finite-rotation form has no 3D counterpart (doc/design-threebody.md); "
                         "use model state or bond in 3D", cs->dim);
-  int stress = cs->mat.plane == PS_PLANE_STRESS;
-  double numax = stress ? 1.0 / 3.0 : 0.25;
-  if (cs->mat.nu > numax + 1e-3)
-    return ps_yaml_fail(L, L->line_nu ? L->line_nu : L->line_model,
-                        "material.nu = %g%s: the threebody model needs a non-negative "
-                        "bond-shear stiffness, nu <= 1/3 in plane stress and nu <= 1/4 in "
-                        "plane strain (kappa = %s would be negative; this case is plane "
-                        "%s); use model state for this nu",
-                        cs->mat.nu, L->line_nu ? "" : " (the default)",
-                        stress ? "6E(1-3nu)/(pi delta^3 (1-nu^2))"
-                               : "6E(1-4nu)/(pi delta^3 (1+nu)(1-2nu))",
-                        stress ? "stress" : "strain");
+  if (ps_threebody_poisson_check(cs->mat.nu, cs->mat.plane, L->ctx) != PS_OK)
+    return fail_with_model_message(L, L->line_nu ? L->line_nu : L->line_model,
+                                   L->line_nu ? "" : " (material.nu is not given: the "
+                                                     "default is 0.3)");
   if (!L->line_fracture) return PS_OK;
   if (cs->mat.fracture_energy > 0 && !L->line_fracture_criterion)
     cs->mat.fracture = PS_FRACTURE_ENERGY; /* the threebody's default */
-  if (cs->mat.fracture == PS_FRACTURE_STRETCH)
-    return ps_yaml_fail(L, L->line_fracture_criterion ? L->line_fracture_criterion
-                                                      : L->line_fracture,
-                        "material.fracture: the threebody model breaks by its arm "
-                        "micropotential (stretch and shear energy; Li & Hao 2023): give "
-                        "critical_micropotential or fracture_energy (criterion energy), "
-                        "not a critical stretch (%s)", model);
+  if (ps_threebody_fracture_check(cs->mat.fracture, L->ctx) != PS_OK)
+    return fail_with_model_message(
+        L, L->line_fracture_criterion ? L->line_fracture_criterion : L->line_fracture, "");
   return PS_OK;
 }
 
@@ -188,7 +183,7 @@ static int model_keys_check(ps_loader *L) {
                         "given: give one (the horizon in m, or in spacings)",
                         L->line_horizon_factor);
   if (threebody) {
-    if (threebody_check(L, model) != PS_OK) return PS_ERR_INPUT;
+    if (threebody_check(L) != PS_OK) return PS_ERR_INPUT;
   } else if (!bond && L->line_fracture && cs->mat.fracture == PS_FRACTURE_ENERGY)
     return ps_yaml_fail(L, L->line_fracture_criterion ? L->line_fracture_criterion
                                                       : L->line_fracture,

@@ -96,11 +96,6 @@ static int from_energy(ps_material *mat, const char *model, int dim, ps_ctx *ctx
     mat->critical_micropotential = dim == 2 ? 1.5 * Gc / pow(d, 3) : 4.0 * Gc / (M_PI * pow(d, 4));
     return PS_OK;
   }
-  if (threebody)
-    return ps_error(ctx, PS_ERR_INPUT,
-                    "material.fracture: the threebody model breaks by its arm "
-                    "micropotential: give fracture_energy (criterion energy) or "
-                    "critical_micropotential");
   double s2;
   if (bond && mat->micromodulus == PS_MICRO_CONSTANT)
     s2 = dim == 2 ? M_PI * Gc / (3.0 * K * d) : 5.0 * Gc / (9.0 * K * d);

@@ -324,6 +324,15 @@ extern const ps_model_type *const ps_model_threebody;
  * allows 1e-3 more (kappa then taken as 0). */
 double ps_threebody_max_poisson(int plane);
 
+/* The three-body model's own checks, shared by its prepare and the case
+ * reader (which adds the file and line): nu within
+ * ps_threebody_max_poisson (+1e-3), and breaking by the micropotential,
+ * not a critical stretch (fracture != PS_FRACTURE_STRETCH). PS_OK or
+ * PS_ERR_INPUT with "material.nu = ..." / "material.fracture: ..." in
+ * ctx. */
+int ps_threebody_poisson_check(double nu, int plane, ps_ctx *ctx);
+int ps_threebody_fracture_check(int fracture, ps_ctx *ctx);
+
 /* Li & Hao (2023) Eq. A.2: the share of a lattice cell of size dx at
  * distance xi inside a horizon delta (1 inside, 0 beyond, linear across
  * the horizon's edge). */

@@ -56,6 +56,28 @@ double ps_threebody_max_poisson(int plane) {
   return plane == PS_PLANE_STRESS ? 1.0 / 3.0 : 0.25;
 }
 
+int ps_threebody_poisson_check(double nu, int plane, ps_ctx *ctx) {
+  if (nu <= ps_threebody_max_poisson(plane) + 1e-3) return PS_OK;
+  int stress = plane == PS_PLANE_STRESS;
+  return ps_error(ctx, PS_ERR_INPUT,
+                  "material.nu = %g: the threebody model needs a non-negative bond-shear "
+                  "stiffness, nu <= 1/3 in plane stress and nu <= 1/4 in plane strain "
+                  "(kappa = %s would be negative; this case is plane %s); use model state "
+                  "for this nu",
+                  nu,
+                  stress ? "6E(1-3nu)/(pi delta^3 (1-nu^2))"
+                         : "6E(1-4nu)/(pi delta^3 (1+nu)(1-2nu))",
+                  stress ? "stress" : "strain");
+}
+
+int ps_threebody_fracture_check(int fracture, ps_ctx *ctx) {
+  if (fracture != PS_FRACTURE_STRETCH) return PS_OK;
+  return ps_error(ctx, PS_ERR_INPUT,
+                  "material.fracture: the threebody model breaks by its arm micropotential "
+                  "(stretch and shear energy; Li & Hao 2023): give critical_micropotential "
+                  "or fracture_energy (criterion energy), not a critical stretch");
+}
+
 /* c and kappa without beta: 12 K / (pi d^3), 12 (G - lambda) / (pi d^3),
  * lambda = K - G in 2D; kappa < 0 within the tolerance on nu is 0 */
 static void continuum_constants(const ps_material *mat, double *c, double *kap) {
@@ -107,21 +129,8 @@ static int tb_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
                     "finite-rotation form has no 3D counterpart here "
                     "(doc/design-threebody.md, decision 4)", net->dim);
   PS_CHECK(ps_lattice_model_check(mat, 2, P, "threebody", ctx));
-  double numax = ps_threebody_max_poisson(mat->plane);
-  if (mat->nu > numax + 1e-3)
-    return ps_error(ctx, PS_ERR_INPUT,
-                    "material.nu = %g: the threebody model needs a non-negative bond-shear "
-                    "stiffness, nu <= 1/3 in plane stress and nu <= 1/4 in plane strain "
-                    "(kappa = %s would be negative); use model state for this nu",
-                    mat->nu,
-                    mat->plane == PS_PLANE_STRESS
-                        ? "6E(1-3nu)/(pi delta^3 (1-nu^2))"
-                        : "6E(1-4nu)/(pi delta^3 (1+nu)(1-2nu))");
-  if (mat->fracture == PS_FRACTURE_STRETCH)
-    return ps_error(ctx, PS_ERR_INPUT,
-                    "material.fracture: the threebody model breaks by its arm "
-                    "micropotential (Li & Hao 2023): give critical_micropotential or "
-                    "fracture_energy (criterion energy), not a critical stretch");
+  PS_CHECK(ps_threebody_poisson_check(mat->nu, mat->plane, ctx));
+  PS_CHECK(ps_threebody_fracture_check(mat->fracture, ctx));
   double c, kap, dx = mat->spacing;
   continuum_constants(mat, &c, &kap);
   /* beta and W_inf from the ideal lattice (a box lattice: mat->spacing >

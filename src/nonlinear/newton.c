@@ -27,6 +27,12 @@ static double norm_fixed(const ps_nl_problem *p, const double *f) {
   return sqrt(s);
 }
 
+double ps_nl_relative_residual(const ps_nl_problem *p, const double *f, double *rn) {
+  double ref = norm_fixed(p, f);
+  *rn = norm_free(p, f);
+  return ref > 0 ? *rn / ref : *rn;
+}
+
 /* f_free . x, x[n_free] */
 static double dot_free(const ps_nl_problem *p, const double *f, const double *x) {
   double g = 0;
@@ -92,8 +98,7 @@ int ps_newton_solve(ps_solver *s, ps_ctx *ctx) {
   double rel_before = 0.0; /* the residual before the first of them */
   int budget = o->max_iterations;
   for (int it = 0;; it++) {
-    double rn = norm_free(p, s->f), ref = norm_fixed(p, s->f);
-    double rel = ref > 0 ? rn / ref : rn;
+    double rn, rel = ps_nl_relative_residual(p, s->f, &rn);
     s->last_iterations = it;
     s->last_residual = rel;
     ps_log(ctx, 2, "    newton %2d  |r|/|R| = %.3e  energy = %.10g\n", it, rel, s->energy);

@@ -190,6 +190,14 @@ void ps_solver_restore(ps_solver *s) {
  *   else tangent, with the last factor:
  *     K_ff du_f = -(r_f + K_fp du_p) + dl fext_f;
  * then u_p = lambda ubar_p. Returns PS_OK or fatal. */
+/* the prescribed dofs and the problem at load factor lambda */
+static void set_lambda(ps_solver *s, double lambda) {
+  const ps_nl_problem *sys = &s->prob;
+  for (ps_int j = 0; j < sys->n_dof; j++)
+    if (sys->fixed[j]) s->u[j] = lambda * s->ubar[j];
+  s->pd->lambda = lambda;
+}
+
 static int predict(ps_solver *s, double lambda, ps_ctx *ctx) {
   const ps_nl_problem *sys = &s->prob;
   const double *fext = s->pd->fext;
@@ -214,9 +222,7 @@ static int predict(ps_solver *s, double lambda, ps_ctx *ctx) {
     PS_CHECK(ps_linsolve_solve((ps_linsolve *)s->ls_last, s->rhs, s->du, ctx));
     for (ps_int k = 0; k < nf; k++) s->u[sys->dof_of_free[k]] += s->du[k];
   }
-  for (ps_int j = 0; j < nd; j++)
-    if (sys->fixed[j]) s->u[j] = lambda * s->ubar[j];
-  s->pd->lambda = lambda;
+  set_lambda(s, lambda);
   memcpy(s->u_prev, u_start, (size_t)nd * sizeof *s->u); /* u_trial is reused */
   return PS_OK;
 }
@@ -268,28 +274,6 @@ static int solve_tangent(ps_solver *s, const double *b, double *x, ps_ctx *ctx) 
   if (status != PS_OK) return status;
   memcpy(x, s->du, bytes);
   return PS_OK;
-}
-
-/* the prescribed dofs and the problem at load factor lambda */
-static void set_lambda(ps_solver *s, double lambda) {
-  const ps_nl_problem *sys = &s->prob;
-  for (ps_int j = 0; j < sys->n_dof; j++)
-    if (sys->fixed[j]) s->u[j] = lambda * s->ubar[j];
-  s->pd->lambda = lambda;
-}
-
-/* ||r_free|| / ||r_fixed|| (||r_free|| without reactions); *rn = ||r_free|| */
-static double relative_residual(const ps_solver *s, double *rn) {
-  const ps_nl_problem *sys = &s->prob;
-  double a = 0, b = 0;
-  for (ps_int j = 0; j < sys->n_dof; j++) {
-    if (sys->fixed[j])
-      b += s->f[j] * s->f[j];
-    else
-      a += s->f[j] * s->f[j];
-  }
-  *rn = sqrt(a);
-  return b > 0 ? sqrt(a / b) : sqrt(a);
 }
 
 /* The root x of A x^2 + B x + C = 0 whose increment turns least from the
@@ -360,7 +344,7 @@ int ps_solver_arclength_step(ps_solver *s, double ds, double psi, ps_ctx *ctx) {
   for (int it = 0;; it++) {
     double rn;
     if ((status = ps_nl_eval(s, s->u, s->f, &s->energy, 1, ctx)) < 0) goto done;
-    double rel = relative_residual(s, &rn);
+    double rel = ps_nl_relative_residual(&s->prob, s->f, &rn);
     s->last_iterations = it;
     s->last_residual = rel;
     ps_log(ctx, 2, "    arc-length %2d  |r|/|R| = %.3e  load factor = %.10g\n", it, rel,

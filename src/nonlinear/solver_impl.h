@@ -95,6 +95,10 @@ static inline int ps_nl_eval(ps_solver *s, const double *u, double *f, double *e
  * PS_ERR_NOMEM (ps_solver_free releases what was allocated). */
 int ps_nl_alloc_work(ps_solver *s, ps_ctx *ctx);
 
+/* Newton's convergence measure: norm(f_free) / norm(f_fixed) (the
+ * reactions), or norm(f_free) when there are none; *rn = norm(f_free). */
+double ps_nl_relative_residual(const ps_nl_problem *p, const double *f, double *rn);
+
 /* s->du = K_ff^-1 s->rhs for the tangent K of the last evaluation with
  * one: CG preconditioned by the last factor (opts.reuse_factor); when CG
  * does not converge, CG with a fresh factor of the majorant

@@ -118,7 +118,8 @@ static int record_increment(run_state *r, const ps_path *p, ps_ctx *ctx) {
                         .reaction = inc->sigma * r->pb->measure_length,
                         .displacement = row_displacement(r, inc->lambda),
                         .broken_energy = ps_solver_arm_state(r->s)->broken_energy,
-                        .stored_energy = ps_solver_stored_energy(r->s)};
+                        .stored_energy = ps_solver_stored_energy(r->s),
+                        .dissipated_energy = ps_solver_dissipated(r->s)};
   ps_report_history_row(&r->hist, &row);
   const ps_output_opts *out = &r->pb->cs.output;
   if (r->out_dir && out->fields && out->vtk_every > 0 && step % out->vtk_every == 0) {

@@ -34,7 +34,8 @@ void ps_case_defaults(ps_case *cs) {
   strcpy(cs->model, "fibre");
   cs->horizon_factor = 3.0; /* bond, state: spacings (a box's, or a cloud's mean) */
   cs->mat.horizon = 0.0;    /* material.horizon, m: unset (horizon_factor applies) */
-  cs->mat.surface_correction = 1;
+  cs->mat.surface_correction = -1; /* unset: the model's default (bond, threebody: on;
+                                      fibre, state: off; model/ps_moduli.h) */
   cs->mat.E = 210e9;
   cs->mat.nu = 0.3;
   cs->mat.plane = PS_PLANE_STRAIN;

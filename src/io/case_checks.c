@@ -166,6 +166,9 @@ static int model_keys_check(ps_loader *L) {
                         "material.delta is the fibre model's breaking limit (Eq. 118): the "
                         "%s model breaks arms by material.fracture: {critical_stretch: s0}",
                         cs->model);
+  if (!bond && L->line_softening)
+    return ps_yaml_fail(L, L->line_softening,
+                        "material.fracture.softening_ratio is for the bond model (%s)", model);
   if (!bond && L->line_micromodulus)
     return ps_yaml_fail(L, L->line_micromodulus,
                         "material.micromodulus is for the bond model (%s)", model);

@@ -77,7 +77,8 @@ const char *const ps_case_path_keys[] = {
     "load_step", "load_step_after_break", "max_load", "max_increments", "min_step",
     "stop_crack_tip", "stop_tip_advance", "stop_load_drop", "max_break_rounds",
     "max_arms_per_round", "control", "arc_length_max", "arc_length_psi",
-    "arc_length_iterations", NULL};
+    "arc_length_iterations", "max_arms_per_step", "dissipation_step", "dissipation_max",
+    NULL};
 
 int ps_case_on_path(ps_loader *L, void *arg, const char *key, const char *name,
                     yaml_node_t *v) {
@@ -97,10 +98,14 @@ int ps_case_on_path(ps_loader *L, void *arg, const char *key, const char *name,
   if (IS("max_arms_per_round"))
     return ps_yaml_int(L, v, name, 0, INT_MAX, &o->max_arms_per_round);
   if (IS("control")) { /* the order of enum ps_path_control */
-    static const char *const controls[] = {"load", "arc_length", NULL};
+    static const char *const controls[] = {"load", "arc_length", "dissipation", NULL};
     return ps_yaml_choice(L, v, name, controls, &o->control);
   }
   if (IS("arc_length_max")) return ps_yaml_pos(L, v, name, &o->arc_length_max);
+  if (IS("max_arms_per_step"))
+    return ps_yaml_int(L, v, name, 0, INT_MAX, &o->max_arms_per_step);
+  if (IS("dissipation_step")) return ps_yaml_pos(L, v, name, &o->dissipation_step);
+  if (IS("dissipation_max")) return ps_yaml_pos(L, v, name, &o->dissipation_max);
   if (IS("arc_length_psi"))
     return ps_yaml_real(L, v, name, 0.0, 0, INFINITY, 0, &o->arc_length_psi);
   if (IS("arc_length_iterations"))

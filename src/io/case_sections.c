@@ -197,7 +197,8 @@ const char *const ps_case_material_keys[] = {
  * stretch or energy; threebody: energy, the default there, set by the
  * cross checks) and critical_micropotential (w_c). */
 static const char *const fracture_keys[] = {"critical_stretch", "fracture_energy",
-                                            "critical_micropotential", "criterion", NULL};
+                                            "critical_micropotential", "criterion",
+                                            "softening_ratio", NULL};
 
 static int on_fracture(ps_loader *L, void *arg, const char *key, const char *name,
                        yaml_node_t *v) {
@@ -210,6 +211,12 @@ static int on_fracture(ps_loader *L, void *arg, const char *key, const char *nam
     if (ps_yaml_choice(L, v, name, criteria, &i)) return PS_ERR_INPUT;
     m->fracture = i == 0 ? PS_FRACTURE_STRETCH : PS_FRACTURE_ENERGY;
     return PS_OK;
+  }
+  if (IS("softening_ratio")) {
+    L->line_softening = line_of(v);
+    return ps_yaml_pos_in(L, v, name, 1.0 + 1e-9, 1e6,
+                          "s1/s0 > 1: the arm softens from s0 to zero force at s1",
+                          &m->softening_ratio);
   }
   L->n_fracture_given++;
   if (IS("critical_stretch")) {
@@ -237,6 +244,11 @@ static int fracture_check(ps_loader *L, const char *name) {
                         "%s needs exactly one of critical_stretch, fracture_energy and "
                         "critical_micropotential (got %d)",
                         name, L->n_fracture_given);
+  if (L->line_softening && m->fracture != PS_FRACTURE_STRETCH)
+    return ps_yaml_fail(L, L->line_softening,
+                        "%s.softening_ratio goes with the stretch criterion "
+                        "(critical_stretch, or fracture_energy with criterion stretch)",
+                        name);
   if (L->line_fracture_criterion && !(m->fracture_energy > 0))
     return ps_yaml_fail(L, L->line_fracture_criterion,
                         "%s.criterion goes with fracture_energy (critical_stretch is the "

@@ -70,9 +70,13 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
   }
   const ps_model_type *type = ps_model_type_find(cs->model);
   if (type && type->lattice) {
-    snprintf(b, sizeof b, "lattice %.17g %d", cs->horizon_factor, m->surface_correction);
+    snprintf(b, sizeof b, "lattice %.17g %d", cs->horizon_factor, m->surface_correction != 0);
     fnv(&h, b);
   }
+  /* surface_correction: unset (< 0) and true are alike for bond and
+   * threebody; the moduli correction of fibre and state only when true */
+  if (m->surface_correction == 1 && (!strcmp(cs->model, "fibre") || !strcmp(cs->model, "state")))
+    fnv(&h, "moduli correction 1");
   if (type && type->lattice && m->horizon > 0) { /* newer key: only when set */
     snprintf(b, sizeof b, "horizon %.17g", m->horizon);
     fnv(&h, b);
@@ -85,6 +89,10 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
     snprintf(b, sizeof b, "fracture %d %.17g %.17g %.17g", m->fracture, m->critical_stretch,
              m->critical_micropotential, m->fracture_energy);
     fnv(&h, b);
+    if (m->softening_ratio > 0) {
+      snprintf(b, sizeof b, "softening %.17g", m->softening_ratio);
+      fnv(&h, b);
+    }
   }
   for (int i = 0; i < cs->n_cracks; i++) {
     snprintf(b, sizeof b, "crack %.17g %.17g %.17g %.17g", cs->cracks[i].p0[0],
@@ -122,6 +130,11 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
   if (po->control != PS_CONTROL_LOAD) { /* newer keys: only off load control */
     snprintf(b, sizeof b, "control %d %.17g %.17g %d", po->control, po->arc_length_max,
              po->arc_length_psi, po->arc_length_iterations);
+    fnv(&h, b);
+  }
+  if (po->max_arms_per_step > 0 || po->control == PS_CONTROL_DISSIPATION) {
+    snprintf(b, sizeof b, "path control %d %.17g %.17g", po->max_arms_per_step,
+             po->dissipation_step, po->dissipation_max);
     fnv(&h, b);
   }
   if (po->max_arms_per_round > 0) { /* newer key: only when set */

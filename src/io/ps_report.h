@@ -94,6 +94,10 @@ typedef struct ps_history_row {
                                  into arms) */
   double stored_energy;       /* J (per m of thickness in 2D): the energy
                                  stored in the arms (ps_solver_stored_energy) */
+  double dissipated_energy;   /* J (per m of thickness in 2D): the energy
+                                 the arms dissipated (softening, measured
+                                 by the model; ps_solver_dissipated), 0
+                                 for a model that measures none */
 } ps_history_row;
 
 /* history.csv, written a row at a time (flushed, so tail -f follows). */

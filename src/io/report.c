@@ -181,6 +181,7 @@ static const value_spec history_columns[] = {
     {"displacement_m", V_G, 10, H(displacement), 0},
     {"broken_energy", V_G, 10, H(broken_energy), 0},
     {"stored_energy", V_G, 10, H(stored_energy), 0},
+    {"dissipated_energy", V_G, 10, H(dissipated_energy), 0},
 };
 #define N_HISTORY_COLUMNS (sizeof history_columns / sizeof history_columns[0])
 #undef H

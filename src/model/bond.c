@@ -23,7 +23,9 @@
  * 1/2 c R s^2 xi passes w_c (breaking.c). Bond-based PD fixes Poisson's
  * ratio: 1/3 in plane stress, 1/4 in plane strain and 3D. The arms of
  * the constant micromodulus end at the horizon too (as Peridigm's), so
- * its partial volumes only thin the outer half cell inside it. */
+ * its partial volumes only thin the outer half cell inside it. With
+ * material.fracture.softening_ratio r > 1 an arm past s0 softens instead
+ * of breaking (see soft_arm below), which dissipation control needs. */
 #include "ps_model.h"
 
 #include <gsl/gsl_math.h>
@@ -107,19 +109,104 @@ static int bond_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
   return status;
 }
 
+/* The softening arm (material.softening_ratio r > 1): in tension its
+ * envelope rises as k dl up to dl0 = s0 r0, then falls linearly to zero at
+ * dl1 = r dl0, T_env = k dl0 (dl1 - dl) / (dl1 - dl0); below its largest
+ * elongation kappa (committed in eps_p[i]) it follows the secant T_env(kappa)
+ * / kappa (damage, unloading to the origin); in compression k dl. The
+ * incremental energy (the potential of T at the committed kappa) is the
+ * stored energy 1/2 T dl plus the step's dissipation (arm_dissipation).
+ * The tangent of a softening arm that loads is its negative slope only
+ * when it was loading at the previous evaluation too (st->yielding), else
+ * its secant T/dl: with the slope alone the arms at the crack tip switched
+ * between loading and unloading from one Newton iterate to the next
+ * without end, with the secant alone Newton converged only linearly. */
+typedef struct soft_arm {
+  double k, dl0, dl1;
+} soft_arm;
+
+static soft_arm soft_of(const ps_model *m, ps_int i) {
+  soft_arm a = {m->arm_k[i], m->arm_s0[i] * m->net->r0[i], 0.0};
+  a.dl1 = m->mat.softening_ratio * a.dl0;
+  return a;
+}
+
+static double soft_envelope(const soft_arm *a, double x) {
+  if (x <= a->dl0) return a->k * x;
+  if (x >= a->dl1) return 0.0;
+  return a->k * a->dl0 * (a->dl1 - x) / (a->dl1 - a->dl0);
+}
+
+/* int_x0^x1 T_env, x0 <= x1 */
+static double soft_work(const soft_arm *a, double x0, double x1) {
+  double w = 0.0, lo = x0;
+  if (lo < a->dl0) {
+    double hi = fmin(x1, a->dl0);
+    w += 0.5 * a->k * (hi * hi - lo * lo);
+    lo = hi;
+  }
+  double hi = fmin(x1, a->dl1);
+  if (hi > lo)
+    w += a->k * a->dl0 / (a->dl1 - a->dl0) * (a->dl1 * (hi - lo) - 0.5 * (hi * hi - lo * lo));
+  return w;
+}
+
+/* energy dissipated by an arm whose largest elongation is kappa */
+static double soft_dissipated(const soft_arm *a, double kappa) {
+  if (kappa <= a->dl0) return 0.0;
+  if (kappa >= a->dl1) return 0.5 * a->k * a->dl0 * a->dl1;
+  return 0.5 * a->dl0 * (a->k * kappa - soft_envelope(a, kappa));
+}
+
+/* T, dT/ddl and the incremental energy of a softening arm at dl from the
+ * committed largest elongation kc; *kappa gets the new one */
+static double soft_evaluate(const soft_arm *a, double dl, double kc, int was_loading, double *D,
+                            double *phi, double *kappa) {
+  double kref = fmax(kc, a->dl0); /* below dl0 the secant is k */
+  double sec = soft_envelope(a, kref) / kref;
+  *kappa = fmax(kc, dl);
+  if (dl <= 0.0) {
+    *D = a->k;
+    *phi = 0.5 * a->k * dl * dl;
+    return a->k * dl;
+  }
+  if (dl <= kref) {
+    *D = sec;
+    *phi = 0.5 * sec * dl * dl;
+    return sec * dl;
+  }
+  *phi = 0.5 * sec * kref * kref + soft_work(a, kref, dl);
+  /* the slope when the arm was loading at the last evaluation too, else
+   * the secant: see the comment above */
+  *D = was_loading && dl < a->dl1 ? -a->k * a->dl0 / (a->dl1 - a->dl0) : soft_envelope(a, dl) / dl;
+  return soft_envelope(a, dl);
+}
+
 static int bond_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
                          double *T, double *energy, ps_arm_tangent *tan, ps_ctx *ctx) {
   (void)ctx;
   const ps_network *net = m->net;
+  const int soft = m->mat.softening_ratio > 1.0 && m->arm_s0;
   double psi = 0.0;
   for (ps_int i = 0; i < net->n_arm; i++) {
-    double k = st->broken[i] ? 0.0 : m->arm_k[i];
-    T[i] = k * dl[i];
+    double k = st->broken[i] ? 0.0 : m->arm_k[i], D = k;
+    int was_loading = st->yielding[i];
     st->stretch[i] = dl[i] / net->r0[i];
-    psi += 0.5 * k * dl[i] * dl[i];
     st->eps_p_trial[i] = st->eps_p[i];
     st->yielding[i] = 0;
-    if (tan) tan->D[i] = k;
+    if (soft && k > 0 && isfinite(m->arm_s0[i])) {
+      soft_arm a = soft_of(m, i);
+      double phi;
+      T[i] = soft_evaluate(&a, dl[i], st->eps_p[i], was_loading, &D, &phi,
+                           &st->eps_p_trial[i]);
+      /* loading on the softening branch: counted with the yielding arms */
+      st->yielding[i] = dl[i] > 0 && dl[i] >= st->eps_p[i] && st->eps_p_trial[i] > a.dl0;
+      psi += phi;
+    } else {
+      T[i] = k * dl[i];
+      psi += 0.5 * k * dl[i] * dl[i];
+    }
+    if (tan) tan->D[i] = D;
   }
   if (tan) {
     for (ps_int a = 0; a < net->n_particle; a++) tan->c[a] = 0.0;
@@ -129,16 +216,47 @@ static int bond_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
   return PS_OK;
 }
 
-/* 1/2 k dl^2 at the stretch of the last evaluate */
+/* the stored energy at the stretch of the last evaluate: 1/2 k dl^2, or
+ * 1/2 T dl on the secant of a softening arm */
 static double bond_arm_energy(const ps_model *m, const ps_arm_state *st, ps_int i) {
   double dl = st->stretch[i] * m->net->r0[i];
+  if (m->mat.softening_ratio > 1.0 && m->arm_s0 && isfinite(m->arm_s0[i]) && dl > 0) {
+    soft_arm a = soft_of(m, i);
+    double kref = fmax(st->eps_p_trial[i], a.dl0);
+    return 0.5 * soft_envelope(&a, kref) / kref * dl * dl;
+  }
   return 0.5 * m->arm_k[i] * dl * dl;
+}
+
+/* softening arms: breaking at dl1 (their force is zero there), else the
+ * stretch criterion */
+static double bond_break_excess(const ps_model *m, const ps_arm_state *st, ps_int i) {
+  if (m->mat.softening_ratio > 1.0 && m->arm_s0) {
+    if (st->broken[i] || !isfinite(m->arm_s0[i])) return -1.0;
+    soft_arm a = soft_of(m, i);
+    return st->eps_p_trial[i] / a.dl1 - 1.0 + 1e-12; /* at dl1 exactly: broken */
+  }
+  return ps_model_stretch_excess(m, st, i);
+}
+
+static double bond_arm_dissipation(const ps_model *m, const ps_arm_state *c,
+                                   const ps_arm_state *st, ps_int i, double dl, double *dD) {
+  *dD = 0.0;
+  if (!(m->mat.softening_ratio > 1.0) || !m->arm_s0 || !isfinite(m->arm_s0[i]) ||
+      !(m->arm_k[i] > 0))
+    return 0.0;
+  soft_arm a = soft_of(m, i);
+  double kc = c->eps_p[i], kt = st->eps_p_trial[i];
+  if (!st->broken[i] && dl >= kc && dl > a.dl0 && dl < a.dl1)
+    *dD = 0.5 * a.k * a.dl0 * a.dl1 / (a.dl1 - a.dl0);
+  return soft_dissipated(&a, kt) - soft_dissipated(&a, kc);
 }
 
 static const ps_model_type bond_type = {.name = "bond",
                                         .evaluate = bond_evaluate,
-                                        .break_excess = ps_model_stretch_excess,
+                                        .break_excess = bond_break_excess,
                                         .arm_energy = bond_arm_energy,
+                                        .arm_dissipation = bond_arm_dissipation,
                                         .prepare = bond_prepare,
                                         .family_coupling = 0,
                                         .lattice = 1,

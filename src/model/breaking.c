@@ -9,6 +9,7 @@
 #include <gsl/gsl_math.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 int ps_material_breaks(const ps_material *mat) {
   return mat->fracture != PS_FRACTURE_NONE || (mat->delta > 0 && isfinite(mat->delta));
@@ -30,14 +31,21 @@ static void break_one(const ps_model *m, ps_arm_state *st, ps_int i) {
   st->broken[i] = 1;
 }
 
+ps_int ps_model_count_past(const ps_model *m, const ps_arm_state *st) {
+  double (*excess)(const ps_model *, const ps_arm_state *, ps_int) = m->type->break_excess;
+  ps_int nc = 0;
+  if (!ps_material_breaks(&m->mat) || !excess) return 0;
+  for (ps_int i = 0; i < m->net->n_arm; i++) nc += !st->broken[i] && excess(m, st, i) > 0;
+  return nc;
+}
+
 int ps_model_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
                         ps_int *n_broken, ps_ctx *ctx) {
   const ps_network *net = m->net;
   double (*excess)(const ps_model *, const ps_arm_state *, ps_int) = m->type->break_excess;
   *n_broken = 0;
   if (!ps_material_breaks(&m->mat) || !excess) return PS_OK;
-  ps_int nc = 0;
-  for (ps_int i = 0; i < net->n_arm; i++) nc += !st->broken[i] && excess(m, st, i) > 0;
+  ps_int nc = ps_model_count_past(m, st);
   if (nc == 0) return PS_OK;
   if (max_count <= 0 || nc <= max_count) {
     for (ps_int i = 0; i < net->n_arm; i++)
@@ -113,7 +121,20 @@ int ps_model_fracture_prepare(ps_model *m, const double *cxi, ps_ctx *ctx) {
   ps_material *mat = &m->mat;
   const ps_network *net = m->net;
   if (mat->fracture == PS_FRACTURE_NONE) return PS_OK;
-  if (mat->fracture_energy > 0) PS_CHECK(from_energy(mat, m->type->name, net->dim, ctx));
+  double r = mat->softening_ratio;
+  if (r != 0.0 && (strcmp(m->type->name, "bond") || mat->fracture != PS_FRACTURE_STRETCH ||
+                   !(r > 1.0 && isfinite(r))))
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "material.fracture.softening_ratio (%g) must be a finite number > 1 and "
+                    "is for the bond model's stretch criterion (the %s model%s)",
+                    r, m->type->name,
+                    mat->fracture == PS_FRACTURE_STRETCH ? "" : ", energy criterion");
+  if (mat->fracture_energy > 0) {
+    PS_CHECK(from_energy(mat, m->type->name, net->dim, ctx));
+    /* a softening arm dissipates 1/2 c s0 s1 xi = 1/2 c s0^2 r xi: the
+     * brittle s0 over sqrt(r) keeps G_c */
+    if (r > 1.0) mat->critical_stretch /= sqrt(r);
+  }
   double s0 = mat->critical_stretch, wc = mat->critical_micropotential;
   if (mat->fracture == PS_FRACTURE_STRETCH ? !(s0 > 0 && isfinite(s0))
                                            : !(wc > 0 && isfinite(wc)))

@@ -9,15 +9,32 @@
  * where psi(e) = G(N+2) e^2/2 for |e| <= eps_y and G(N+2)(eps_y |e| -
  * eps_y^2/2) beyond (perfect plasticity, Eq. 111, backward Euler from the
  * committed eps_p_n). dPsi/dl_ab = T_ab exactly, so the tangent is
- * symmetric. Breaking (Eq. 118): eps_p r0 > delta, tension only. */
+ * symmetric. Breaking (Eq. 118): eps_p r0 > delta, tension only.
+ * With the moduli correction (material.surface_correction: true; off by
+ * default, the paper's model; ps_moduli.h, doc/moduli.md) every half-arm
+ * weight A_ab becomes A_ab phi_a(n_ab), phi from the fourth moment of a's
+ * family (weights A_ab r0, target V_a/(N+2) I_4, so that a's stiffness
+ * under any homogeneous strain is the continuum's 2G I + (K - 2G/N) 1 1):
+ * the formulas above with the corrected weights, kept in m->arm_side
+ * ([i] A'_ab, [n_arm + i] A'_ba); NULL: the network's A_ab, A_ba. */
 #include "ps_model.h"
+#include "ps_moduli.h"
 
 #include <math.h>
 #include <stdlib.h>
 
+/* the half-arm weights of arm i: a's side (A_ab), b's side (A_ba), the
+ * corrected ones when the model has them */
+static inline double w_ab(const ps_model *m, ps_int i) {
+  return m->arm_side ? m->arm_side[i] : m->net->A_ab[i];
+}
+static inline double w_ba(const ps_model *m, ps_int i) {
+  return m->arm_side ? m->arm_side[m->net->n_arm + i] : m->net->A_ba[i];
+}
+
 /* weight of particle p's side of arm i */
-static inline double side_weight(const ps_network *net, ps_int i, ps_int p) {
-  return net->a[i] == p ? net->A_ab[i] : net->A_ba[i];
+static inline double side_weight(const ps_model *m, ps_int i, ps_int p) {
+  return m->net->a[i] == p ? w_ab(m, i) : w_ba(m, i);
 }
 
 /* R_a = sum_b A_ab r0 and the mean strain epsbar_a over a's intact arms,
@@ -29,7 +46,7 @@ static void mean_strains(const ps_model *m, const double *dl, const ps_arm_state
     for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
       ps_int i = net->fam_arm[k];
       if (st->broken[i]) continue;
-      double Ar = side_weight(net, i, a) * net->r0[i];
+      double Ar = side_weight(m, i, a) * net->r0[i];
       Ra += Ar;
       num += Ar * dl[i] / net->r0[i];
     }
@@ -83,22 +100,22 @@ static int fibre_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
     if (plastic && fabs(e) > ey * (1.0 - 1e-9)) {
       ee = e > 0 ? ey : -ey;
       yielding = 1;
-      psi += (net->A_ab[i] + net->A_ba[i]) * r0 * Gc * (ey * fabs(e) - 0.5 * ey * ey);
+      psi += (w_ab(m, i) + w_ba(m, i)) * r0 * Gc * (ey * fabs(e) - 0.5 * ey * ey);
     } else {
-      psi += (net->A_ab[i] + net->A_ba[i]) * r0 * 0.5 * Gc * e * e;
+      psi += (w_ab(m, i) + w_ba(m, i)) * r0 * 0.5 * Gc * e * e;
     }
     st->eps_p_trial[i] = eps - ee;
     st->yielding[i] = (unsigned char)yielding;
     double Sa = Gc * ee + Kc * eb[net->a[i]]; /* Eq. 110 */
     double Sb = Gc * ee + Kc * eb[net->b[i]];
-    T[i] = net->A_ab[i] * Sa + net->A_ba[i] * Sb; /* Eq. 70 */
-    if (tan) tan->D[i] = yielding ? 0.0 : Gc * (net->A_ab[i] + net->A_ba[i]) / r0;
+    T[i] = w_ab(m, i) * Sa + w_ba(m, i) * Sb; /* Eq. 70 */
+    if (tan) tan->D[i] = yielding ? 0.0 : Gc * (w_ab(m, i) + w_ba(m, i)) / r0;
   }
   if (tan)
     for (ps_int a = 0; a < net->n_particle; a++)
       for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
         ps_int i = net->fam_arm[k];
-        tan->w[k] = st->broken[i] ? 0.0 : side_weight(net, i, a);
+        tan->w[k] = st->broken[i] ? 0.0 : side_weight(m, i, a);
       }
   *energy = psi;
   return PS_OK;
@@ -141,7 +158,7 @@ static int fibre_evaluate_deviatoric(const ps_model *m, const double *dl, ps_arm
       }
       double r0 = net->r0[i], eps = dl[i] / r0;
       double e = eps - eb[side ? net->b[i] : net->a[i]] - st->eps_p[j], ee = e;
-      double Aw = side ? net->A_ba[i] : net->A_ab[i];
+      double Aw = side ? w_ba(m, i) : w_ab(m, i);
       int y = mat->plastic && fabs(e) > ey;
       if (y) {
         ee = e > 0 ? ey : -ey;
@@ -161,7 +178,7 @@ static int fibre_evaluate_deviatoric(const ps_model *m, const double *dl, ps_arm
     for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
       ps_int i = net->fam_arm[k], j = (net->a[i] == a ? 0 : na) + i;
       if (st->broken[i]) continue;
-      double Ar = side_weight(net, i, a) * net->r0[i];
+      double Ar = side_weight(m, i, a) * net->r0[i];
       s1 += Ar * dpsi[j];
       s2 += Ar * d2psi[j];
     }
@@ -176,8 +193,8 @@ static int fibre_evaluate_deviatoric(const ps_model *m, const double *dl, ps_arm
     }
     ps_int a = net->a[i], b = net->b[i];
     double Sa = dpsi[i] - mean[a] + NK * eb[a], Sb = dpsi[na + i] - mean[b] + NK * eb[b];
-    T[i] = net->A_ab[i] * Sa + net->A_ba[i] * Sb;
-    if (tan) tan->D[i] = (net->A_ab[i] * d2psi[i] + net->A_ba[i] * d2psi[na + i]) / net->r0[i];
+    T[i] = w_ab(m, i) * Sa + w_ba(m, i) * Sb;
+    if (tan) tan->D[i] = (w_ab(m, i) * d2psi[i] + w_ba(m, i) * d2psi[na + i]) / net->r0[i];
   }
   if (tan)
     for (ps_int a = 0; a < np; a++) {
@@ -186,7 +203,7 @@ static int fibre_evaluate_deviatoric(const ps_model *m, const double *dl, ps_arm
       tan->c2[a] = R[a] > 0 ? -1.0 / (R[a] * C) : 0.0;
       for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
         ps_int i = net->fam_arm[k], j = (net->a[i] == a ? 0 : na) + i;
-        double w = st->broken[i] ? 0.0 : side_weight(net, i, a), u = w * d2psi[j];
+        double w = st->broken[i] ? 0.0 : side_weight(m, i, a), u = w * d2psi[j];
         tan->w[k] = w - u / C;
         tan->w2[k] = u;
       }
@@ -195,8 +212,40 @@ static int fibre_evaluate_deviatoric(const ps_model *m, const double *dl, ps_arm
   return PS_OK;
 }
 
+/* The moduli correction (ps_moduli.h): the corrected half-arm weights
+ * A phi into m->arm_side. Half-arm weights A r0 (the arm energy's, and
+ * the mean strain's), fourth moment matched to V_a/(N+2) I_4: then R_a =
+ * N V_a and the mean strain's second moment V_a delta follow (traces). */
+static int fibre_correct(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
+  const ps_network *net = m->net;
+  ps_int na = net->n_arm, np = net->n_particle;
+  if (!P)
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "material.surface_correction: the fibre model's correction needs the "
+                    "particles");
+  double *w = ps_calloc((size_t)(2 * na), sizeof *w, ctx);
+  double *t = ps_calloc((size_t)np, sizeof *t, ctx);
+  m->arm_side = ps_calloc((size_t)(2 * na), sizeof *m->arm_side, ctx);
+  int status = PS_ERR_NOMEM;
+  if (w && t && m->arm_side) {
+    for (ps_int i = 0; i < na; i++) {
+      w[i] = net->A_ab[i] * net->r0[i];
+      w[na + i] = net->A_ba[i] * net->r0[i];
+    }
+    for (ps_int a = 0; a < np; a++) t[a] = P->volume[a] / (net->dim + 2);
+    status = ps_moduli_factors(P, net, 4, w, t, m->arm_side, NULL, ctx);
+    for (ps_int i = 0; status == PS_OK && i < na; i++) {
+      m->arm_side[i] *= net->A_ab[i];
+      m->arm_side[na + i] *= net->A_ba[i];
+    }
+  }
+  free(w);
+  free(t);
+  return status;
+}
+
 static int fibre_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
-  (void)P;
+  if (ps_moduli_correction_on(&m->mat)) PS_CHECK(fibre_correct(m, P, ctx));
   if (m->mat.yield_rule != PS_YIELD_DEVIATORIC) return PS_OK;
   /* the deviatoric rule's scratch: psi', psi'' per half-arm, family means */
   m->work = ps_calloc((size_t)(4 * m->net->n_arm + 2 * m->net->n_particle),

@@ -56,8 +56,12 @@ typedef struct ps_material {
                           lattice constant of a box lattice; 0 on a point
                           cloud (or the disk): each particle b's own cell
                           size V_b^(1/N) (ps_cell_size) */
-  int surface_correction; /* 1: energy-based surface correction (Li & Hao
-                             2023, Eq. A.3-A.6) */
+  int surface_correction; /* < 0: unset, the model's default (bond,
+                             threebody: on; fibre, state: off); 0: off;
+                             1: on. Bond, threebody: the energy-based
+                             surface correction of Li & Hao (2023, Eq.
+                             A.3-A.6); fibre, state: the moduli
+                             correction (ps_moduli.h, doc/moduli.md) */
   int micromodulus;    /* enum ps_micromodulus (bond) */
   int full_volumes;    /* 1: every neighbour within the horizon counts in
                           full (Peridigm's default); 0: the partial volumes
@@ -71,6 +75,14 @@ typedef struct ps_material {
   double critical_micropotential; /* w_c, J/m^6 in 3D, J/m^5 in 2D (per unit
                                      thickness, areas as volumes) */
   double fracture_energy;         /* G_c, J/m^2 (> 0), or 0: s0 or w_c given */
+  double softening_ratio;         /* bond, stretch criterion: r = s1/s0 > 1,
+                                     the arm softens linearly from s0 to
+                                     zero force at s1 = r s0, unloads
+                                     towards the origin (damage) and breaks
+                                     at s1; with fracture_energy, s0 is the
+                                     brittle s0 over sqrt(r), so that each
+                                     arm dissipates the same energy. 0:
+                                     brittle, the arm breaks at s0 */
   /* derived by ps_material_finish: */
   double G;            /* shear modulus, Eq. 78 */
   double K;            /* bulk modulus: Eq. 79 (3D), 80 (plane stress),
@@ -107,7 +119,9 @@ typedef struct ps_arm_state {
   double *eps_p;          /* [2 n_arm] committed plastic strain (of the last
                              converged state): [i] the arm's (total reading)
                              or its a-side's, [n_arm + i] its b-side's
-                             (deviatoric reading) */
+                             (deviatoric reading); bond with softening:
+                             [i] the largest elongation reached, m (its
+                             damage history) */
   double *eps_p_trial;    /* [2 n_arm] from the last evaluate (return
                              mapping from eps_p) */
   unsigned char *broken;  /* 1: arm broken (Eq. 118 or the model's
@@ -175,6 +189,16 @@ typedef struct ps_model_type {
    * 2D), summed into st->broken_energy when it breaks (bond: 1/2 k dl^2,
    * the micropotential times V_a V_b v). */
   double (*arm_energy)(const ps_model *m, const ps_arm_state *st, ps_int i);
+  /* Optional (NULL: the model dissipates nothing it can measure): the
+   * energy arm i dissipates from the committed state `c` to the state of
+   * the last evaluate `st` at elongation dl (m), J (per unit thickness in
+   * 2D), and in *dD its derivative with respect to dl there, N (the rate
+   * of further loading; an arm at its committed damage that would load
+   * on counts as loading). Bond with softening: 1/2 dl0 (k kappa -
+   * T_env(kappa)) at the largest elongation kappa, minus its committed
+   * value. */
+  double (*arm_dissipation)(const ps_model *m, const ps_arm_state *c, const ps_arm_state *st,
+                            ps_int i, double dl, double *dD);
   /* Optional (NULL: nothing to do): check the parameters against the
    * network, precompute per-arm data into m->arm_k and allocate m->work.
    * Returns PS_OK, PS_ERR_INPUT (message names the parameter),
@@ -239,7 +263,10 @@ struct ps_model {
                       dilatation of its end a ([i], v the share of b's
                       cell in a's horizon) and of its end b ([n_arm + i]);
                       NULL when both are arm_k[i] (every lattice, full
-                      volumes); read-only after prepare */
+                      volumes, no moduli correction); fibre with the
+                      moduli correction: the corrected half-arm weights
+                      A_ab phi ([i]) and A_ba phi ([n_arm + i]), else
+                      NULL; read-only after prepare */
   double *work;    /* scratch of evaluate for models that need it
                       (deviatoric fibre rule: [4 n_arm + 2 n_particle],
                       psi' and psi'' per half-arm, their family means),
@@ -267,6 +294,10 @@ extern const ps_model_type *const ps_model_bond;
 /* 1 when the material has a breaking criterion: a finite delta > 0
  * (fibre, Eq. 118) or material.fracture (bond, state). */
 int ps_material_breaks(const ps_material *mat);
+
+/* The intact arms of st past the model's criterion (break_excess > 0); 0
+ * when !ps_material_breaks. */
+ps_int ps_model_count_past(const ps_model *m, const ps_arm_state *st);
 
 /* After a converged, committed state: mark the arms past the model's
  * criterion (type->break_excess > 0) as broken and set *n_broken to how

@@ -23,8 +23,17 @@
  * lattice v_a = v_b and m->arm_side is NULL: the formulas above, bit for
  * bit. An arm breaks for good
  * when its stretch e/xi passes s0 (breaking.c); a broken arm leaves the
- * dilatation sums. theta is kept in m->epsbar (the dilatation). */
+ * dilatation sums. theta is kept in m->epsbar (the dilatation).
+ * With the moduli correction (material.surface_correction: true; off by
+ * default; ps_moduli.h, doc/moduli.md) each end's half-arm weights get
+ * factors from its family: phi (degree 4) on the deviatoric part, whose
+ * half-arm weights ks xi^2 must have the fourth moment G V_a/(2b) I_4, and
+ * psi (degree 2) on the dilatation, whose ks xi must have the second
+ * moment V_a/d delta; then kv_i = (ks_{i,a} phi_a + ks_{i,b} phi_b)/2 and
+ * m->arm_side = ks psi (always allocated), and every particle's stiffness
+ * under homogeneous strain is the continuum's. */
 #include "ps_model.h"
+#include "ps_moduli.h"
 
 #include <gsl/gsl_math.h>
 #include <math.h>
@@ -47,6 +56,48 @@ static state_constants constants(const ps_material *mat, int N) {
     c.d = 2.0 / (M_PI * pow(delta, 3));
   }
   return c;
+}
+
+/* The moduli correction (see the top): from the uncorrected half-arm
+ * weights ks (m->arm_side, or arm_k on both sides) to the corrected arm_k
+ * and arm_side. */
+static int state_correct(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
+  const ps_network *net = m->net;
+  state_constants c = constants(&m->mat, net->dim);
+  ps_int na = net->n_arm, np = net->n_particle;
+  double *ks = ps_calloc((size_t)(2 * na), sizeof *ks, ctx);
+  double *w = ps_calloc((size_t)(2 * na), sizeof *w, ctx);
+  double *phi = ps_calloc((size_t)(2 * na), sizeof *phi, ctx);
+  double *t = ps_calloc((size_t)np, sizeof *t, ctx);
+  const double *side = m->arm_side; /* NULL: both sides are arm_k */
+  if (!m->arm_side) m->arm_side = ps_calloc((size_t)(2 * na), sizeof *m->arm_side, ctx);
+  int status = PS_ERR_NOMEM;
+  if (!ks || !w || !phi || !t || !m->arm_side) goto done;
+  for (ps_int k = 0; k < 2 * na; k++) {
+    ps_int i = k < na ? k : k - na;
+    ks[k] = side ? side[k] : m->arm_k[i];
+  }
+  /* the deviatoric part: weights ks xi^2, fourth moment G V_a/(2b) I_4 */
+  for (ps_int k = 0; k < 2 * na; k++) {
+    double xi = net->r0[k < na ? k : k - na];
+    w[k] = ks[k] * xi * xi;
+  }
+  for (ps_int a = 0; a < np; a++) t[a] = m->mat.G * P->volume[a] / (2.0 * c.b);
+  status = ps_moduli_factors(P, net, 4, w, t, phi, NULL, ctx);
+  if (status != PS_OK) goto done;
+  for (ps_int i = 0; i < na; i++) m->arm_k[i] = 0.5 * (ks[i] * phi[i] + ks[na + i] * phi[na + i]);
+  /* the dilatation: weights ks xi, second moment V_a/d delta */
+  for (ps_int k = 0; k < 2 * na; k++) w[k] = ks[k] * net->r0[k < na ? k : k - na];
+  for (ps_int a = 0; a < np; a++) t[a] = P->volume[a] / c.d;
+  status = ps_moduli_factors(P, net, 2, w, t, phi, NULL, ctx);
+  if (status != PS_OK) goto done;
+  for (ps_int k = 0; k < 2 * na; k++) m->arm_side[k] = ks[k] * phi[k];
+done:
+  free(ks);
+  free(w);
+  free(phi);
+  free(t);
+  return status;
 }
 
 static int state_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
@@ -78,6 +129,7 @@ static int state_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
     }
   }
   for (ps_int a = 0; a < net->n_particle; a++) m->R[a] = P->volume[a]; /* V_a */
+  if (ps_moduli_correction_on(mat)) PS_CHECK(state_correct(m, P, ctx));
   return ps_model_fracture_prepare(m, NULL, ctx);
 }
 

@@ -61,7 +61,8 @@ int ps_nl_factor_tangent(ps_solver *s, ps_ctx *ctx) {
   }
   if (bad >= 0 && bad < s->prob.n_free) s->prob.ops->dof_name(s->prob.data, bad, name, sizeof name);
   if (s->ls.type != ps_linsolve_umfpack) {
-    ps_log(ctx, 1, "  note: tangent %s at %s: UMFPACK for this system\n",
+    /* once a run at level 1: softening arms make it routine */
+    ps_log(ctx, s->n_fallback ? 2 : 1, "  note: tangent %s at %s: UMFPACK for this system\n",
            status == PS_NOT_POSDEF ? "not positive definite" : "singular", name);
     if (!s->ls_fallback.type)
       PS_CHECK(ps_linsolve_create(&s->ls_fallback, ps_linsolve_umfpack, ctx));

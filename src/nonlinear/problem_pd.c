@@ -26,6 +26,7 @@ static int pd_evaluate(void *prob, const double *u, double *f, double *energy,
       f[j] -= pd->lambda * pd->fext[j];
       *energy -= pd->lambda * pd->fext[j] * u[j];
     }
+  if (status == PS_OK) pd->dissipation_step = ps_pd_dissipation(pd, NULL);
   pd->t_assembly += ps_wtime() - t;
   return status;
 }
@@ -128,6 +129,25 @@ void ps_pd_commit(ps_pd *pd) {
 }
 
 void ps_pd_restore(ps_pd *pd) { ps_arm_state_copy(&pd->st, &pd->st_saved); }
+
+double ps_pd_dissipation(const ps_pd *pd, double *g) {
+  const ps_model *m = &pd->model;
+  const ps_network *net = pd->net;
+  const int N = net->dim;
+  double D = 0.0;
+  if (g) memset(g, 0, (size_t)pd->sys.n_dof * sizeof *g);
+  if (!m->type->arm_dissipation) return 0.0;
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    double dD;
+    D += m->type->arm_dissipation(m, &pd->st_saved, &pd->st, i, pd->sys.dl[i], &dD);
+    if (g && dD != 0.0) /* dl_i/dy_b = q_i = -dl_i/dy_a */
+      for (int k = 0; k < N; k++) {
+        g[net->b[i] * N + k] += dD * pd->sys.q[i * N + k];
+        g[net->a[i] * N + k] -= dD * pd->sys.q[i * N + k];
+      }
+  }
+  return D;
+}
 
 int ps_pd_break_arms(ps_pd *pd, ps_int max_count, ps_int *n_broken, ps_ctx *ctx) {
   return ps_model_break_arms(&pd->model, &pd->st, max_count, n_broken, ctx);

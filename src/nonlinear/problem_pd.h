@@ -27,6 +27,7 @@ typedef struct ps_pd {
   const double *fext;         /* [n_dof] external forces at load factor 1,
                                  zero on prescribed dofs, or NULL; not owned */
   double t_assembly;          /* wall seconds in evaluation and assembly */
+  double dissipation_step;    /* ps_pd_dissipation at the last evaluation */
 } ps_pd;
 
 /* Create the problem: the model of `type` on the network, the system's
@@ -49,6 +50,13 @@ void ps_pd_set_team(ps_pd *pd, ps_team *team);
  * included) / back to the committed ones */
 void ps_pd_commit(ps_pd *pd);
 void ps_pd_restore(ps_pd *pd);
+
+/* The energy the arms dissipate from the committed states to those of the
+ * last evaluation (ps_model_type.arm_dissipation; 0 for a model without
+ * it), J (per unit thickness in 2D); with g != NULL also its gradient with
+ * respect to the displacements there, g[n_dof] = sum_i dD_i/ddl_i
+ * ddl_i/du (loading arms only). */
+double ps_pd_dissipation(const ps_pd *pd, double *g);
 
 /* one round of the model's breaking rule (Eq. 118) on the trial states:
  * at most max_count arms, *n_broken of them. Returns the model's status. */

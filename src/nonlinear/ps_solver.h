@@ -33,9 +33,11 @@ enum ps_newton_reason {
   PS_NEWTON_LINE_SEARCH = 2,   /* no acceptable step along the direction */
   PS_NEWTON_NOT_FINITE = 3,    /* NaN or inf in the residual */
   PS_NEWTON_SINGULAR = 4,      /* tangent singular, also for UMFPACK */
-  PS_NEWTON_STAGNATED = 5      /* line-search steps below PS_SMALL_STEP that
+  PS_NEWTON_STAGNATED = 5,     /* line-search steps below PS_SMALL_STEP that
                                   together cut the residual by < 10%, for
                                   opts.max_small_steps iterations in a row */
+  PS_NEWTON_NO_DISSIPATION = 6 /* dissipation control: the arms dissipate
+                                  nothing along the step's direction */
 };
 
 /* a line-search step below this counts towards stagnation (newton.c) */
@@ -102,6 +104,28 @@ int ps_solver_step(ps_solver *s, double lambda, ps_ctx *ctx);
  * moves no free dof). */
 int ps_solver_arclength_step(ps_solver *s, double ds, double psi, ps_ctx *ctx);
 
+/* One increment of dissipation control from the last commit (Gutierrez
+ * 2004; Verhoosel, Remmers & Gutierrez 2009): the load factor follows
+ * from the constraint that the arms dissipate tau (J, per unit thickness
+ * in 2D) in the step,
+ *   r_free(u, lambda) = 0,  D(u, lambda) = tau,
+ * D from the model's arm_dissipation (ps_pd_dissipation) relative to the
+ * committed states, linearised with its exact gradient, so the load
+ * factor may fall while the displacements grow (snap-back). Predictor and
+ * Newton as ps_solver_arclength_step; converged when the residual meets
+ * the tolerance and D is within 1e-8 tau. Returns PS_OK (not committed),
+ * PS_DIVERGED (restored; ps_solver_last_reason PS_NEWTON_NO_DISSIPATION
+ * when no arm dissipates along the step: elastic loading or unloading,
+ * where dissipation control cannot set the load), or fatal. */
+int ps_solver_dissipation_step(ps_solver *s, double tau, ps_ctx *ctx);
+
+/* Energy the arms dissipated up to the last commit (0 for a model without
+ * arm_dissipation), J; and that of the last evaluation from the last
+ * commit (the step's). Broken arms' stored energy is apart
+ * (ps_arm_state.broken_energy). */
+double ps_solver_dissipated(const ps_solver *s);
+double ps_solver_step_dissipation(const ps_solver *s);
+
 /* Load the model by the forces lambda * fext as well (tractions given as
  * forces on particles; fext zero on prescribed dofs, kept by the caller).
  * The residual becomes f_int - lambda fext and the energy Psi - lambda
@@ -113,6 +137,15 @@ void ps_solver_set_forces(ps_solver *s, const double *fext);
 void ps_solver_commit(ps_solver *s);
 /* Return to the last committed state. */
 void ps_solver_restore(ps_solver *s);
+
+/* Reject a converged but unwanted step (not committed): back to the last
+ * commit's state and load factor, re-evaluated there. Returns PS_OK or
+ * fatal. */
+int ps_solver_reject(ps_solver *s, ps_ctx *ctx);
+
+/* Intact arms past the model's breaking criterion in the last evaluation
+ * (those the next breaking round would break). */
+ps_int ps_solver_count_past_criterion(const ps_solver *s);
 
 /* One round of fracture: break the arms past the elongation limit (model
  * rule; with max_count > 0 only the max_count arms past it by the most)
@@ -131,7 +164,9 @@ int ps_solver_evaluate(ps_solver *s, ps_ctx *ctx);
 
 /* The stored (elastic and plastic-incremental) energy Psi of the last
  * evaluation, J (per unit thickness in 2D): the merit energy plus the
- * load's potential, Psi = E + lambda fext . u. */
+ * load's potential, Psi = E + lambda fext . u, less the step's
+ * dissipation where the model measures it (the merit energy is the
+ * incremental potential: stored energy plus the step's dissipation). */
 double ps_solver_stored_energy(const ps_solver *s);
 
 /* Intact arms on the yield surface in the current state. */

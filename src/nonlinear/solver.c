@@ -56,6 +56,7 @@ void ps_solver_free(ps_solver *s) {
   free(s->al_q);
   free(s->al_v);
   free(s->al_dr);
+  free(s->al_g);
   free(s);
 }
 
@@ -174,8 +175,25 @@ cleanup:
 }
 
 void ps_solver_commit(ps_solver *s) {
+  /* the committed state dissipates nothing from itself: the incremental
+   * energy there is the stored one */
+  s->dissipated += s->pd->dissipation_step;
+  s->energy -= s->pd->dissipation_step;
+  s->pd->dissipation_step = 0.0;
   ps_pd_commit(s->pd);
   memcpy(s->u_saved, s->u, (size_t)s->prob.n_dof * sizeof *s->u);
+  s->lambda_saved = s->pd->lambda;
+}
+
+int ps_solver_reject(ps_solver *s, ps_ctx *ctx) {
+  ps_solver_restore(s);
+  s->pd->lambda = s->lambda_saved;
+  s->have_prev = 0;
+  return ps_nl_eval(s, s->u, s->f, &s->energy, 1, ctx);
+}
+
+ps_int ps_solver_count_past_criterion(const ps_solver *s) {
+  return ps_model_count_past(&s->pd->model, &s->pd->st);
 }
 
 void ps_solver_restore(ps_solver *s) {
@@ -288,16 +306,163 @@ static int crisfield_root(double A, double B, double C, double c0, double c1, do
   return 1;
 }
 
-int ps_solver_arclength_step(ps_solver *s, double ds, double psi, ps_ctx *ctx) {
+/* The constraint of a path-following step, c(u, lambda) = 0 with the
+ * committed state (u_saved, lambda0) as its origin. predict: the load
+ * factor increment of the tangent predictor u = u0 + dlam v (v = K^-1 q
+ * at the committed state); correct: the correction x of lambda for the
+ * Newton update du = dr + x v (dr = K^-1 (-r_free), v = K^-1 q at the
+ * iterate); holds: 1 when the constraint is met at the iterate (checked
+ * with the residual). predict and correct return 1, or 0 when they cannot
+ * go on (the step fails with *reason), or a fatal status. */
+typedef struct step_constraint {
+  int (*predict)(ps_solver *s, void *c, const double *v, double *dlam, int *reason, ps_ctx *ctx);
+  int (*correct)(ps_solver *s, void *c, const double *dr, const double *v, double *x,
+                 int *reason, ps_ctx *ctx);
+  int (*holds)(ps_solver *s, void *c);
+} step_constraint;
+
+/* arc-length: ||Du_f||^2 / U^2 + psi^2 Dlambda^2 = ds^2 */
+typedef struct arc_constraint {
+  double ds, psi, lambda0;
+} arc_constraint;
+
+static int arc_predict(ps_solver *s, void *data, const double *v, double *dlam, int *reason,
+                       ps_ctx *ctx) {
+  const arc_constraint *c = data;
+  const ps_int nf = s->prob.n_free, *dof = s->prob.dof_of_free;
+  double vv = 0, p2 = c->psi * c->psi;
+  for (ps_int k = 0; k < nf; k++) vv += v[k] * v[k];
+  if (!(s->al_scale > 0)) {
+    s->al_scale = sqrt(vv);
+    if (!(s->al_scale > 0) || !isfinite(s->al_scale)) {
+      (void)reason;
+      return ps_error(ctx, PS_ERR_INPUT, "arc-length: the load moves no free dof (the "
+                                         "tangent's response to the load is zero)");
+    }
+  }
+  const double U2 = s->al_scale * s->al_scale;
+  *dlam = c->ds / sqrt(vv / U2 + p2);
+  if (s->al_have_dir) {
+    double d = 0;
+    for (ps_int k = 0; k < nf; k++) d += (s->u_saved[dof[k]] - s->u_prev[dof[k]]) * v[k];
+    if (d / U2 + p2 * (c->lambda0 - s->lambda_prev) < 0) *dlam = -*dlam;
+  }
+  return 1;
+}
+
+/* each iterate on the constraint: Crisfield's quadratic, its
+ * linearisation where the roots are complex */
+static int arc_correct(ps_solver *s, void *data, const double *dr, const double *v, double *x,
+                       int *reason, ps_ctx *ctx) {
+  const arc_constraint *c = data;
+  const ps_int nf = s->prob.n_free, *dof = s->prob.dof_of_free;
+  const double U2 = s->al_scale * s->al_scale, p2 = c->psi * c->psi, ds = c->ds;
+  double dl = s->pd->lambda - c->lambda0;
+  double a = 0, b = 0, cc = 0, e = 0, f = 0, g = 0;
+  for (ps_int k = 0; k < nf; k++) {
+    double Du = s->u[dof[k]] - s->u_saved[dof[k]], w = Du + dr[k];
+    a += v[k] * v[k];
+    b += w * v[k];
+    cc += w * w;
+    e += Du * v[k];
+    f += Du * w;
+    g += Du * Du;
+  }
+  if (!crisfield_root(a / U2 + p2, 2 * (b / U2 + p2 * dl), cc / U2 + p2 * dl * dl - ds * ds,
+                      f / U2 + p2 * dl * dl, e / U2 + p2 * dl, x)) {
+    double den = 2 * (e / U2 + p2 * dl);
+    *x = -(g / U2 + p2 * dl * dl - ds * ds + 2 * (f - g) / U2) / den;
+    ps_log(ctx, 2, "    arc-length: complex roots, linearised constraint\n");
+    if (!isfinite(*x)) {
+      *reason = PS_NEWTON_NOT_FINITE;
+      return 0;
+    }
+  }
+  return 1;
+}
+
+static int arc_holds(ps_solver *s, void *data) {
+  (void)s;
+  (void)data;
+  return 1; /* every iterate is on it */
+}
+
+/* dissipation: D(u, lambda) - tau = 0, D the energy the arms dissipate
+ * from the committed state (ps_pd_dissipation), linearised with its
+ * gradient g: dD = g_f . du_f + (g_p . ubar_p) dlambda */
+typedef struct dissipation_constraint {
+  double tau;
+} dissipation_constraint;
+
+/* dD/dlambda along du_f = x_f, du_p = ubar_p (g of the last evaluation) */
+static double dissipation_rate(const ps_solver *s, const double *g, const double *x) {
+  const ps_nl_problem *sys = &s->prob;
+  double r = 0;
+  for (ps_int k = 0; k < sys->n_free; k++) r += g[sys->dof_of_free[k]] * x[k];
+  for (ps_int j = 0; j < sys->n_dof; j++)
+    if (sys->fixed[j]) r += g[j] * s->ubar[j];
+  return r;
+}
+
+static int dissipation_predict(ps_solver *s, void *data, const double *v, double *dlam,
+                               int *reason, ps_ctx *ctx) {
+  const dissipation_constraint *c = data;
+  (void)ctx;
+  ps_pd_dissipation(s->pd, s->al_g);
+  double rate = dissipation_rate(s, s->al_g, v);
+  *dlam = c->tau / rate;
+  if (!isfinite(*dlam) || rate == 0.0) {
+    *reason = PS_NEWTON_NO_DISSIPATION;
+    return 0;
+  }
+  return 1;
+}
+
+static int dissipation_correct(ps_solver *s, void *data, const double *dr, const double *v,
+                               double *x, int *reason, ps_ctx *ctx) {
+  const dissipation_constraint *c = data;
+  const ps_int nf = s->prob.n_free, *dof = s->prob.dof_of_free;
+  (void)ctx;
+  double G = ps_pd_dissipation(s->pd, s->al_g) - c->tau, gdr = 0;
+  for (ps_int k = 0; k < nf; k++) gdr += s->al_g[dof[k]] * dr[k];
+  double rate = dissipation_rate(s, s->al_g, v);
+  *x = -(G + gdr) / rate;
+  if (!isfinite(*x) || rate == 0.0) {
+    *reason = PS_NEWTON_NO_DISSIPATION;
+    return 0;
+  }
+  return 1;
+}
+
+/* met to 1e-4 of tau: the constraint only chooses the point of the path
+ * (the dissipation committed is measured, whatever tau), and where an arm
+ * sits at the kink between loading and unloading Newton meets it only to
+ * about that */
+static int dissipation_holds(ps_solver *s, void *data) {
+  const dissipation_constraint *c = data;
+  return fabs(s->pd->dissipation_step - c->tau) <= 1e-4 * fabs(c->tau);
+}
+
+static const step_constraint arc_length_constraint = {arc_predict, arc_correct, arc_holds};
+static const step_constraint dissipation_constraint_ops = {dissipation_predict,
+                                                           dissipation_correct,
+                                                           dissipation_holds};
+
+/* One path-following step from the last commit under constraint `con`:
+ * the tangent predictor, then Newton on the bordered system (two
+ * right-hand sides per iteration, exact directions, no line search). */
+static int constrained_step(ps_solver *s, const step_constraint *con, void *c, const char *name,
+                            ps_ctx *ctx) {
   const ps_nl_problem *sys = &s->prob;
   const ps_int nd = sys->n_dof, nf = sys->n_free, *dof = sys->dof_of_free;
-  const double lambda0 = s->pd->lambda, p2 = psi * psi;
+  const double lambda0 = s->pd->lambda;
   int status = PS_OK, reason = PS_NEWTON_MAX_ITER;
   if (!s->al_q) {
     s->al_q = ps_calloc((size_t)nf, sizeof *s->al_q, ctx);
     s->al_v = ps_calloc((size_t)nf, sizeof *s->al_q, ctx);
     s->al_dr = ps_calloc((size_t)nf, sizeof *s->al_q, ctx);
-    if (!s->al_q || !s->al_v || !s->al_dr) return PS_ERR_NOMEM;
+    s->al_g = ps_calloc((size_t)nd, sizeof *s->al_g, ctx);
+    if (!s->al_q || !s->al_v || !s->al_dr || !s->al_g) return PS_ERR_NOMEM;
   }
   /* exact directions: past a limit point K is indefinite, where CG's
    * truncated iterate would not solve the bordered system */
@@ -306,9 +471,8 @@ int ps_solver_arclength_step(ps_solver *s, double ds, double psi, ps_ctx *ctx) {
   s->cg_rtol = s->opts.pcg_rtol;
   double *q = s->al_q, *v = s->al_v, *dr = s->al_dr;
 
-  /* the tangent predictor at the committed state: du = dlambda v, v =
-   * K^-1 q, |dlambda| from the constraint, its sign that of the last
-   * increment's dot product with (v, 1) */
+  /* the tangent predictor at the committed state: du = dlam v, v =
+   * K^-1 q */
   if ((status = ps_nl_eval(s, s->u, s->f, &s->energy, 1, ctx)) < 0) goto done;
   load_vector(s, q);
   if ((status = solve_tangent(s, q, v, ctx)) < 0) goto done;
@@ -316,30 +480,17 @@ int ps_solver_arclength_step(ps_solver *s, double ds, double psi, ps_ctx *ctx) {
     reason = PS_NEWTON_SINGULAR;
     goto failed;
   }
-  double vv = 0;
-  for (ps_int k = 0; k < nf; k++) vv += v[k] * v[k];
-  if (!(s->al_scale > 0)) {
-    s->al_scale = sqrt(vv);
-    if (!(s->al_scale > 0) || !isfinite(s->al_scale)) {
-      status = ps_error(ctx, PS_ERR_INPUT, "arc-length: the load moves no free dof (the "
-                                           "tangent's response to the load is zero)");
-      goto done;
-    }
+  double dlam;
+  int ok = con->predict(s, c, v, &dlam, &reason, ctx);
+  if (ok < 0) {
+    status = ok;
+    goto done;
   }
-  const double U2 = s->al_scale * s->al_scale;
-  double dlam = ds / sqrt(vv / U2 + p2);
-  if (s->al_have_dir) {
-    double d = 0;
-    for (ps_int k = 0; k < nf; k++) d += (s->u_saved[dof[k]] - s->u_prev[dof[k]]) * v[k];
-    if (d / U2 + p2 * (lambda0 - s->lambda_prev) < 0) dlam = -dlam;
-  }
+  if (!ok) goto failed;
   for (ps_int k = 0; k < nf; k++) s->u[dof[k]] += dlam * v[k];
   set_lambda(s, lambda0 + dlam);
 
-  /* the corrector: Newton on r_free = 0 and the constraint
-   * ||Du_f||^2 / U^2 + psi^2 Dlambda^2 = ds^2 (D: from the committed
-   * state), each iterate on it (Crisfield's quadratic; its linearisation
-   * where the roots are complex) */
+  /* the corrector: Newton on r_free = 0 and the constraint */
   double rel0 = NAN;
   for (int it = 0;; it++) {
     double rn;
@@ -347,13 +498,13 @@ int ps_solver_arclength_step(ps_solver *s, double ds, double psi, ps_ctx *ctx) {
     double rel = ps_nl_relative_residual(&s->prob, s->f, &rn);
     s->last_iterations = it;
     s->last_residual = rel;
-    ps_log(ctx, 2, "    arc-length %2d  |r|/|R| = %.3e  load factor = %.10g\n", it, rel,
+    ps_log(ctx, 2, "    %s %2d  |r|/|R| = %.3e  load factor = %.10g\n", name, it, rel,
            s->pd->lambda);
     if (!isfinite(rel) || !isfinite(s->energy)) {
       reason = PS_NEWTON_NOT_FINITE;
       goto failed;
     }
-    if (rel <= s->opts.tolerance || rn == 0.0) break;
+    if ((rel <= s->opts.tolerance || rn == 0.0) && con->holds(s, c)) break;
     if (it == 0) rel0 = rel;
     if (it >= s->opts.max_iterations || (it > 2 && rel > 1e6 * rel0)) {
       reason = PS_NEWTON_MAX_ITER;
@@ -369,28 +520,8 @@ int ps_solver_arclength_step(ps_solver *s, double ds, double psi, ps_ctx *ctx) {
       goto failed;
     }
     s->newton_iterations++;
-    double dl = s->pd->lambda - lambda0;
-    double a = 0, b = 0, c = 0, e = 0, f = 0, g = 0;
-    for (ps_int k = 0; k < nf; k++) {
-      double Du = s->u[dof[k]] - s->u_saved[dof[k]], w = Du + dr[k];
-      a += v[k] * v[k];
-      b += w * v[k];
-      c += w * w;
-      e += Du * v[k];
-      f += Du * w;
-      g += Du * Du;
-    }
     double x;
-    if (!crisfield_root(a / U2 + p2, 2 * (b / U2 + p2 * dl), c / U2 + p2 * dl * dl - ds * ds,
-                        f / U2 + p2 * dl * dl, e / U2 + p2 * dl, &x)) {
-      double den = 2 * (e / U2 + p2 * dl);
-      x = -(g / U2 + p2 * dl * dl - ds * ds + 2 * (f - g) / U2) / den;
-      ps_log(ctx, 2, "    arc-length: complex roots, linearised constraint\n");
-      if (!isfinite(x)) {
-        reason = PS_NEWTON_NOT_FINITE;
-        goto failed;
-      }
-    }
+    if (!con->correct(s, c, dr, v, &x, &reason, ctx)) goto failed;
     for (ps_int k = 0; k < nf; k++) s->u[dof[k]] += dr[k] + x * v[k];
     set_lambda(s, s->pd->lambda + x);
   }
@@ -414,6 +545,20 @@ done:
   return status;
 }
 
+int ps_solver_arclength_step(ps_solver *s, double ds, double psi, ps_ctx *ctx) {
+  arc_constraint c = {ds, psi, s->pd->lambda};
+  return constrained_step(s, &arc_length_constraint, &c, "arc-length", ctx);
+}
+
+int ps_solver_dissipation_step(ps_solver *s, double tau, ps_ctx *ctx) {
+  dissipation_constraint c = {tau};
+  return constrained_step(s, &dissipation_constraint_ops, &c, "dissipation", ctx);
+}
+
+double ps_solver_dissipated(const ps_solver *s) { return s->dissipated; }
+
+double ps_solver_step_dissipation(const ps_solver *s) { return s->pd->dissipation_step; }
+
 int ps_solver_break_round(ps_solver *s, ps_int max_count, ps_int *n_broken,
                           ps_ctx *ctx) {
   PS_CHECK(ps_pd_break_arms(s->pd, max_count, n_broken, ctx));
@@ -431,7 +576,7 @@ int ps_solver_evaluate(ps_solver *s, ps_ctx *ctx) {
 }
 
 double ps_solver_stored_energy(const ps_solver *s) {
-  double psi = s->energy;
+  double psi = s->energy - s->pd->dissipation_step;
   if (s->pd->fext)
     for (ps_int j = 0; j < s->pd->sys.n_dof; j++) psi += s->pd->lambda * s->pd->fext[j] * s->u[j];
   return psi;

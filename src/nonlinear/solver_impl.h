@@ -39,6 +39,7 @@ struct ps_solver {
   double *u_prev;           /* [n_dof] converged u of the previous load
                                factor lambda_prev (secant predictor) */
   double lambda_prev;
+  double lambda_saved;      /* the load factor of the last commit */
   int have_prev;            /* u_prev valid: no arm broke since */
   double *ubar;             /* [n_dof] prescribed displacement at lambda 1 */
   double *f;                /* [n_dof] internal forces at u (reactions at
@@ -56,6 +57,9 @@ struct ps_solver {
   double *al_v;             /* [n_free] K_ff^-1 al_q */
   double *al_dr;            /* [n_free] K_ff^-1 (-r_free) */
   double al_scale;          /* U: norm of K_ff^-1 q at the first step, m */
+  double *al_g;             /* [n_dof] gradient of the step's dissipation */
+  double dissipated;        /* energy dissipated by the arms up to the last
+                               commit (ps_pd_dissipation summed), J */
   int al_have_dir;          /* u_prev, lambda_prev hold the start of the
                                last converged arc-length increment */
 

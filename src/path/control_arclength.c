@@ -76,5 +76,7 @@ static const ps_step_control_type arc_type = {"arc_length", sizeof(arc_state), a
 const ps_step_control_type *const ps_step_control_arc_length = &arc_type;
 
 const ps_step_control_type *ps_step_control_find(int control) {
-  return control == PS_CONTROL_ARC_LENGTH ? ps_step_control_arc_length : ps_step_control_load;
+  return control == PS_CONTROL_ARC_LENGTH    ? ps_step_control_arc_length
+         : control == PS_CONTROL_DISSIPATION ? ps_step_control_dissipation
+                                             : ps_step_control_load;
 }

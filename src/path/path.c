@@ -23,6 +23,9 @@ void ps_path_opts_default(ps_path_opts *o) {
   o->arc_length_max = 0.0;
   o->arc_length_psi = 0.0;
   o->arc_length_iterations = 5;
+  o->max_arms_per_step = 0;
+  o->dissipation_step = 0.0;
+  o->dissipation_max = 0.0;
 }
 
 int ps_path_init(ps_path *p, ps_solver *s, const ps_path_problem *pb, const ps_path_opts *o,
@@ -76,13 +79,23 @@ static int attempt(ps_path *p, ps_int *its0, ps_ctx *ctx) {
       status = ps_solver_step(s, target, ctx);
     }
     if (status < 0) return status;
-    if (status != PS_DIVERGED) return PS_OK;
+    ps_int past = 0;
+    if (status == PS_OK && p->o.control != PS_CONTROL_LOAD && p->o.max_arms_per_step > 0 &&
+        (past = ps_solver_count_past_criterion(s)) > p->o.max_arms_per_step)
+      PS_CHECK(ps_solver_reject(s, ctx)); /* too many arms at once: a shorter increment */
+    else if (status != PS_DIVERGED)
+      return PS_OK;
     p->step_cuts++;
     double dl = p->control->cut(p->control_state, &p->o);
-    ps_log(ctx, 1, "  step %d: Newton did not converge at load factor %.6g (%s, "
-                   "residual %.2e); cutting the increment to %.4g\n",
-           (int)(p->increments + 1), target, ps_newton_reason_text(ps_solver_last_reason(s)),
-           ps_solver_last_residual(s), dl);
+    if (past)
+      ps_log(ctx, 1, "  step %d: %lld arms past the criterion at load factor %.6g "
+                     "(path.max_arms_per_step %d); cutting the increment to %.4g\n",
+             (int)(p->increments + 1), (long long)past, target, p->o.max_arms_per_step, dl);
+    else
+      ps_log(ctx, 1, "  step %d: Newton did not converge at load factor %.6g (%s, "
+                     "residual %.2e); cutting the increment to %.4g\n",
+             (int)(p->increments + 1), target,
+             ps_newton_reason_text(ps_solver_last_reason(s)), ps_solver_last_residual(s), dl);
     if (dl < p->o.min_step) {
       /* the path ends here: an error for `run` (after the summary is
        * written to the partial output), a result for the sweep */
@@ -129,7 +142,7 @@ int ps_path_iterate(ps_path *p, ps_ctx *ctx) {
     p->lambda_max = last->lambda;
     /* arc-length without a boundary-stress measure: the peak's load
      * factor is that of the largest load factor */
-    if (p->o.control == PS_CONTROL_ARC_LENGTH && !(p->pb.measure_length > 0) && settled)
+    if (p->o.control != PS_CONTROL_LOAD && !(p->pb.measure_length > 0) && settled)
       p->lambda_peak = last->lambda;
   }
   if (converged) {
@@ -169,12 +182,13 @@ static int stop_rule(ps_path *p) {
              "boundary stress fell below %.3g of its peak", o->stop_load_drop);
     return 1;
   }
-  if (o->control == PS_CONTROL_ARC_LENGTH && p->broken_total == 0 && p->lambda_max > 0 &&
+  if (o->control != PS_CONTROL_LOAD && p->lambda_max > 0 &&
       last->lambda < o->stop_load_drop * p->lambda_max) {
-    p->end = PS_PATH_LOAD_DROP;
+    p->end = p->broken_total ? PS_PATH_FRACTURED : PS_PATH_LOAD_DROP;
     snprintf(p->stop_reason, sizeof p->stop_reason,
-             "past a limit point the load factor fell below %.3g of its largest value "
-             "%.6g, no arm broken", o->stop_load_drop, p->lambda_max);
+             "past the peak the load factor fell below %.3g of its largest value "
+             "%.6g, %s", o->stop_load_drop, p->lambda_max,
+             p->broken_total ? "arms broken" : "no arm broken");
     return 1;
   }
   if (last->lambda >= o->max_load) { /* exact: the target snaps to max_load */

@@ -89,6 +89,17 @@ extern const ps_step_control_type *const ps_step_control_load;
  * factor of the increment, as under load control. */
 extern const ps_step_control_type *const ps_step_control_arc_length;
 
+/* Dissipation control (control_dissipation.c; ps_solver_dissipation_step):
+ * arc-length increments (as ps_step_control_arc_length) until one
+ * dissipates energy in the arms, then increments of dissipated energy
+ * tau: the first dissipation_step (0: that increment's dissipation), at
+ * most dissipation_max (0: 1/50 of the stored energy then), adapted to
+ * the Newton iterations as ds is, halved on a failure; an increment in
+ * which no arm dissipates goes back to arc-length until one does again.
+ * Needs a model that measures its dissipation (arm_dissipation: the bond
+ * model with material.fracture.softening_ratio). */
+extern const ps_step_control_type *const ps_step_control_dissipation;
+
 /* The controller of path.control (enum ps_path_control). */
 const ps_step_control_type *ps_step_control_find(int control);
 
@@ -107,9 +118,11 @@ enum ps_path_end {
   PS_PATH_MAX_LOAD = 3,       /* max_load reached */
   PS_PATH_MAX_INCREMENTS = 4, /* max_increments done */
   PS_PATH_INTERRUPTED = 5,    /* problem.interrupted said so */
-  PS_PATH_LOAD_DROP = 6       /* arc-length: the load factor fell below
-                                 stop_load_drop of its largest value with
-                                 no arm broken (past a limit point) */
+  PS_PATH_LOAD_DROP = 6       /* arc-length or dissipation control: the
+                                 load factor fell below stop_load_drop of
+                                 its largest value with no arm broken
+                                 (past a limit point; with arms broken
+                                 it is PS_PATH_FRACTURED) */
 };
 
 /* The last increment, for the caller's progress line, history row and

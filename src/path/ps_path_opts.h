@@ -35,7 +35,8 @@ typedef struct ps_path_opts {
                                    most, before re-equilibrating; 0: all of
                                    them (default) */
   int control;                  /* the step controller: PS_CONTROL_LOAD
-                                   (default) or PS_CONTROL_ARC_LENGTH */
+                                   (default), PS_CONTROL_ARC_LENGTH or
+                                   PS_CONTROL_DISSIPATION */
   double arc_length_max;        /* arc-length: the largest arc length, in
                                    units of the load factor of the first
                                    (elastic) response; 0: load_step
@@ -46,10 +47,28 @@ typedef struct ps_path_opts {
   int arc_length_iterations;    /* arc-length: the Newton iterations per
                                    increment the arc length adapts to
                                    (default 5) */
+  int max_arms_per_step;        /* arc-length and dissipation control: an
+                                   increment after which more arms than
+                                   this are past the criterion is cut, so
+                                   that the path through fracture is a
+                                   sequence of equilibrium states; 0: no
+                                   cap (default) */
+  double dissipation_step;      /* dissipation control: the first energy
+                                   tau dissipated per increment, J (per m
+                                   of thickness in 2D); 0: the dissipation
+                                   of the arc-length increment in which it
+                                   started (default) */
+  double dissipation_max;       /* dissipation control: the largest tau, J;
+                                   0: 1/50 of the stored energy when the
+                                   dissipation started (default) */
 } ps_path_opts;
 
 /* path.control */
-enum ps_path_control { PS_CONTROL_LOAD = 0, PS_CONTROL_ARC_LENGTH = 1 };
+enum ps_path_control {
+  PS_CONTROL_LOAD = 0,
+  PS_CONTROL_ARC_LENGTH = 1,
+  PS_CONTROL_DISSIPATION = 2
+};
 
 /* The defaults above, the only place they are written down (the case
  * reader starts from them). Defined in path.c. */

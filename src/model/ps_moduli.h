@@ -1,0 +1,66 @@
+/* ps_moduli.h: the moduli correction of the fibre and state models
+ * (issue 19; doc/moduli.md): per-particle factors on the half-arms, computed
+ * from the particle's energy under homogeneous strain, so that every
+ * particle's stiffness is the continuum's, in the bulk of any lattice or
+ * cloud and at its surfaces.
+ *
+ * Under a homogeneous strain eps an arm of direction n has the strain
+ * n.eps.n, so a particle's energy is a quadratic form in eps whose arm part
+ * is the fourth moment M4 = sum_b w_b n n n n of its half-arm weights w
+ * (and whose family part, the fibre model's mean strain or the state
+ * model's dilatation, is a second moment M2 = sum_b w_b n n). The energies
+ * of the N(N+1)/2 independent homogeneous strain states are the
+ * components of these moments; the continuum's are isotropic, t I_p (I_2 =
+ * delta_ij, I_4 = delta_ij delta_kl + delta_ik delta_jl + delta_il
+ * delta_jk). ps_moduli_factors gives each half-arm of particle a the factor
+ *   phi_b = 1 + sum_alpha lambda_alpha n_b^alpha   (|alpha| = p, p = 2 or 4)
+ * of least change sum_b w_b (phi_b - 1)^2 that makes the moment the
+ * isotropic target: sum_b w_b phi_b n_b^(x)p = t_a I_p (a linear system of
+ * 3 or 5 unknowns in 2D, 6 or 15 in 3D, the monomials of degree p). One
+ * scalar per arm could only rescale the energy direction by direction
+ * (Li & Hao Eq. A.3-A.6, bond.c); the degree-p form also removes the
+ * cubic anisotropy of a square or cubic lattice (C66 against
+ * (C11 - C12)/2), which a scalar per particle cannot.
+ *
+ * A family whose arms cannot carry the isotropic moment with positive
+ * factors (a corner, a particle with few arms) gets the least change cut
+ * back so that no factor falls below the floor, phi_b >= floor (a partial
+ * match, counted in ps_moduli_stats); a family whose moment matrix is
+ * singular keeps phi = 1.
+ *
+ * The switch: material.surface_correction, a tri-state in ps_material (< 0
+ * unset, 0 off, 1 on). The fibre and state models apply this correction
+ * only when it is 1 (their default, unset, is the uncorrected model: the
+ * paper's Griffith reproduction); the bond and three-body models read any
+ * non-zero value as their own Li & Hao correction, as before. */
+#ifndef PS_MODULI_H
+#define PS_MODULI_H
+
+#include "ps_model.h"
+
+/* The lowest half-arm factor the correction gives (see above). */
+#define PS_MODULI_FLOOR 0.1
+
+/* What the correction did, for reports and tests. */
+typedef struct ps_moduli_stats {
+  ps_int n_matched; /* particles whose moment is the target (to round-off) */
+  ps_int n_partial; /* particles whose change was cut back at the floor */
+  ps_int n_singular;/* particles whose moment matrix is singular: phi = 1 */
+  double phi_min, phi_max; /* over the half-arms with w > 0 */
+} ps_moduli_stats;
+
+/* 1 when the fibre or state model applies the moduli correction:
+ * mat->surface_correction == 1 (set in the case; unset is < 0). */
+int ps_moduli_correction_on(const ps_material *mat);
+
+/* The factors of the half-arms: w[2 n_arm] the uncorrected half-arm
+ * weights ([i] end a's side of arm i, [n_arm + i] end b's; >= 0), order 2
+ * or 4, target[n_particle] the scale t_a of the isotropic moment t_a I_p;
+ * out phi[2 n_arm] (same layout; 1 where w = 0) and, when stats != NULL,
+ * the counts above. The directions are the reference ones, P->x. Returns
+ * PS_OK or PS_ERR_INPUT (order not 2 or 4, dim not 2 or 3). */
+int ps_moduli_factors(const ps_particles *P, const ps_network *net, int order,
+                      const double *w, const double *target, double *phi,
+                      ps_moduli_stats *stats, ps_ctx *ctx);
+
+#endif

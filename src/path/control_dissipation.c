@@ -1,0 +1,102 @@
+/* control_dissipation.c: dissipation control (Gutierrez 2004; Verhoosel,
+ * Remmers & Gutierrez 2009): arc-length increments while the arms only
+ * store energy, and once an increment dissipates, increments of a fixed
+ * dissipated energy tau (ps_solver_dissipation_step), whose load factor
+ * may fall while the crack opens, so the path passes snap-backs where the
+ * arc-length constraint on all displacements turns back. An increment in
+ * which no arm dissipates (elastic loading or unloading) goes back to
+ * arc-length for that increment. tau grows after quick increments, up to
+ * dissipation_max, and halves on a failure. */
+#include "ps_path.h"
+
+#include <assert.h>
+#include <math.h>
+#include <stddef.h>
+
+/* tau grows by 1.5 after each accepted increment (not in the two after a
+ * cut), up to dissipation_max: the softening arms' secant tangent
+ * (bond.c) makes Newton converge linearly, in 5 to 15 iterations whatever
+ * tau, so the iteration count says little and the failures (halving) and
+ * the cap set tau */
+
+typedef struct diss_state {
+  _Alignas(max_align_t) unsigned char arc[128]; /* the arc-length controller's state */
+  int dissipating;        /* 1: the next attempt is a dissipation step */
+  double tau, tau_ref;    /* the next tau; the first one (cuts relative to it) */
+  double tau_max;
+  int good_in_a_row;
+  int its;                /* Newton iterations of the last attempt */
+  double last_dissipation;/* of the last successful attempt, J */
+  double stored;          /* the stored energy after it, J */
+} diss_state;
+
+static void diss_init(void *state, const ps_path_opts *o) {
+  diss_state *c = state;
+  assert(ps_step_control_arc_length->size <= sizeof c->arc);
+  ps_step_control_arc_length->init(c->arc, o);
+  c->dissipating = 0;
+  c->good_in_a_row = 2;
+}
+
+static double diss_target(void *state, double lambda, const ps_path_opts *o) {
+  diss_state *c = state;
+  return ps_step_control_arc_length->target(c->arc, lambda, o);
+}
+
+static double diss_cut(void *state, const ps_path_opts *o) {
+  diss_state *c = state;
+  if (!c->dissipating) return ps_step_control_arc_length->cut(c->arc, o);
+  c->tau *= 0.5;
+  c->good_in_a_row = 0;
+  return c->tau / c->tau_ref; /* the path stalls below min_step of the first tau */
+}
+
+static void diss_accept(void *state, ps_int broken_total, const ps_path_opts *o) {
+  diss_state *c = state;
+  if (!c->dissipating) {
+    ps_step_control_arc_length->accept(c->arc, broken_total, o);
+    if (c->last_dissipation > 0) { /* dissipation started: switch */
+      c->dissipating = 1;
+      c->tau_max = o->dissipation_max > 0 ? o->dissipation_max : 0.02 * c->stored;
+      c->tau = o->dissipation_step > 0 ? o->dissipation_step : c->last_dissipation;
+      if (!(c->tau_max > 0)) c->tau_max = c->tau;
+      c->tau = fmin(c->tau, c->tau_max);
+      c->tau_ref = c->tau;
+      c->good_in_a_row = 2;
+    }
+    return;
+  }
+  double factor = c->good_in_a_row < 2 ? 1.0 : 1.5; /* no growth right after a cut */
+  c->good_in_a_row++;
+  c->tau = fmin(c->tau * factor, c->tau_max);
+}
+
+static int diss_step(void *state, ps_solver *s, const ps_path_opts *o, double *lambda,
+                     ps_ctx *ctx) {
+  diss_state *c = state;
+  ps_solver_stats st0, st1;
+  int status;
+  ps_solver_get_stats(s, &st0);
+  if (c->dissipating) {
+    status = ps_solver_dissipation_step(s, c->tau, ctx);
+    if (status == PS_DIVERGED && ps_solver_last_reason(s) == PS_NEWTON_NO_DISSIPATION) {
+      ps_log(ctx, 2, "    no arm dissipates along the step: an arc-length increment\n");
+      c->dissipating = 0;
+    }
+  }
+  if (!c->dissipating) status = ps_step_control_arc_length->step(c->arc, s, o, lambda, ctx);
+  ps_solver_get_stats(s, &st1);
+  c->its = (int)(st1.newton_iterations - st0.newton_iterations);
+  *lambda = ps_solver_lambda(s);
+  if (status == PS_OK) {
+    c->last_dissipation = ps_solver_step_dissipation(s);
+    c->stored = ps_solver_stored_energy(s);
+  }
+  return status;
+}
+
+static const ps_step_control_type diss_type = {"dissipation", sizeof(diss_state), diss_init,
+                                               diss_target,   diss_cut,           diss_accept,
+                                               diss_step};
+
+const ps_step_control_type *const ps_step_control_dissipation = &diss_type;

@@ -1,0 +1,327 @@
+/* t425_dissipation.c: softening bond arms (material.fracture.
+ * softening_ratio) and dissipation control (path.control: dissipation,
+ * issue 20; ps_solver_dissipation_step, src/path/control_dissipation.c).
+ *
+ * (1) The softening arm law against its closed forms, on a plate of bond
+ *     arms stretched uniformly: (a) the incremental energy is the
+ *     potential of the arm forces (central differences of the energy
+ *     against the residual, 1e-6 relative: second-order differences of a
+ *     piecewise quadratic); (b) an arm stretched to s1 = r s0 has
+ *     dissipated 1/2 k dl0 dl1 (the area under its envelope, 1e-12) and
+ *     carries nothing; (c) unloading follows the secant to the origin.
+ * (2) The dissipation constraint's linearisation (ps_pd_dissipation's
+ *     gradient) against central differences of D along random directions
+ *     from a state with loading, unloading and elastic arms, 1e-6
+ *     relative.
+ * (3) A notched plate of softening arms under dissipation control: every
+ *     increment converges; once dissipation starts each increment
+ *     dissipates its tau (the total never falls); the energy balance
+ *     W - Psi = D holds within 1% (W the trapezoid sum of reaction x grip
+ *     displacement along the converged states, Psi the stored energy, D
+ *     the dissipated energy: an independent check of the path being a
+ *     sequence of equilibrium states and of the bookkeeping; the 1% is
+ *     the trapezoid rule's error on the curved softening branch). */
+#include "check.h"
+#include "common.h"
+#include "nonlinear/problem_pd.h"
+#include "path/ps_path.h"
+
+#include <gsl/gsl_rng.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void die_ctx(const char *what, const ps_ctx *ctx) {
+  fprintf(stderr, "t425: %s failed: %s\n", what, ctx->msg);
+  printf("FAIL: %s\n", what);
+  exit(2);
+}
+
+static void setup_text(ps_problem *pb, const char *path, const char *text) {
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  ps_case cs;
+  FILE *f = fopen(path, "w");
+  if (!f || fputs(text, f) < 0 || fclose(f)) {
+    fprintf(stderr, "t425: cannot write %s\n", path);
+    exit(2);
+  }
+  ps_case_defaults(&cs);
+  if (ps_case_load(&cs, path, &ctx)) die_ctx("case", &ctx);
+  if (ps_problem_setup(pb, &cs, &ctx)) die_ctx("setup", &ctx);
+  remove(path);
+}
+
+/* a 20 x 20 plate (1 mm) of constant-micromodulus bond arms with s0 =
+ * 1e-3, s1 = 5e-3; an edge crack from the left to x = 14 mm at mid
+ * height; bottom grip fixed, top grip pulled in y; path lines appended */
+static void plate_text(char *buf, size_t len, const char *path) {
+  snprintf(buf, len,
+           "name: t425\n"
+           "geometry:\n  type: box\n  dim: 2\n  counts: [20, 20]\n  spacing: 1.0e-3\n"
+           "  cracks: [[[-0.001, 0.01], [0.014, 0.01]]]\n"
+           "material:\n  model: bond\n  E: 72.0e9\n  nu: 0.3333333333333333\n"
+           "  plane: stress\n  horizon_factor: 3.015\n  micromodulus: constant\n"
+           "  partial_volumes: false\n  surface_correction: false\n"
+           "  fracture: {critical_stretch: 1.0e-3, softening_ratio: 5}\n"
+           "loading:\n  type: boundary\n  boundary:\n"
+           "    - select: {y_max: 0.003}\n      fix: [x, y]\n"
+           "    - select: {y_min: 0.017}\n      fix: [x]\n      displace: {y: 1.0e-4}\n"
+           "      measure: true\n"
+           "solver:\n  tolerance: 1.0e-10\n"
+           "path:\n%s",
+           path);
+}
+
+/* u = eps_x x + eps_y y (+ noise), free and prescribed dofs alike */
+static void affine(const ps_problem *pb, double ex, double ey, double noise, gsl_rng *r,
+                   double *u) {
+  for (ps_int a = 0; a < pb->P.n; a++) {
+    u[2 * a] = ex * pb->P.x[2 * a] + noise * (gsl_rng_uniform(r) - 0.5);
+    u[2 * a + 1] = ey * pb->P.x[2 * a + 1] + noise * (gsl_rng_uniform(r) - 0.5);
+  }
+}
+
+static void arm_law(void) {
+  ps_problem pb;
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  char text[4096];
+  plate_text(text, sizeof text, "  load_step: 0.05\n");
+  setup_text(&pb, "t425-law.yaml", text);
+  ps_pd *pd = NULL;
+  unsigned char *none = calloc((size_t)pb.P.n * 2, 1);
+#define FRESH_PD()                                                                             \
+  do {                                                                                         \
+    ps_pd_free(pd);                                                                            \
+    pd = NULL;                                                                                 \
+    if (ps_pd_create(&pd, &pb.P, &pb.net, ps_model_type_find("bond"), &pb.mat, none, 0, 0,    \
+                     &ctx))                                                                    \
+      die_ctx("pd", &ctx);                                                                     \
+  } while (0)
+  FRESH_PD();
+  ps_nl_problem p = ps_pd_problem(pd);
+  ps_int nd = p.n_dof;
+  double *u = calloc((size_t)nd, sizeof *u), *f = calloc((size_t)nd, sizeof *f);
+  double *g = calloc((size_t)nd, sizeof *g), *e = calloc((size_t)nd, sizeof *e);
+  double *w = calloc((size_t)nd, sizeof *w), E;
+  gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(r, 425);
+  const ps_network *net = &pb.net;
+  const double s0 = 1e-3, s1 = 5e-3, h = 1e-3 * 1e-7; /* h: 1e-7 of a cell */
+
+  /* (1a) energy against forces, from a committed damaged state (2.5 s0
+   * in x, s0/2 in y: softening, unloading and elastic arms) */
+  affine(&pb, 2.5 * s0, 0.5 * s0, 0.0, r, u);
+  p.ops->evaluate(p.data, u, f, &E, 0, &ctx);
+  ps_pd_commit(pd);
+  double worst = 0;
+  for (int trial = 0; trial < 3; trial++) {
+    affine(&pb, (2.5 - 0.3 * trial) * s0 + 1e-4 * trial, 0.6 * s0, 2e-7, r, u);
+    for (ps_int j = 0; j < nd; j++) e[j] = gsl_rng_uniform(r) - 0.5;
+    p.ops->evaluate(p.data, u, f, &E, 0, &ctx);
+    double fe = 0;
+    for (ps_int j = 0; j < nd; j++) fe += f[j] * e[j];
+    double Ep, Em;
+    for (ps_int j = 0; j < nd; j++) w[j] = u[j] + h * e[j];
+    p.ops->evaluate(p.data, w, f, &Ep, 0, &ctx);
+    for (ps_int j = 0; j < nd; j++) w[j] = u[j] - h * e[j];
+    p.ops->evaluate(p.data, w, f, &Em, 0, &ctx);
+    double fd = (Ep - Em) / (2 * h), rel = fabs(fd - fe) / fabs(fe);
+    if (rel > worst) worst = rel;
+  }
+  printf("  (1a) incremental energy vs forces: worst relative difference %.2e\n", worst);
+  ps_check(worst < 1e-6, "softening arms: the energy is the potential of the forces");
+
+  /* (1b) stretched to s1 everywhere in x: the arms along x dissipated
+   * 1/2 k dl0 dl1 and carry nothing */
+  FRESH_PD();
+  p = ps_pd_problem(pd);
+  affine(&pb, s1 * 1.2, 0.0, 0.0, r, u);
+  p.ops->evaluate(p.data, u, f, &E, 0, &ctx);
+  double dmax = 0;
+  ps_int n_x = 0;
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    double dy = pb.P.x[2 * net->b[i] + 1] - pb.P.x[2 * net->a[i] + 1];
+    if (fabs(dy) > 1e-12 || !(pd->model.arm_k[i] > 0)) continue;
+    double dD, r0 = net->r0[i], k = pd->model.arm_k[i];
+    double D = pd->model.type->arm_dissipation(&pd->model, &pd->st_saved, &pd->st, i,
+                                               pd->sys.dl[i], &dD);
+    double D0 = pd->model.type->arm_dissipation(&pd->model, &pd->st_saved, &pd->st_saved, i,
+                                                0.0, &dD);
+    double want = 0.5 * k * (s0 * r0) * (s1 * r0);
+    double d = fabs(D - D0 - want) / want + fabs(pd->sys.T[i]) / (k * s0 * r0);
+    if (d > dmax) dmax = d;
+    n_x++;
+  }
+  printf("  (1b) %lld arms along x past s1: dissipated vs 1/2 k dl0 dl1, force: worst %.2e\n",
+         (long long)n_x, dmax);
+  ps_check(n_x > 0 && dmax < 1e-12, "a fully softened arm dissipated its envelope's area");
+
+  /* (1c) from 2 s0 back to s0: the secant T_env(2 s0) / (2 s0) */
+  FRESH_PD();
+  p = ps_pd_problem(pd);
+  affine(&pb, 2 * s0, 0.0, 0.0, r, u);
+  p.ops->evaluate(p.data, u, f, &E, 0, &ctx);
+  ps_pd_commit(pd);
+  affine(&pb, s0, 0.0, 0.0, r, u);
+  p.ops->evaluate(p.data, u, f, &E, 0, &ctx);
+  double umax = 0;
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    double dy = pb.P.x[2 * net->b[i] + 1] - pb.P.x[2 * net->a[i] + 1];
+    if (fabs(dy) > 1e-12 || !(pd->model.arm_k[i] > 0)) continue;
+    double k = pd->model.arm_k[i], r0 = net->r0[i];
+    double env = k * s0 * r0 * (s1 - 2 * s0) / (s1 - s0); /* T_env at 2 s0 */
+    double want = env / 2.0;                             /* secant at s0: half of it */
+    double d = fabs(pd->sys.T[i] - want) / want;
+    if (d > umax) umax = d;
+  }
+  printf("  (1c) unloading on the secant: worst relative difference %.2e\n", umax);
+  ps_check(umax < 1e-6, "a softened arm unloads towards the origin");
+
+  /* (2) the dissipation's gradient against central differences */
+  FRESH_PD();
+  p = ps_pd_problem(pd);
+  affine(&pb, 2.5 * s0, 0.5 * s0, 0.0, r, u);
+  p.ops->evaluate(p.data, u, f, &E, 0, &ctx);
+  ps_pd_commit(pd);
+  worst = 0;
+  for (int trial = 0; trial < 3; trial++) {
+    /* no arm within 0.05 s0 of its committed largest stretch, where D
+     * has a kink (the lattice diagonals: (ex + ey)/2 against 1.5 s0) */
+    affine(&pb, (2.6 + 0.2 * trial) * s0, 0.3 * s0, 2e-9, r, u);
+    for (ps_int j = 0; j < nd; j++) e[j] = gsl_rng_uniform(r) - 0.5;
+    p.ops->evaluate(p.data, u, f, &E, 0, &ctx);
+    ps_pd_dissipation(pd, g);
+    double ge = 0;
+    for (ps_int j = 0; j < nd; j++) ge += g[j] * e[j];
+    for (ps_int j = 0; j < nd; j++) w[j] = u[j] + h * e[j];
+    p.ops->evaluate(p.data, w, f, &E, 0, &ctx);
+    double Dp = ps_pd_dissipation(pd, NULL);
+    for (ps_int j = 0; j < nd; j++) w[j] = u[j] - h * e[j];
+    p.ops->evaluate(p.data, w, f, &E, 0, &ctx);
+    double Dm = ps_pd_dissipation(pd, NULL);
+    double fd = (Dp - Dm) / (2 * h), rel = fabs(fd - ge) / fabs(ge);
+    if (rel > worst) worst = rel;
+  }
+  printf("  (2) dissipation gradient vs central differences: worst %.2e\n", worst);
+  ps_check(worst < 1e-6, "the dissipation constraint's linearisation");
+
+  /* (2b) the tangent (an arm loading at two evaluations in a row: its
+   * slope) against central differences of the forces */
+  double *Ke = calloc((size_t)nd, sizeof *Ke), *fp = calloc((size_t)nd, sizeof *fp);
+  worst = 0;
+  for (int trial = 0; trial < 3; trial++) {
+    affine(&pb, (2.6 + 0.2 * trial) * s0, 0.4 * s0, 2e-7, r, u);
+    for (ps_int j = 0; j < nd; j++) e[j] = gsl_rng_uniform(r) - 0.5;
+    p.ops->evaluate(p.data, u, f, &E, 1, &ctx);
+    p.ops->evaluate(p.data, u, f, &E, 1, &ctx); /* the loading arms now take their slope */
+    ps_system_apply(&pd->sys, e, Ke);
+    ps_int na = net->n_arm;
+    double *D0 = malloc(na * sizeof *D0), *T1 = malloc(na * sizeof *T1), *l1 = malloc(na * sizeof *l1);
+    unsigned char *y0 = malloc(na);
+    memcpy(D0, pd->sys.tan.D, na * sizeof *D0);
+    memcpy(y0, pd->st.yielding, na);
+    for (ps_int j = 0; j < nd; j++) w[j] = u[j] + h * e[j];
+    p.ops->evaluate(p.data, w, fp, &E, 0, &ctx);
+    memcpy(T1, pd->sys.T, na * sizeof *T1);
+    memcpy(l1, pd->sys.dl, na * sizeof *l1);
+    for (ps_int j = 0; j < nd; j++) w[j] = u[j] - h * e[j];
+    p.ops->evaluate(p.data, w, f, &E, 0, &ctx);
+    if (getenv("T425_VERBOSE")) {
+      int shown = 0;
+      for (ps_int i = 0; i < na && shown < 6; i++) {
+        double fdD = (T1[i] - pd->sys.T[i]) / (l1[i] - pd->sys.dl[i]);
+        if (fabs(fdD - D0[i]) > 1e-6 * fabs(pd->model.arm_k[i])) {
+          printf("    arm %lld: D %g fd %g k %g yielding %d\n", (long long)i, D0[i], fdD,
+                 pd->model.arm_k[i], y0[i]);
+          shown++;
+        }
+      }
+    }
+    free(D0), free(T1), free(l1), free(y0);
+    double num = 0, den = 0;
+    for (ps_int j = 0; j < nd; j++) {
+      double fd = (fp[j] - f[j]) / (2 * h);
+      num += (fd - Ke[j]) * (fd - Ke[j]);
+      den += Ke[j] * Ke[j];
+    }
+    if (sqrt(num / den) > worst) worst = sqrt(num / den);
+  }
+  printf("  (2b) tangent vs central differences of the forces: %.2e\n", worst);
+  ps_check(worst < 1e-6, "the softening arms' tangent (slope while loading)");
+  free(Ke);
+  free(fp);
+  gsl_rng_free(r);
+  free(u), free(f), free(g), free(e), free(w), free(none);
+  ps_pd_free(pd);
+  ps_problem_free(&pb);
+}
+
+static void controlled_run(void) {
+  ps_problem pb;
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  char text[4096];
+  plate_text(text, sizeof text,
+             "  load_step: 0.01\n  control: dissipation\n  stop_load_drop: 0.1\n"
+             "  max_increments: 3000\n");
+  setup_text(&pb, "t425-run.yaml", text);
+  ps_solver *s = NULL;
+  ps_solver_opts o = pb.cs.solver;
+  o.threads = 1;
+  if (ps_solver_create(&s, &pb.P, &pb.net, ps_model_type_find("bond"), &pb.mat, pb.fixed,
+                       pb.ubar, &o, &ctx))
+    die_ctx("solver", &ctx);
+  ps_path_problem pp = {.P = &pb.P, .net = &pb.net, .model = ps_model_type_find("bond"),
+                        .mat = &pb.mat, .measure = pb.measure,
+                        .measure_length = pb.measure_length, .name = "t425"};
+  ps_path path;
+  if (ps_path_init(&path, s, &pp, &pb.cs.path, ps_step_control_find(pb.cs.path.control), &ctx))
+    die_ctx("path", &ctx);
+  /* the grip's prescribed displacement at load factor 1 */
+  double ubar = 0;
+  for (ps_int j = 0; j < pb.net.n_particle * 2; j++)
+    if (pb.fixed[j] && fabs(pb.ubar[j]) > ubar) ubar = fabs(pb.ubar[j]);
+  double W = 0, R0 = 0, l0 = 0, D_last = 0, worst_bal = 0, R_peak = 0;
+  int all_converged = 1, monotone = 1, n_diss = 0, n_inc = 0;
+  while (ps_path_test(&path) == PS_PATH_CONTINUE) {
+    if (ps_path_iterate(&path, &ctx)) die_ctx("iterate", &ctx);
+    if (path.end) break;
+    n_inc++;
+    all_converged &= path.last.converged;
+    double R = path.last.sigma * pb.measure_length, l = path.last.lambda;
+    W += 0.5 * (R + R0) * (l - l0) * ubar;
+    R0 = R;
+    l0 = l;
+    if (R > R_peak) R_peak = R;
+    double D = ps_solver_dissipated(s) + ps_solver_arm_state(s)->broken_energy;
+    double Psi = ps_solver_stored_energy(s);
+    if (D < D_last - 1e-12 * fabs(D_last)) monotone = 0;
+    if (D > D_last) n_diss++;
+    D_last = D;
+    if (getenv("T425_VERBOSE"))
+      printf("    %3d lambda %.8f R %.6g W %.8g Psi %.8g D %.8g\n", n_inc, l, R, W, Psi, D);
+    if (D > 0) worst_bal = fabs(W - Psi - D) / D; /* the last one */
+  }
+  printf("  (3) %d increments (%d dissipating), end: %s; reaction %.4g of its peak, %lld "
+         "arms broken; dissipated %.6g J/m, W - Psi = %.6g J/m (balance error %.2e)\n",
+         n_inc, n_diss, path.stop_reason, R0 / R_peak, (long long)path.broken_total, D_last,
+         W - ps_solver_stored_energy(s), worst_bal);
+  ps_check(all_converged, "every increment converged");
+  ps_check(path.end == PS_PATH_FRACTURED && R0 < 0.1 * R_peak,
+           "past the peak along the descending branch to below 10%% of the peak reaction");
+  ps_check(n_diss >= 10, "dissipation control took over once the arms softened");
+  ps_check(monotone, "the dissipated energy never falls");
+  ps_check(worst_bal < 0.01, "energy balance W - Psi = D within 1%%");
+  ps_path_free(&path);
+  ps_solver_free(s);
+  ps_problem_free(&pb);
+}
+
+int main(void) {
+  arm_law();
+  controlled_run();
+  return ps_check_summary();
+}

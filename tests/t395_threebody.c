@@ -375,6 +375,7 @@ static int load_case(const char *lines, ps_ctx *ctx) {
           lines);
   fclose(fp);
   ps_case cs;
+  ps_case_defaults(&cs); /* ps_case_load reads over the defaults */
   int s = ps_case_load(&cs, path, ctx);
   unlink(path);
   return s;

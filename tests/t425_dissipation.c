@@ -12,7 +12,8 @@
  * (2) The dissipation constraint's linearisation (ps_pd_dissipation's
  *     gradient) against central differences of D along random directions
  *     from a state with loading, unloading and elastic arms, 1e-6
- *     relative.
+ *     relative; (2b) the softening arms' tangent likewise; (2c) the fibre
+ *     model's plastic dissipation (total reading) likewise.
  * (3) A notched plate of softening arms under dissipation control: every
  *     increment converges; once dissipation starts each increment
  *     dissipates its tau (the total never falls); the energy balance
@@ -81,6 +82,27 @@ static void affine(const ps_problem *pb, double ex, double ey, double noise, gsl
     u[2 * a] = ex * pb->P.x[2 * a] + noise * (gsl_rng_uniform(r) - 0.5);
     u[2 * a + 1] = ey * pb->P.x[2 * a + 1] + noise * (gsl_rng_uniform(r) - 0.5);
   }
+}
+
+/* |g . e - (D(u + h e) - D(u - h e)) / 2h| / |g . e| with g the gradient
+ * of ps_pd_dissipation at u (f, g, w: work of n_dof) */
+static double gradient_error(ps_pd *pd, const double *u, const double *e, double h, double *f,
+                             double *g, double *w) {
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  ps_nl_problem p = ps_pd_problem(pd);
+  ps_int nd = p.n_dof;
+  double E, ge = 0;
+  p.ops->evaluate(p.data, u, f, &E, 0, &ctx);
+  ps_pd_dissipation(pd, g);
+  for (ps_int j = 0; j < nd; j++) ge += g[j] * e[j];
+  for (ps_int j = 0; j < nd; j++) w[j] = u[j] + h * e[j];
+  p.ops->evaluate(p.data, w, f, &E, 0, &ctx);
+  double Dp = ps_pd_dissipation(pd, NULL);
+  for (ps_int j = 0; j < nd; j++) w[j] = u[j] - h * e[j];
+  p.ops->evaluate(p.data, w, f, &E, 0, &ctx);
+  double Dm = ps_pd_dissipation(pd, NULL);
+  return fabs((Dp - Dm) / (2 * h) - ge) / fabs(ge);
 }
 
 static void arm_law(void) {
@@ -192,17 +214,7 @@ static void arm_law(void) {
      * has a kink (the lattice diagonals: (ex + ey)/2 against 1.5 s0) */
     affine(&pb, (2.6 + 0.2 * trial) * s0, 0.3 * s0, 2e-9, r, u);
     for (ps_int j = 0; j < nd; j++) e[j] = gsl_rng_uniform(r) - 0.5;
-    p.ops->evaluate(p.data, u, f, &E, 0, &ctx);
-    ps_pd_dissipation(pd, g);
-    double ge = 0;
-    for (ps_int j = 0; j < nd; j++) ge += g[j] * e[j];
-    for (ps_int j = 0; j < nd; j++) w[j] = u[j] + h * e[j];
-    p.ops->evaluate(p.data, w, f, &E, 0, &ctx);
-    double Dp = ps_pd_dissipation(pd, NULL);
-    for (ps_int j = 0; j < nd; j++) w[j] = u[j] - h * e[j];
-    p.ops->evaluate(p.data, w, f, &E, 0, &ctx);
-    double Dm = ps_pd_dissipation(pd, NULL);
-    double fd = (Dp - Dm) / (2 * h), rel = fabs(fd - ge) / fabs(ge);
+    double rel = gradient_error(pd, u, e, h, f, g, w);
     if (rel > worst) worst = rel;
   }
   printf("  (2) dissipation gradient vs central differences: worst %.2e\n", worst);
@@ -253,6 +265,50 @@ static void arm_law(void) {
   ps_check(worst < 1e-6, "the softening arms' tangent (slope while loading)");
   free(Ke);
   free(fp);
+  gsl_rng_free(r);
+  free(u), free(f), free(g), free(e), free(w), free(none);
+  ps_pd_free(pd);
+  ps_problem_free(&pb);
+}
+
+/* (2c) the fibre model's plastic dissipation (total reading): its
+ * gradient against central differences, from a committed plastic state
+ * loaded further (arms flowing, elastic and unloading ones) */
+static void fibre_gradient(void) {
+  ps_problem pb;
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  setup_text(&pb, "t425-fibre.yaml",
+             "name: t425-fibre\n"
+             "geometry:\n  type: box\n  dim: 2\n  counts: [12, 12]\n  spacing: 1.0e-3\n"
+             "material:\n  model: fibre\n  E: 1.0e9\n  nu: 0.3\n  plane: strain\n"
+             "  yield_strain: 1.0e-3\n  yield_rule: total\n"
+             "loading:\n  type: boundary\n  boundary:\n"
+             "    - select: {x_max: 0.001}\n      fix: [x, y]\n"
+             "    - select: {x_min: 0.010}\n      displace: {x: 1.0e-4}\n");
+  ps_pd *pd = NULL;
+  unsigned char *none = calloc((size_t)pb.P.n * 2, 1);
+  if (ps_pd_create(&pd, &pb.P, &pb.net, ps_model_type_find("fibre"), &pb.mat, none, 0, 0, &ctx))
+    die_ctx("pd", &ctx);
+  ps_nl_problem p = ps_pd_problem(pd);
+  ps_int nd = p.n_dof;
+  double *u = calloc((size_t)nd, sizeof *u), *f = calloc((size_t)nd, sizeof *f);
+  double *g = calloc((size_t)nd, sizeof *g), *e = calloc((size_t)nd, sizeof *e);
+  double *w = calloc((size_t)nd, sizeof *w), E, h = 1e-3 * 1e-7, worst = 0, ey = 1e-3;
+  gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(r, 4252);
+  affine(&pb, 3.0 * ey, -1.0 * ey, 0.0, r, u);
+  p.ops->evaluate(p.data, u, f, &E, 0, &ctx);
+  ps_pd_commit(pd);
+  for (int trial = 0; trial < 3; trial++) {
+    affine(&pb, (3.4 + 0.3 * trial) * ey, -1.25 * ey, 2e-9, r, u);
+    for (ps_int j = 0; j < nd; j++) e[j] = gsl_rng_uniform(r) - 0.5;
+    double rel = gradient_error(pd, u, e, h, f, g, w);
+    if (rel > worst) worst = rel;
+  }
+  printf("  (2c) fibre plastic dissipation gradient vs central differences: worst %.2e\n",
+         worst);
+  ps_check(worst < 1e-6, "the fibre model's dissipation gradient (total reading)");
   gsl_rng_free(r);
   free(u), free(f), free(g), free(e), free(w), free(none);
   ps_pd_free(pd);
@@ -322,6 +378,7 @@ static void controlled_run(void) {
 
 int main(void) {
   arm_law();
+  fibre_gradient();
   controlled_run();
   return ps_check_summary();
 }

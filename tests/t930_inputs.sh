@@ -144,6 +144,16 @@ expect 1 "bond_delta.yaml:30: material.delta is the fibre model's breaking limit
 sed 's/  micromodulus: constant/  micromodulus: flat/' "$N" > "$T/micro_bad.yaml"
 expect 1 "micro_bad.yaml:27: material.micromodulus must be one of" -- info "$T/micro_bad.yaml"
 
+# softening arms and dissipation control (issue 20)
+sed 's/{critical_stretch: 1.0e-3}/{critical_stretch: 1.0e-3, softening_ratio: 1}/' "$N" > "$T/soft_one.yaml"
+expect 1 "soft_one.yaml:30: material.fracture.softening_ratio must be in \\[1, " -- info "$T/soft_one.yaml"
+sed 's/{critical_stretch: 1.0e-3}/{critical_micropotential: 1.0e3, softening_ratio: 3}/' "$N" > "$T/soft_energy.yaml"
+expect 1 "soft_energy.yaml:30: material.fracture.softening_ratio goes with the stretch criterion" -- info "$T/soft_energy.yaml"
+sed -e 's/  model: bond/  model: state/' -e '/^  micromodulus/d' -e 's/{critical_stretch: 1.0e-3}/{critical_stretch: 1.0e-3, softening_ratio: 3}/' "$N" > "$T/soft_state.yaml"
+expect 1 "soft_state.yaml:29: material.fracture.softening_ratio is for the bond model" -- info "$T/soft_state.yaml"
+sed 's/  stop_load_drop: 0.05/  stop_load_drop: 0.05\n  control: dissipation/' "$N" > "$T/diss_brittle.yaml"
+expect 1 "diss_brittle.yaml:49: path.control dissipation needs arms that dissipate energy as they deform" -- info "$T/diss_brittle.yaml"
+
 rm -rf "$T" "$T.partial"
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -247,20 +247,6 @@ static int run_workers(ps_problem *pb, const char *staging, int jobs, ps_ctx *ct
   return PS_OK;
 }
 
-/* name as the inside of a single-quoted gnuplot string into buf: a quote
- * doubled (gnuplot's only escape there), a control character (a line
- * break would start a new command) as '?'. The case reader admits no such
- * character in `name:`; a name taken from the file name may hold them. */
-static const char *gnuplot_quoted(const char *name, char *buf, size_t len) {
-  size_t k = 0;
-  for (const char *c = name; *c && k + 3 < len; c++) {
-    if (*c == '\'') buf[k++] = '\'';
-    buf[k++] = (unsigned char)*c < 0x20 || *c == 0x7f ? '?' : *c;
-  }
-  buf[k] = '\0';
-  return buf;
-}
-
 /* griffith.csv, griffith_fit.txt and griffith.gp in dir */
 static int write_tables(const ps_problem *pb, const char *dir, const ps_run_result *res,
                         int nf, double slope, double intercept, double r2, ps_ctx *ctx) {
@@ -311,33 +297,10 @@ static int write_tables(const ps_problem *pb, const char *dir, const ps_run_resu
           "points pt 4 ps 1.5 title 'no fracture: solve stalled (last settled load)', \\\n"
           "     %.10g + %.10g*x title 'least-squares fit' lw 2, \\\n"
           "     %.10g*x title 'nominal Griffith sqrt(2/(pi eps_y)) x' dt 2\n",
-          gnuplot_quoted(cs->name, title, sizeof title), ps_fmt_or_na(slope, 8, b1, sizeof b1),
+          ps_gnuplot_quoted(cs->name, title, sizeof title), ps_fmt_or_na(slope, 8, b1, sizeof b1),
           ps_fmt_or_na(intercept, 8, b2, sizeof b2), ps_fmt_or_na(r2, 8, b3, sizeof b3),
           isfinite(intercept) ? intercept : 0.0, isfinite(slope) ? slope : 0.0, nominal);
   return ps_outfile_commit(&o, ctx);
-}
-
-/* gnuplot griffith.gp in dir, without a shell: a child changes into dir
- * and executes PS_GNUPLOT (found at build time; "" for none) with an
- * argument vector, so no character of dir is ever interpreted. Returns 0
- * when gnuplot ran and succeeded. */
-static int plot(const char *dir) {
-  if (!PS_GNUPLOT[0]) return -1;
-  fflush(NULL);
-  pid_t pid = fork();
-  if (pid < 0) return -1;
-  if (pid == 0) { /* only async-signal-safe calls between fork and exec */
-    char *argv[] = {(char *)PS_GNUPLOT, (char *)"griffith.gp", NULL};
-    int null = open("/dev/null", O_WRONLY | O_CLOEXEC); /* dup2's copy stays open */
-    if (null >= 0) dup2(null, STDERR_FILENO);
-    if (chdir(dir) != 0) _exit(127);
-    execv(argv[0], argv); /* PS_GNUPLOT is an absolute path (configure) */
-    _exit(127);
-  }
-  int st = 0;
-  while (waitpid(pid, &st, 0) < 0)
-    if (errno != EINTR) return -1;
-  return WIFEXITED(st) && WEXITSTATUS(st) == 0 ? 0 : -1;
 }
 
 /* Where the sweep writes (*staging) and whether it is renamed to out_dir
@@ -447,7 +410,7 @@ static int griffith_sweep(ps_problem *pb, const char *out_dir, int resume, int j
   if (nf >= 2) PS_CHECK(ps_post_line_fit(xs, ys, nf, slope, intercept, r2, ctx));
   PS_CHECK(write_tables(pb, staging, res, nf, *slope, *intercept, *r2, ctx));
   if (commit) PS_CHECK(ps_dir_commit(staging, out_dir, ctx));
-  if (PS_GNUPLOT[0] && plot(out_dir) != 0)
+  if (PS_GNUPLOT[0] && ps_gnuplot_run(out_dir, "griffith.gp") != 0)
     ps_log(ctx, 1, "# warning: gnuplot failed; the plot script is %s/griffith.gp\n", out_dir);
   ps_log(ctx, 1, "## griffith: %d of %d runs fractured; slope %s, intercept %s, R^2 %s "
                  "(nominal slope %.5g)\n",

@@ -4,6 +4,8 @@
  * fields per increment, and the reports at the end (src/io/report.c). */
 #include "ps_app.h"
 
+#include "config.h"
+
 #include <math.h>
 #include <signal.h>
 #include <stdlib.h>
@@ -198,6 +200,11 @@ static int finish_outputs(run_state *r, int commit, ps_ctx *ctx) {
   if (r->pb->cs.output.fields)
     PS_CHECK(ps_report_write_fields(r->staging, (int)r->res->increments, 1, &st, ctx));
   PS_CHECK(ps_report_history_close(&r->hist, ctx));
+  /* the path's plot: with no gnuplot (or a failed one) the script stays */
+  PS_CHECK(ps_report_write_path_plot(r->staging, r->pb->cs.name,
+                                     !isnan(row_displacement(r, 1.0)), ctx));
+  if (PS_GNUPLOT[0] && ps_gnuplot_run(r->staging, "path.gp") != 0)
+    ps_log(ctx, 2, "# gnuplot failed on %s/path.gp\n", r->staging);
   r->res->peak_memory_mib = ps_peak_mib();
   PS_CHECK(ps_report_write_summary(r->staging, r->res, &r->pb->cs, &st, ctx));
   if (commit) PS_CHECK(ps_dir_commit(r->staging, r->out_dir, ctx));

@@ -197,6 +197,26 @@ static int model_keys_check(ps_loader *L) {
   return PS_OK;
 }
 
+/* path.control dissipation needs a model that measures what it
+ * dissipates with an exact rate (ps_model_type.arm_dissipation): softening
+ * bond arms, or plastic fibre arms in the total reading */
+static int dissipation_check(ps_loader *L) {
+  const ps_case *cs = L->cs;
+  const ps_material *m = &cs->mat;
+  if (cs->path.control != PS_CONTROL_DISSIPATION) return PS_OK;
+  int bond = !strcmp(cs->model, "bond"), fibre = !strcmp(cs->model, "fibre");
+  if (bond && m->softening_ratio > 1) return PS_OK;
+  if (fibre && m->plastic && m->yield_rule == PS_YIELD_TOTAL) return PS_OK;
+  return ps_yaml_fail(L, L->line_control,
+                      "path.control dissipation needs arms that dissipate energy as they "
+                      "deform: the bond model with material.fracture.softening_ratio, or the "
+                      "fibre model with plasticity in the total yield reading (the %s model%s "
+                      "here); use arc_length",
+                      cs->model,
+                      fibre ? (m->plastic ? ", yield_rule deviatoric" : ", elastic")
+                            : bond ? " without softening_ratio" : "");
+}
+
 /* case_impl.h */
 int ps_case_cross_checks(ps_loader *L) {
   static const char *const gname[] = {"disk", "box", "cloud"};
@@ -236,7 +256,7 @@ int ps_case_cross_checks(ps_loader *L) {
   if (cs->n_holes > 0 && (cs->dim == 3 || cs->geometry != PS_GEOM_BOX))
     return ps_yaml_fail(L, L->line_holes, "geometry.holes need a 2D box");
   if (fixed_poisson_check(L) != PS_OK || particle_counts_check(L) != PS_OK ||
-      model_keys_check(L) != PS_OK)
+      model_keys_check(L) != PS_OK || dissipation_check(L) != PS_OK)
     return PS_ERR_INPUT;
   if (L->line_delta_over_c && cs->geometry != PS_GEOM_DISK)
     return ps_yaml_fail(

@@ -99,6 +99,7 @@ int ps_case_on_path(ps_loader *L, void *arg, const char *key, const char *name,
     return ps_yaml_int(L, v, name, 0, INT_MAX, &o->max_arms_per_round);
   if (IS("control")) { /* the order of enum ps_path_control */
     static const char *const controls[] = {"load", "arc_length", "dissipation", NULL};
+    L->line_control = line_of(v);
     return ps_yaml_choice(L, v, name, controls, &o->control);
   }
   if (IS("arc_length_max")) return ps_yaml_pos(L, v, name, &o->arc_length_max);

@@ -113,6 +113,22 @@ void ps_report_history_row(ps_report_history *h, const ps_history_row *row);
  * write failed. */
 int ps_report_history_close(ps_report_history *h, ps_ctx *ctx);
 
+/* path.gp in dir: a gnuplot script that plots history.csv into path.png
+ * (reaction and arms broken against displacement_m when with_displacement,
+ * else boundary stress / sigma_y and load factor against the increment);
+ * name is the case's, in the title. Returns PS_OK or an I/O status. */
+int ps_report_write_path_plot(const char *dir, const char *name, int with_displacement,
+                              ps_ctx *ctx);
+
+/* name as the inside of a single-quoted gnuplot string into buf (a quote
+ * doubled, a control character as '?'); returns buf. */
+const char *ps_gnuplot_quoted(const char *name, char *buf, size_t len);
+
+/* Run gnuplot on script in dir (a child changes into dir and executes
+ * PS_GNUPLOT with an argument vector, no shell). Returns 0 when gnuplot
+ * ran and succeeded, -1 otherwise (none found at configure time too). */
+int ps_gnuplot_run(const char *dir, const char *script);
+
 /* Did the run in dir end on an unconverged state (the last row of
  * history.csv has converged = 0)? Then *sigma = its boundary stress, Pa. */
 int ps_report_last_attempt_failed(const char *dir, double *sigma);

@@ -260,8 +260,37 @@ static double fibre_break_excess(const ps_model *m, const ps_arm_state *st, ps_i
   return ps_arm_plastic_strain(st, i, m->mat.yield_rule) * m->net->r0[i] - m->mat.delta;
 }
 
+/* The plastic work of the step, G(N+2) eps_y |eps_p - eps_p,n| A r0 per
+ * (half-)arm that flowed (the incremental energy less the stored one).
+ * Its derivative, the rate of further flow, is exact for the total
+ * reading, G(N+2) eps_y (A_ab + A_ba) sign(e) for an arm on the yield
+ * surface; for the deviatoric reading the flow of a half-arm also moves
+ * with its family's mean strain, which dD leaves out (dissipation control
+ * refuses that reading). A broken arm dissipates nothing more. */
+static double fibre_arm_dissipation(const ps_model *m, const ps_arm_state *c,
+                                    const ps_arm_state *st, ps_int i, double dl, double *dD) {
+  const ps_network *net = m->net;
+  const ps_material *mat = &m->mat;
+  double Gey = mat->G * (net->dim + 2) * mat->yield_strain, r0 = net->r0[i], D = 0.0;
+  ps_int na = net->n_arm;
+  *dD = 0.0;
+  if (!mat->plastic || st->broken[i]) return 0.0;
+  D += w_ab(m, i) * r0 * Gey * fabs(st->eps_p_trial[i] - c->eps_p[i]);
+  if (mat->yield_rule == PS_YIELD_DEVIATORIC) {
+    D += w_ba(m, i) * r0 * Gey * fabs(st->eps_p_trial[na + i] - c->eps_p[na + i]);
+    return D;
+  }
+  D += w_ba(m, i) * r0 * Gey * fabs(st->eps_p_trial[i] - c->eps_p[i]);
+  if (st->yielding[i]) {
+    double e = dl / r0 - c->eps_p[i];
+    *dD = (w_ab(m, i) + w_ba(m, i)) * Gey * (e > 0 ? 1.0 : -1.0);
+  }
+  return D;
+}
+
 static const ps_model_type fibre_type = {.name = "fibre",
                                          .evaluate = fibre_evaluate,
+                                         .arm_dissipation = fibre_arm_dissipation,
                                          .break_excess = fibre_break_excess,
                                          .prepare = fibre_prepare,
                                          .family_coupling = 1,

@@ -157,6 +157,13 @@ ps_int ps_solver_count_past_criterion(const ps_solver *s);
 int ps_solver_break_round(ps_solver *s, ps_int max_count, ps_int *n_broken,
                           ps_ctx *ctx);
 
+/* Break the arms past the criterion (as ps_solver_break_round) without
+ * re-equilibrating: the state, out of equilibrium by the broken arms'
+ * forces, becomes the commit, from which the next path-following step
+ * (arc-length, dissipation) starts; its constraint then chooses the load
+ * at which equilibrium is found again. Returns PS_OK or fatal. */
+int ps_solver_break_in_place(ps_solver *s, ps_int max_count, ps_int *n_broken, ps_ctx *ctx);
+
 /* Re-evaluate forces, tensions and energy at the current u (no tangent):
  * after a failed solve, the arm tensions, directions and elongations may
  * belong to a rejected trial. */

@@ -571,6 +571,17 @@ int ps_solver_break_round(ps_solver *s, ps_int max_count, ps_int *n_broken,
   return PS_OK;
 }
 
+int ps_solver_break_in_place(ps_solver *s, ps_int max_count, ps_int *n_broken, ps_ctx *ctx) {
+  PS_CHECK(ps_pd_break_arms(s->pd, max_count, n_broken, ctx));
+  if (*n_broken == 0) return PS_OK;
+  s->have_prev = 0;
+  /* forces, energy and tangent of the broken state; it becomes the
+   * commit (its arm states are those of the converged one) */
+  PS_CHECK(ps_nl_eval(s, s->u, s->f, &s->energy, 1, ctx));
+  ps_solver_commit(s);
+  return PS_OK;
+}
+
 int ps_solver_evaluate(ps_solver *s, ps_ctx *ctx) {
   return ps_nl_eval(s, s->u, s->f, &s->energy, 0, ctx);
 }

@@ -111,11 +111,25 @@ int ps_path_iterate(ps_path *p, ps_ctx *ctx) {
   ps_int its0, nb;
   int settle, settled = 0;
   if (p->end) return PS_OK;
+  if (p->o.control != PS_CONTROL_LOAD) { /* the last increment's arms past the criterion */
+    PS_CHECK(ps_solver_break_in_place(p->s, 0, &nb, ctx));
+    p->broken_total += nb;
+  }
   PS_CHECK(attempt(p, &its0, ctx));
   if (p->end) return PS_OK;
   ps_solver_commit(s);
   p->tip_start = ps_path_crack_tip(p);
-  PS_CHECK(ps_path_break_rounds(p, its0, &nb, &settle, &settled, ctx));
+  if (p->o.control == PS_CONTROL_LOAD) {
+    PS_CHECK(ps_path_break_rounds(p, its0, &nb, &settle, &settled, ctx));
+  } else {
+    /* path control: the converged state is the increment's; the arms
+     * past the criterion break at the start of the next one, whose
+     * constraint chooses the load of the next equilibrium (no rounds at
+     * this load, which would snap through) */
+    nb = 0;
+    settle = PS_OK;
+    settled = 1;
+  }
   p->broken_total += nb;
   p->control->accept(p->control_state, p->broken_total, &p->o);
   int converged = settle == PS_OK;

@@ -58,11 +58,8 @@ int ps_report_write_path_plot(const char *dir, const char *name, int with_displa
   if (with_displacement)
     fprintf(o.f,
             "set xlabel 'displacement (m)'\nset ylabel 'reaction (N/m in 2D, N in 3D)'\n"
-            "set y2label 'arms broken'\nset y2tics\nset ytics nomirror\n"
             "plot 'history.csv' using \"displacement_m\":\"reaction\" with linespoints "
-            "pt 7 ps 0.4 title 'reaction', \\\n"
-            "     'history.csv' using \"displacement_m\":\"arms_broken\" axes x1y2 with "
-            "lines dt 2 title 'arms broken'\n");
+            "pt 7 ps 0.4 title 'reaction (one point per converged increment)'\n");
   else
     fprintf(o.f,
             "set xlabel 'increment'\nset ylabel 'boundary stress / sigma_y, load factor'\n"

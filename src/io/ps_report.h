@@ -114,7 +114,7 @@ void ps_report_history_row(ps_report_history *h, const ps_history_row *row);
 int ps_report_history_close(ps_report_history *h, ps_ctx *ctx);
 
 /* path.gp in dir: a gnuplot script that plots history.csv into path.png
- * (reaction and arms broken against displacement_m when with_displacement,
+ * (the reaction against displacement_m when with_displacement,
  * else boundary stress / sigma_y and load factor against the increment);
  * name is the case's, in the title. Returns PS_OK or an I/O status. */
 int ps_report_write_path_plot(const char *dir, const char *name, int with_displacement,

@@ -52,7 +52,8 @@ int ps_nl_factor_tangent(ps_solver *s, ps_ctx *ctx) {
   PS_CHECK(assemble(s, 0, &A, ctx));
   snapshot_arm_state(s, ctx);
   char name[256] = "unknown dof";
-  int status = ps_linsolve_factor(&s->ls, A, &bad, ctx);
+  int status = s->lu_first && s->ls_fallback.type ? PS_NOT_POSDEF
+                                                  : ps_linsolve_factor(&s->ls, A, &bad, ctx);
   if (status < 0) return status;
   if (status == PS_OK) {
     s->ls_last = &s->ls;
@@ -62,8 +63,9 @@ int ps_nl_factor_tangent(ps_solver *s, ps_ctx *ctx) {
   if (bad >= 0 && bad < s->prob.n_free) s->prob.ops->dof_name(s->prob.data, bad, name, sizeof name);
   if (s->ls.type != ps_linsolve_umfpack) {
     /* once a run at level 1: softening arms make it routine */
-    ps_log(ctx, s->n_fallback ? 2 : 1, "  note: tangent %s at %s: UMFPACK for this system\n",
-           status == PS_NOT_POSDEF ? "not positive definite" : "singular", name);
+    if (!s->lu_first)
+      ps_log(ctx, s->n_fallback ? 2 : 1, "  note: tangent %s at %s: UMFPACK for this system\n",
+             status == PS_NOT_POSDEF ? "not positive definite" : "singular", name);
     if (!s->ls_fallback.type)
       PS_CHECK(ps_linsolve_create(&s->ls_fallback, ps_linsolve_umfpack, ctx));
     status = ps_linsolve_factor(&s->ls_fallback, A, &bad, ctx);

@@ -283,12 +283,28 @@ static void load_vector(ps_solver *s, double *q) {
     q[k] = (fext ? fext[sys->dof_of_free[k]] : 0.0) - q[k];
 }
 
-/* x = K_ff^-1 b by the direction strategy. Returns PS_OK, PS_SINGULAR or
- * fatal. */
-static int solve_tangent(ps_solver *s, const double *b, double *x, ps_ctx *ctx) {
+/* x = K_ff^-1 b by the direction strategy; or, when the last factor was
+ * UMFPACK's (an indefinite tangent: softening or perfectly plastic arms
+ * past a peak), by a factor of the current tangent made straight by
+ * UMFPACK when fresh = 1 and reused for the iteration's second
+ * right-hand side (fresh = 0): CG preconditioned by the factor of another
+ * indefinite matrix fails at nearly every iteration there, and CHOLMOD
+ * refuses it. Returns PS_OK, PS_SINGULAR or fatal. */
+static int solve_tangent(ps_solver *s, const double *b, double *x, int fresh, ps_ctx *ctx) {
   size_t bytes = (size_t)s->prob.n_free * sizeof *b;
   memcpy(s->rhs, b, bytes);
-  int status = ps_nl_direction(s, ctx);
+  int status;
+  if (s->have_factor && s->ls_last == &s->ls_fallback) {
+    if (fresh) {
+      s->lu_first = 1;
+      status = ps_nl_factor_tangent(s, ctx);
+      s->lu_first = 0;
+      if (status != PS_OK) return status;
+    }
+    status = ps_linsolve_solve((ps_linsolve *)s->ls_last, s->rhs, s->du, ctx);
+  } else {
+    status = ps_nl_direction(s, ctx);
+  }
   if (status != PS_OK) return status;
   memcpy(x, s->du, bytes);
   return PS_OK;
@@ -475,7 +491,7 @@ static int constrained_step(ps_solver *s, const step_constraint *con, void *c, c
    * K^-1 q */
   if ((status = ps_nl_eval(s, s->u, s->f, &s->energy, 1, ctx)) < 0) goto done;
   load_vector(s, q);
-  if ((status = solve_tangent(s, q, v, ctx)) < 0) goto done;
+  if ((status = solve_tangent(s, q, v, 1, ctx)) < 0) goto done;
   if (status > 0) {
     reason = PS_NEWTON_SINGULAR;
     goto failed;
@@ -512,8 +528,8 @@ static int constrained_step(ps_solver *s, const step_constraint *con, void *c, c
     }
     load_vector(s, q);
     for (ps_int k = 0; k < nf; k++) s->work[k] = -s->f[dof[k]];
-    if ((status = solve_tangent(s, s->work, dr, ctx)) == PS_OK)
-      status = solve_tangent(s, q, v, ctx);
+    if ((status = solve_tangent(s, s->work, dr, 1, ctx)) == PS_OK)
+      status = solve_tangent(s, q, v, 0, ctx);
     if (status < 0) goto done;
     if (status > 0) {
       reason = PS_NEWTON_SINGULAR;

@@ -40,6 +40,9 @@ struct ps_solver {
                                factor lambda_prev (secant predictor) */
   double lambda_prev;
   double lambda_saved;      /* the load factor of the last commit */
+  int lu_first;             /* 1: ps_nl_factor_tangent goes straight to
+                               UMFPACK (the constrained step on an
+                               indefinite tangent) */
   int have_prev;            /* u_prev valid: no arm broke since */
   double *ubar;             /* [n_dof] prescribed displacement at lambda 1 */
   double *f;                /* [n_dof] internal forces at u (reactions at

@@ -126,6 +126,7 @@ static const value_spec summary_keys[] = {
     {"newton_iterations", V_I64, 0, S(newton_iterations), 0},
     {"factorisations", V_I64, 0, S(factorisations), 0},
     {"umfpack_fallbacks", V_I64, 0, S(n_fallback), 0},
+    {"ldl_factorisations", V_I64, 0, S(ldl_factorisations), 0},
     {"step_cuts", V_I64, 0, R(step_cuts), 0},
     {"gentle_rounds", V_I64, 0, R(gentle_rounds), 0},
     {"arms_broken", V_I64, 0, R(arms_broken), 0},

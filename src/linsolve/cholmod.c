@@ -45,6 +45,7 @@ typedef struct {
   double *w; /* one supernode's block while make_single inverts it */
   size_t w_size;
   size_t n_size; /* the length of y, t, u, t_high, u_high, z */
+  int ldl;       /* 1: simplicial LDL^T (chol_create_ldl) */
 } chol_state;
 
 static int create(void **state, int supernodal, ps_ctx *ctx) {
@@ -61,6 +62,17 @@ static int create(void **state, int supernodal, ps_ctx *ctx) {
 }
 
 static int chol_create(void **state, ps_ctx *ctx) { return create(state, 1, ctx); }
+/* simplicial LDL^T without pivoting, for symmetric indefinite tangents
+ * (softening or perfectly plastic arms past a peak): negative pivots are
+ * taken, a zero or tiny one is reported singular */
+static int chol_create_ldl(void **state, ps_ctx *ctx) {
+  PS_CHECK(create(state, 0, ctx));
+  chol_state *s = *state;
+  s->c.final_ll = 0;
+  s->c.quick_return_if_not_posdef = 0;
+  s->ldl = 1;
+  return PS_OK;
+}
 static int chol_create_simplicial(void **state, ps_ctx *ctx) {
   return create(state, 0, ctx);
 }
@@ -122,7 +134,7 @@ static int chol_factor(void *state, const ps_csc *A, ps_int *bad_col,
   st->n_factor++;
   st->flops_factor = s->c.fl;
   st->nnz_factor = s->c.lnz;
-  if (s->c.status == CHOLMOD_NOT_POSDEF) {
+  if (s->c.status == CHOLMOD_NOT_POSDEF && !(s->ldl && s->L->minor == s->L->n)) {
     /* L->minor is a column of the permuted matrix */
     ps_int minor = (ps_int)s->L->minor;
     const ps_int *perm = s->L->Perm;
@@ -589,3 +601,6 @@ static const ps_linsolve_type chol_simp_type = {
     "cholmod-simplicial", chol_create_simplicial, chol_analyze, chol_factor, chol_solve,
     NULL, chol_destroy};
 const ps_linsolve_type *const ps_linsolve_cholmod_simplicial = &chol_simp_type;
+static const ps_linsolve_type chol_ldl_type = {
+    "cholmod-ldl", chol_create_ldl, chol_analyze, chol_factor, chol_solve, NULL, chol_destroy};
+const ps_linsolve_type *const ps_linsolve_cholmod_ldl = &chol_ldl_type;

@@ -54,6 +54,9 @@ typedef struct ps_linsolve_type {
 extern const ps_linsolve_type *const ps_linsolve_cholmod;
 extern const ps_linsolve_type *const ps_linsolve_umfpack;
 extern const ps_linsolve_type *const ps_linsolve_cholmod_simplicial;
+/* simplicial LDL^T without pivoting, for symmetric indefinite matrices
+ * (PS_SINGULAR on a zero or tiny pivot) */
+extern const ps_linsolve_type *const ps_linsolve_cholmod_ldl;
 
 /* Look a backend up by name; NULL if unknown. */
 const ps_linsolve_type *ps_linsolve_type_find(const char *name);

@@ -52,8 +52,20 @@ int ps_nl_factor_tangent(ps_solver *s, ps_ctx *ctx) {
   PS_CHECK(assemble(s, 0, &A, ctx));
   snapshot_arm_state(s, ctx);
   char name[256] = "unknown dof";
-  int status = s->lu_first && s->ls_fallback.type ? PS_NOT_POSDEF
-                                                  : ps_linsolve_factor(&s->ls, A, &bad, ctx);
+  int status;
+  if (s->lu_first) { /* LDL^T without pivoting, else UMFPACK below */
+    if (!s->ls_ldl.type) PS_CHECK(ps_linsolve_create(&s->ls_ldl, ps_linsolve_cholmod_ldl, ctx));
+    status = ps_linsolve_factor(&s->ls_ldl, A, &bad, ctx);
+    if (status < 0) return status;
+    if (status == PS_OK) {
+      s->ls_last = &s->ls_ldl;
+      s->have_factor = 1;
+      return PS_OK;
+    }
+    status = PS_NOT_POSDEF;
+  } else {
+    status = ps_linsolve_factor(&s->ls, A, &bad, ctx);
+  }
   if (status < 0) return status;
   if (status == PS_OK) {
     s->ls_last = &s->ls;

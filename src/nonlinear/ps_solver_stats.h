@@ -12,6 +12,8 @@ typedef struct ps_solver_stats {
   ps_int newton_iterations;   /* Newton iterations of all solves */
   ps_int factorisations;      /* of the tangent (chosen backend + UMFPACK) */
   ps_int n_fallback;          /* UMFPACK fallbacks */
+  ps_int ldl_factorisations;  /* LDL^T factors of indefinite tangents (path
+                                 control, doc/path-following.md) */
   ps_int solves;              /* direct solves */
   ps_int pcg_iterations, pcg_failures, pcg_skipped;
   ps_int majorant_factorisations, majorant_failures; /* opts.majorant */

@@ -37,6 +37,7 @@ void ps_solver_free(ps_solver *s) {
   if (!s) return;
   ps_linsolve_destroy(&s->ls);
   ps_linsolve_destroy(&s->ls_fallback);
+  ps_linsolve_destroy(&s->ls_ldl);
   ps_linsolve_destroy(&s->ls_pre);
   ps_pd_free(s->pd);
   ps_team_free(s->team);
@@ -284,17 +285,18 @@ static void load_vector(ps_solver *s, double *q) {
 }
 
 /* x = K_ff^-1 b by the direction strategy; or, when the last factor was
- * UMFPACK's (an indefinite tangent: softening or perfectly plastic arms
- * past a peak), by a factor of the current tangent made straight by
- * UMFPACK when fresh = 1 and reused for the iteration's second
- * right-hand side (fresh = 0): CG preconditioned by the factor of another
- * indefinite matrix fails at nearly every iteration there, and CHOLMOD
- * refuses it. Returns PS_OK, PS_SINGULAR or fatal. */
+ * an indefinite one (UMFPACK's or LDL^T's: softening or perfectly plastic
+ * arms past a peak), by a factor of the current tangent made straight by
+ * LDL^T (UMFPACK where it meets a zero pivot) when fresh = 1 and reused
+ * for the iteration's second right-hand side (fresh = 0): CG
+ * preconditioned by the factor of another indefinite matrix fails at
+ * nearly every iteration there, and CHOLMOD's LL^T refuses it. Returns
+ * PS_OK, PS_SINGULAR or fatal. */
 static int solve_tangent(ps_solver *s, const double *b, double *x, int fresh, ps_ctx *ctx) {
   size_t bytes = (size_t)s->prob.n_free * sizeof *b;
   memcpy(s->rhs, b, bytes);
   int status;
-  if (s->have_factor && s->ls_last == &s->ls_fallback) {
+  if (s->have_factor && (s->ls_last == &s->ls_fallback || s->ls_last == &s->ls_ldl)) {
     if (fresh) {
       s->lu_first = 1;
       status = ps_nl_factor_tangent(s, ctx);
@@ -614,9 +616,11 @@ ps_int ps_solver_count_yielding(const ps_solver *s) { return ps_pd_count_yieldin
 void ps_solver_get_stats(const ps_solver *s, ps_solver_stats *st) {
   memset(st, 0, sizeof *st);
   st->newton_iterations = s->newton_iterations;
-  st->factorisations = s->ls.stats.n_factor + s->ls_fallback.stats.n_factor;
+  st->factorisations =
+      s->ls.stats.n_factor + s->ls_fallback.stats.n_factor + s->ls_ldl.stats.n_factor;
   st->n_fallback = s->n_fallback;
-  st->solves = s->ls.stats.n_solve + s->ls_fallback.stats.n_solve;
+  st->ldl_factorisations = s->ls_ldl.stats.n_factor;
+  st->solves = s->ls.stats.n_solve + s->ls_fallback.stats.n_solve + s->ls_ldl.stats.n_solve;
   st->pcg_iterations = s->pcg_iterations;
   st->pcg_failures = s->pcg_failures;
   st->pcg_skipped = s->pcg_skipped;
@@ -635,9 +639,10 @@ void ps_solver_get_stats(const ps_solver *s, ps_solver_stats *st) {
   st->flops_factor = s->ls.stats.flops_factor;
   st->nnz_majorant_factor = s->ls_pre.stats.nnz_factor;
   st->t_assembly = s->pd->t_assembly;
-  st->t_analyze = s->ls.stats.t_analyze + s->ls_fallback.stats.t_analyze;
-  st->t_factor = s->ls.stats.t_factor + s->ls_fallback.stats.t_factor;
-  st->t_solve = s->ls.stats.t_solve + s->ls_fallback.stats.t_solve;
+  st->t_analyze =
+      s->ls.stats.t_analyze + s->ls_fallback.stats.t_analyze + s->ls_ldl.stats.t_analyze;
+  st->t_factor = s->ls.stats.t_factor + s->ls_fallback.stats.t_factor + s->ls_ldl.stats.t_factor;
+  st->t_solve = s->ls.stats.t_solve + s->ls_fallback.stats.t_solve + s->ls_ldl.stats.t_solve;
   st->t_majorant_factor = s->ls_pre.stats.t_factor;
   st->t_cg = s->t_pcg;
 }

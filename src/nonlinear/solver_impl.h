@@ -23,6 +23,9 @@ struct ps_solver {
   const ps_linsolve_type *linear; /* opts.linear resolved */
   ps_linsolve ls;           /* the chosen backend */
   ps_linsolve ls_fallback;  /* UMFPACK, created on first need */
+  ps_linsolve ls_ldl;       /* CHOLMOD simplicial LDL^T, the constrained
+                               step's factor of an indefinite tangent
+                               (lu_first), created on first need */
   const ps_linsolve *ls_last; /* which one holds the current factor */
   int have_majorant;        /* 1: the direction strategy uses a majorant
                                (prob.has_majorant: opts.majorant, a model
@@ -40,9 +43,10 @@ struct ps_solver {
                                factor lambda_prev (secant predictor) */
   double lambda_prev;
   double lambda_saved;      /* the load factor of the last commit */
-  int lu_first;             /* 1: ps_nl_factor_tangent goes straight to
-                               UMFPACK (the constrained step on an
-                               indefinite tangent) */
+  int lu_first;             /* 1: ps_nl_factor_tangent goes straight to an
+                               indefinite factor, LDL^T (UMFPACK when it
+                               meets a zero pivot): the constrained step
+                               on an indefinite tangent */
   int have_prev;            /* u_prev valid: no arm broke since */
   double *ubar;             /* [n_dof] prescribed displacement at lambda 1 */
   double *f;                /* [n_dof] internal forces at u (reactions at

@@ -53,7 +53,7 @@ int ps_nl_factor_tangent(ps_solver *s, ps_ctx *ctx) {
   snapshot_arm_state(s, ctx);
   char name[256] = "unknown dof";
   int status;
-  if (s->lu_first) { /* LDL^T without pivoting, else UMFPACK below */
+  if (s->lu_first && s->ldl_ok) { /* LDL^T without pivoting, else UMFPACK below */
     if (!s->ls_ldl.type) PS_CHECK(ps_linsolve_create(&s->ls_ldl, ps_linsolve_cholmod_ldl, ctx));
     status = ps_linsolve_factor(&s->ls_ldl, A, &bad, ctx);
     if (status < 0) return status;
@@ -63,6 +63,8 @@ int ps_nl_factor_tangent(ps_solver *s, ps_ctx *ctx) {
       return PS_OK;
     }
     status = PS_NOT_POSDEF;
+  } else if (s->lu_first) {
+    status = PS_NOT_POSDEF; /* straight to UMFPACK */
   } else {
     status = ps_linsolve_factor(&s->ls, A, &bad, ctx);
   }

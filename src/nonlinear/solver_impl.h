@@ -43,6 +43,7 @@ struct ps_solver {
                                factor lambda_prev (secant predictor) */
   double lambda_prev;
   double lambda_saved;      /* the load factor of the last commit */
+  int ldl_ok;               /* 1: lu_first may use LDL^T (no family terms) */
   int lu_first;             /* 1: ps_nl_factor_tangent goes straight to an
                                indefinite factor, LDL^T (UMFPACK when it
                                meets a zero pivot): the constrained step

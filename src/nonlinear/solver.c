@@ -340,6 +340,11 @@ typedef struct step_constraint {
   int (*correct)(ps_solver *s, void *c, const double *dr, const double *v, double *x,
                  int *reason, ps_ctx *ctx);
   int (*holds)(ps_solver *s, void *c);
+  /* 1: an iterate whose residual grew more than tenfold is pulled back
+   * halfway towards the last one, up to four times (dissipation: arms
+   * that switch between yielding and elastic, or loading and unloading,
+   * from one iterate to the next) */
+  int damped;
 } step_constraint;
 
 /* arc-length: ||Du_f||^2 / U^2 + psi^2 Dlambda^2 = ds^2 */
@@ -464,10 +469,9 @@ static int dissipation_holds(ps_solver *s, void *data) {
   return fabs(s->pd->dissipation_step - c->tau) <= 1e-4 * fabs(c->tau);
 }
 
-static const step_constraint arc_length_constraint = {arc_predict, arc_correct, arc_holds};
-static const step_constraint dissipation_constraint_ops = {dissipation_predict,
-                                                           dissipation_correct,
-                                                           dissipation_holds};
+static const step_constraint arc_length_constraint = {arc_predict, arc_correct, arc_holds, 0};
+static const step_constraint dissipation_constraint_ops = {
+    dissipation_predict, dissipation_correct, dissipation_holds, 1};
 
 /* One path-following step from the last commit under constraint `con`:
  * the tangent predictor, then Newton on the bordered system (two
@@ -512,7 +516,8 @@ static int constrained_step(ps_solver *s, const step_constraint *con, void *c, c
   set_lambda(s, lambda0 + dlam);
 
   /* the corrector: Newton on r_free = 0 and the constraint */
-  double rel0 = NAN;
+  double rel0 = NAN, rel_last = INFINITY, lambda_last = lambda0;
+  int halvings = 0;
   for (int it = 0;; it++) {
     double rn;
     if ((status = ps_nl_eval(s, s->u, s->f, &s->energy, 1, ctx)) < 0) goto done;
@@ -530,6 +535,18 @@ static int constrained_step(ps_solver *s, const step_constraint *con, void *c, c
     if (it >= s->opts.max_iterations || (it > 2 && rel > 1e6 * rel0)) {
       reason = PS_NEWTON_MAX_ITER;
       goto failed;
+    }
+    if (con->damped) {
+      if (rel > 10 * rel_last && halvings < 4) {
+        for (ps_int j = 0; j < nd; j++) s->u[j] = 0.5 * (s->u[j] + s->u_trial[j]);
+        set_lambda(s, 0.5 * (s->pd->lambda + lambda_last));
+        halvings++;
+        continue;
+      }
+      halvings = 0;
+      rel_last = rel;
+      lambda_last = s->pd->lambda;
+      memcpy(s->u_trial, s->u, (size_t)nd * sizeof *s->u);
     }
     load_vector(s, q);
     for (ps_int k = 0; k < nf; k++) s->work[k] = -s->f[dof[k]];

@@ -460,13 +460,14 @@ static int dissipation_correct(ps_solver *s, void *data, const double *dr, const
   return 1;
 }
 
-/* met to 1e-4 of tau: the constraint only chooses the point of the path
+/* met to 1e-2 of tau: the constraint only chooses the point of the path
  * (the dissipation committed is measured, whatever tau), and where an arm
- * sits at the kink between loading and unloading Newton meets it only to
- * about that */
+ * sits at a kink (loading or unloading, yielding or elastic) the
+ * equilibrium iterates can meet the residual's tolerance while D moves
+ * in steps of that arm's share */
 static int dissipation_holds(ps_solver *s, void *data) {
   const dissipation_constraint *c = data;
-  return fabs(s->pd->dissipation_step - c->tau) <= 1e-4 * fabs(c->tau);
+  return fabs(s->pd->dissipation_step - c->tau) <= 1e-2 * fabs(c->tau);
 }
 
 static const step_constraint arc_length_constraint = {arc_predict, arc_correct, arc_holds, 0};

@@ -111,8 +111,19 @@ int ps_path_iterate(ps_path *p, ps_ctx *ctx) {
   ps_int its0, nb;
   int settle, settled = 0;
   if (p->end) return PS_OK;
-  if (p->o.control != PS_CONTROL_LOAD) { /* the last increment's arms past the criterion */
-    PS_CHECK(ps_solver_break_in_place(p->s, 0, &nb, ctx));
+  if (p->o.control != PS_CONTROL_LOAD) {
+    /* the last increment's arms past the criterion break; one
+     * re-equilibration at that load (Newton with its line search) puts
+     * the next constrained step's start back in equilibrium, where the
+     * forces of arms that broke carrying load (fibre: T_y) left it far
+     * off; when that fails, the step starts from the broken state */
+    int st = ps_solver_break_round(p->s, 0, &nb, ctx);
+    if (st < 0) return st;
+    if (st == PS_DIVERGED) {
+      ps_solver_restore(p->s);
+      PS_CHECK(ps_solver_evaluate(p->s, ctx));
+      PS_CHECK(ps_solver_break_in_place(p->s, 0, &nb, ctx));
+    }
     p->broken_total += nb;
   }
   PS_CHECK(attempt(p, &its0, ctx));
@@ -125,7 +136,9 @@ int ps_path_iterate(ps_path *p, ps_ctx *ctx) {
     /* path control: the converged state is the increment's; the arms
      * past the criterion break at the start of the next one, whose
      * constraint chooses the load of the next equilibrium (no rounds at
-     * this load, which would snap through) */
+     * this load, which would snap through). The peak is that of these
+     * converged states, some with arms past the criterion that break only
+     * at the next increment's start (doc/path-following.md) */
     nb = 0;
     settle = PS_OK;
     settled = 1;

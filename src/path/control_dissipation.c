@@ -68,6 +68,9 @@ static void diss_accept(void *state, ps_int broken_total, const ps_path_opts *o)
   }
   double factor = c->good_in_a_row < 2 ? 1.0 : 1.5; /* no growth right after a cut */
   c->good_in_a_row++;
+  /* the default cap follows the stored energy (plasticity may start long
+   * before the peak, where 1/50 of the energy then is far too small) */
+  if (!(o->dissipation_max > 0)) c->tau_max = fmax(c->tau_max, 0.02 * c->stored);
   c->tau = fmin(c->tau * factor, c->tau_max);
 }
 

@@ -93,7 +93,7 @@ extern const ps_step_control_type *const ps_step_control_arc_length;
  * arc-length increments (as ps_step_control_arc_length) until one
  * dissipates energy in the arms, then increments of dissipated energy
  * tau: the first dissipation_step (0: that increment's dissipation), at
- * most dissipation_max (0: 1/50 of the stored energy then), adapted to
+ * most dissipation_max (0: 1/50 of the largest stored energy so far), adapted to
  * the Newton iterations as ds is, halved on a failure; an increment in
  * which no arm dissipates goes back to arc-length until one does again.
  * Needs a model that measures its dissipation (arm_dissipation: the bond

@@ -59,8 +59,8 @@ typedef struct ps_path_opts {
                                    of the arc-length increment in which it
                                    started (default) */
   double dissipation_max;       /* dissipation control: the largest tau, J;
-                                   0: 1/50 of the stored energy when the
-                                   dissipation started (default) */
+                                   0: 1/50 of the largest stored energy so
+                                   far (default) */
 } ps_path_opts;
 
 /* path.control */

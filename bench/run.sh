@@ -169,6 +169,11 @@ if [ "${BENCH_QUICK:-0}" != 1 ]; then
     [ "${BENCH_LARGE:-0}" = 1 ] && run_file "$(notched $model 200)" notched-$model-40k fracture cholmod true 1
   done
 fi
+# path following past the peak (doc/path-following.md): the softening
+# notched plate under dissipation control, through its snap-back to 10% of
+# the peak reaction (increments, Newton iterations, factorisations)
+[ "${BENCH_QUICK:-0}" = 1 ] ||
+  run_file "$top/data/cases/notched-plate-softening.yaml" notched-softening-dissipation fracture cholmod true 1
 if [ "${BENCH_LARGE:-0}" = 1 ]; then
   # the paper's disk at its size (20k particles, data/cases/paper-griffith.yaml)
   # run to fracture at delta = c/3250, the sweep's first run

@@ -52,25 +52,17 @@ int ps_nl_factor_tangent(ps_solver *s, ps_ctx *ctx) {
   PS_CHECK(assemble(s, 0, &A, ctx));
   snapshot_arm_state(s, ctx);
   char name[256] = "unknown dof";
-  int status;
-  if (s->lu_first && s->ldl_ok) { /* LDL^T without pivoting, else UMFPACK below */
-    if (!s->ls_ldl.type) PS_CHECK(ps_linsolve_create(&s->ls_ldl, ps_linsolve_cholmod_ldl, ctx));
-    status = ps_linsolve_factor(&s->ls_ldl, A, &bad, ctx);
-    if (status < 0) return status;
-    if (status == PS_OK) {
-      s->ls_last = &s->ls_ldl;
-      s->have_factor = 1;
-      return PS_OK;
-    }
-    status = PS_NOT_POSDEF;
-  } else if (s->lu_first) {
-    status = PS_NOT_POSDEF; /* straight to UMFPACK */
-  } else {
-    status = ps_linsolve_factor(&s->ls, A, &bad, ctx);
+  /* the first factor to try: CHOLMOD's LL^T; for lu_first LDL^T without
+   * pivoting where it pays, else none (straight to UMFPACK below) */
+  ps_linsolve *first = &s->ls;
+  if (s->lu_first) {
+    first = s->ldl_ok ? &s->ls_ldl : NULL;
+    if (first && !first->type) PS_CHECK(ps_linsolve_create(first, ps_linsolve_cholmod_ldl, ctx));
   }
+  int status = first ? ps_linsolve_factor(first, A, &bad, ctx) : PS_NOT_POSDEF;
   if (status < 0) return status;
   if (status == PS_OK) {
-    s->ls_last = &s->ls;
+    s->ls_last = first;
     s->have_factor = 1;
     return PS_OK;
   }

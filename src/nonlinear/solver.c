@@ -430,27 +430,14 @@ static double dissipation_rate(const ps_solver *s, const double *g, const double
   return r;
 }
 
-static int dissipation_predict(ps_solver *s, void *data, const double *v, double *dlam,
-                               int *reason, ps_ctx *ctx) {
-  const dissipation_constraint *c = data;
-  (void)ctx;
-  ps_pd_dissipation(s->pd, s->al_g);
-  double rate = dissipation_rate(s, s->al_g, v);
-  *dlam = c->tau / rate;
-  if (!isfinite(*dlam) || rate == 0.0) {
-    *reason = PS_NEWTON_NO_DISSIPATION;
-    return 0;
-  }
-  return 1;
-}
-
-static int dissipation_correct(ps_solver *s, void *data, const double *dr, const double *v,
-                               double *x, int *reason, ps_ctx *ctx) {
-  const dissipation_constraint *c = data;
+/* x = -(G + g_f . dr) / (dD/dlambda along v), G = D - tau; dr = NULL:
+ * zero */
+static int dissipation_update(ps_solver *s, const dissipation_constraint *c, const double *dr,
+                              const double *v, double *x, int *reason) {
   const ps_int nf = s->prob.n_free, *dof = s->prob.dof_of_free;
-  (void)ctx;
   double G = ps_pd_dissipation(s->pd, s->al_g) - c->tau, gdr = 0;
-  for (ps_int k = 0; k < nf; k++) gdr += s->al_g[dof[k]] * dr[k];
+  if (dr)
+    for (ps_int k = 0; k < nf; k++) gdr += s->al_g[dof[k]] * dr[k];
   double rate = dissipation_rate(s, s->al_g, v);
   *x = -(G + gdr) / rate;
   if (!isfinite(*x) || rate == 0.0) {
@@ -458,6 +445,19 @@ static int dissipation_correct(ps_solver *s, void *data, const double *dr, const
     return 0;
   }
   return 1;
+}
+
+/* at the committed state D = 0: dlam = tau / rate */
+static int dissipation_predict(ps_solver *s, void *data, const double *v, double *dlam,
+                               int *reason, ps_ctx *ctx) {
+  (void)ctx;
+  return dissipation_update(s, data, NULL, v, dlam, reason);
+}
+
+static int dissipation_correct(ps_solver *s, void *data, const double *dr, const double *v,
+                               double *x, int *reason, ps_ctx *ctx) {
+  (void)ctx;
+  return dissipation_update(s, data, dr, v, x, reason);
 }
 
 /* met to 1e-2 of tau: the constraint only chooses the point of the path

@@ -14,18 +14,16 @@
 #include <stddef.h>
 
 /* tau grows by 1.5 after each accepted increment (not in the two after a
- * cut), up to dissipation_max: the softening arms' secant tangent
- * (bond.c) makes Newton converge linearly, in 5 to 15 iterations whatever
- * tau, so the iteration count says little and the failures (halving) and
- * the cap set tau */
-
+ * cut) up to its cap, and halves on a failure: the Newton iterations of a
+ * dissipation increment depend little on tau (kinks of arms switching
+ * between loading and unloading, not the step's size, set them), so the
+ * failures and the cap set tau */
 typedef struct diss_state {
   _Alignas(max_align_t) unsigned char arc[128]; /* the arc-length controller's state */
   int dissipating;        /* 1: the next attempt is a dissipation step */
   double tau, tau_ref;    /* the next tau; the first one (cuts relative to it) */
   double tau_max;
   int good_in_a_row;
-  int its;                /* Newton iterations of the last attempt */
   double last_dissipation;/* of the last successful attempt, J */
   double stored;          /* the stored energy after it, J */
 } diss_state;
@@ -77,9 +75,7 @@ static void diss_accept(void *state, ps_int broken_total, const ps_path_opts *o)
 static int diss_step(void *state, ps_solver *s, const ps_path_opts *o, double *lambda,
                      ps_ctx *ctx) {
   diss_state *c = state;
-  ps_solver_stats st0, st1;
   int status;
-  ps_solver_get_stats(s, &st0);
   if (c->dissipating) {
     status = ps_solver_dissipation_step(s, c->tau, ctx);
     if (status == PS_DIVERGED && ps_solver_last_reason(s) == PS_NEWTON_NO_DISSIPATION) {
@@ -88,8 +84,6 @@ static int diss_step(void *state, ps_solver *s, const ps_path_opts *o, double *l
     }
   }
   if (!c->dissipating) status = ps_step_control_arc_length->step(c->arc, s, o, lambda, ctx);
-  ps_solver_get_stats(s, &st1);
-  c->its = (int)(st1.newton_iterations - st0.newton_iterations);
   *lambda = ps_solver_lambda(s);
   if (status == PS_OK) {
     c->last_dissipation = ps_solver_step_dissipation(s);

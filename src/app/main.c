@@ -28,6 +28,8 @@ static const char *HELP_MAIN =
     "  -q, --quiet     no progress lines\n"
     "  -v, --verbose   Newton iterations too (twice: source locations in errors)\n"
     "      --resume    griffith: continue a sweep in DIR, reusing finished runs\n"
+    "      --restart DIR  run: continue the run whose output folder is DIR from its\n"
+    "                  checkpoint (DIR.partial's after an interruption, else DIR's)\n"
     "  -j, --jobs N    griffith: N runs at a time, one process each (N cores)\n"
     "  -t, --threads N threads per run (default: the CPUs, shared among -j jobs;\n"
     "                  at most 2 are used; results do not depend on it)\n"
@@ -89,7 +91,7 @@ static const char *HELP_MAIN =
     "ended the run (its partial output is in DIR.partial).\n";
 
 static const char *HELP_RUN =
-    "peristatic run [-o DIR] [-q|-v] [-t N] [--max-memory GIB] CASE.yaml\n"
+    "peristatic run [-o DIR] [-q|-v] [-t N] [--max-memory GIB] [--restart DIR] CASE.yaml\n"
     "\n"
     "Solves the case to equilibrium at each increment of the load factor with\n"
     "Newton's method (consistent tangent, CHOLMOD, energy line search), commits\n"
@@ -104,7 +106,17 @@ static const char *HELP_RUN =
     "choose; the same numbers on one), preconditioned by an earlier factor.\n"
     "Refuses (exit 1), before building the network, a case whose estimated\n"
     "memory (peristatic info: estimate_memory_MiB) exceeds the limit: --max-memory\n"
-    "GIB, else solver.max_memory_gib, else 80% of the RAM.\n";
+    "GIB, else solver.max_memory_gib, else 80% of the RAM.\n"
+    "\n"
+    "Checkpoints: every output.checkpoint_every increments (default 10) and when\n"
+    "the run ends or is interrupted between increments, run writes\n"
+    "checkpoint.bin (the whole state) into its output folder (DIR.partial while\n"
+    "it runs). --restart DIR continues the run of DIR from its checkpoint\n"
+    "(DIR.partial's when there is one, else DIR's) with the same case file\n"
+    "(path.max_increments may be raised): history.csv keeps the rows up to the\n"
+    "checkpoint, and the results are those of an uninterrupted run to the last\n"
+    "bit. A checkpoint of another case, another version or a damaged one is\n"
+    "refused (exit 1), the folder left as it is.\n";
 
 static const char *HELP_GRIFFITH =
     "peristatic griffith [-o DIR] [-q|-v] [--resume] [-j N] [-t N] [--max-memory GIB]\n"
@@ -220,6 +232,7 @@ typedef struct cli {
   const char *cmd, *file, *out; /* command, case file, -o DIR (NULL: none) */
   int verbosity;                /* -q/-v; -1: the case's output.verbosity */
   int resume, jobs, threads;    /* --resume, -j N, -t N (0: the CPUs) */
+  const char *restart;          /* run --restart DIR (NULL: none) */
   double max_memory;            /* --max-memory GIB; 0: the case's */
 } cli;
 
@@ -244,6 +257,12 @@ static int parse_options(int argc, char **argv, cli *c) {
       c->verbosity = c->verbosity < 2 ? 2 : c->verbosity + 1;
     } else if (!strcmp(a, "--resume")) {
       c->resume = 1;
+    } else if (!strcmp(a, "--restart")) {
+      if (++i >= argc || !argv[i][0]) {
+        fprintf(stderr, "peristatic: --restart needs the output folder of an earlier run\n");
+        return 1;
+      }
+      c->restart = argv[i];
     } else if (!strcmp(a, "-j") || !strcmp(a, "--jobs")) {
       if ((c->jobs = count_arg(argc, argv, &i, "jobs")) < 0) return 1;
     } else if (!strcmp(a, "-t") || !strcmp(a, "--threads")) {
@@ -286,6 +305,11 @@ static int check_command(const cli *c) {
   }
   if (!c->file) {
     fprintf(stderr, "peristatic %s: no case file given (see peristatic help %s)\n", c->cmd,
+            c->cmd);
+    return 1;
+  }
+  if (c->restart && strcmp(c->cmd, "run")) {
+    fprintf(stderr, "peristatic %s: --restart is an option of run (griffith: --resume)\n",
             c->cmd);
     return 1;
   }
@@ -424,6 +448,8 @@ int main(int argc, char **argv) {
     return fail(PS_ERR_INTERRUPTED, &ctx);
   }
   pb.threads = c.threads;
+  pb.checkpoint = !info && !griffith; /* run writes checkpoints, the sweep's runs none */
+  pb.restart = c.restart;
   if (info)
     status = cmd_info(&pb, t0, &ctx);
   else if (griffith)

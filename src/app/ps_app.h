@@ -29,6 +29,12 @@ typedef struct ps_problem {
   int threads;            /* threads per run (ps_solver_opts.threads; 0:
                              the CPUs this process may use, shared among
                              griffith's jobs) */
+  int checkpoint;         /* 1: ps_run writes checkpoint.bin into its
+                             output (output.checkpoint_every, doc/
+                             peristatic.md RESTART); 0 (ps_problem_setup's
+                             default, the sweep's runs): none */
+  const char *restart;    /* a folder whose checkpoint ps_run continues
+                             from (run --restart; NULL: from the start) */
 } ps_problem;
 
 /* Build the particle cloud, sizes, network and boundary conditions of a
@@ -74,6 +80,21 @@ void ps_problem_free(ps_problem *pb);
  * PS_ERR_SOLVER when arms still break after path.max_break_rounds). */
 int ps_run(ps_problem *pb, double delta, const char *out_dir,
            ps_run_result *res, ps_ctx *ctx);
+
+/* With pb->checkpoint, ps_run writes out_dir.partial/checkpoint.bin
+ * (src/io/ps_checkpoint.h) every cs.output.checkpoint_every increments
+ * and when the path ends where it can go on from (ps_path.resumable: at
+ * its end or at an interruption between increments). With pb->restart =
+ * DIR it continues from DIR.partial/checkpoint.bin when there is one
+ * (an interrupted or stalled run), else from DIR/checkpoint.bin (one
+ * that completed): the checkpoint must be of this case
+ * (ps_checkpoint_check: algorithm version, ps_case_restart_fingerprint,
+ * delta, sizes; else PS_ERR_INPUT before any folder is changed); the
+ * first k rows of that folder's history.csv (k = the checkpoint's
+ * increment) and its VTK files of steps up to k are kept, the rest is
+ * dropped, and the run goes on as the uninterrupted run would have:
+ * history.csv and particles.csv are the same to the last bit (but the
+ * wall column). */
 
 /* ps_run without the lock, for a caller whose lock covers out_dir (the
  * sweep's runs, in folders inside the sweep's). */

@@ -4,13 +4,17 @@
  * fields per increment, and the reports at the end (src/io/report.c). */
 #include "ps_app.h"
 
+#include "../io/ps_checkpoint.h"
 #include "config.h"
 
+#include <dirent.h>
+#include <errno.h>
 #include <math.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 /* One run: what its parts share. */
 typedef struct run_state {
@@ -22,7 +26,16 @@ typedef struct run_state {
   char staging[1200];       /* out_dir.partial, "" without outputs */
   ps_report_history hist;   /* staging/history.csv */
   char stall_msg[2048];     /* the path's message of a stall */
-  double t0;                /* wall seconds at the start */
+  double t0;                /* wall seconds at the start (a restarted
+                               run's: less the wall of the run it
+                               continues) */
+  /* a restart (pb->restart): the checkpoint, the folder it is in, and
+   * its history.csv's rows up to the checkpoint's increment */
+  ps_checkpoint ck;
+  int restarting;
+  char from[1200];
+  char *rows;               /* those rows, header first (owned) */
+  int64_t last_checkpoint;  /* increment of the last checkpoint written */
 } run_state;
 
 /* 1 when path is a folder (earlier results to speak of) */
@@ -52,12 +65,89 @@ static ps_report_state report_state(const run_state *r) {
   return st;
 }
 
+/* the step of a field file of ours (particles_NNNN.vtk, arms_NNNN.vtk),
+ * or -1 */
+static long vtk_step(const char *name) {
+  const char *p = !strncmp(name, "particles_", 10) ? name + 10
+                  : !strncmp(name, "arms_", 5)      ? name + 5
+                                                    : NULL;
+  char *end = NULL;
+  if (!p || *p < '0' || *p > '9') return -1;
+  long step = strtol(p, &end, 10);
+  return end && !strcmp(end, ".vtk") ? step : -1;
+}
+
+/* dst = a copy of src (a hard link where the file system allows) */
+static int copy_file(const char *src, const char *dst, ps_ctx *ctx) {
+  if (link(src, dst) == 0) return PS_OK;
+  FILE *in = fopen(src, "rb"), *out = in ? fopen(dst, "wb") : NULL;
+  char buf[65536];
+  size_t n;
+  int bad = !in || !out;
+  while (!bad && (n = fread(buf, 1, sizeof buf, in)) > 0) bad = fwrite(buf, 1, n, out) != n;
+  if (in && ferror(in)) bad = 1;
+  if (in) fclose(in);
+  if (out && fclose(out) != 0) bad = 1;
+  if (bad) return ps_error(ctx, PS_ERR_IO, "%s: cannot copy to %s", src, dst);
+  return PS_OK;
+}
+
+/* The field files of the restart's folder: those of steps up to the
+ * checkpoint's increment into staging (from a completed run's folder),
+ * or, when the checkpoint is in staging itself, those of later steps and
+ * the reports of the end removed there. */
+static int restart_fields(run_state *r, int in_place, ps_ctx *ctx) {
+  static const char *const ends[] = {"summary.txt", "particles.csv", "path.gp", "path.png"};
+  char src[2600], dst[2600];
+  DIR *d = opendir(r->from);
+  struct dirent *e;
+  int status = PS_OK;
+  if (!d) return ps_error(ctx, PS_ERR_IO, "%s: cannot list: %s", r->from, strerror(errno));
+  while (status == PS_OK && (e = readdir(d))) {
+    long step = vtk_step(e->d_name);
+    if (step < 0) continue;
+    snprintf(src, sizeof src, "%s/%s", r->from, e->d_name);
+    snprintf(dst, sizeof dst, "%s/%s", r->staging, e->d_name);
+    if (in_place && step > r->ck.head.increment && unlink(src) != 0)
+      status = ps_error(ctx, PS_ERR_IO, "%s: cannot remove: %s", src, strerror(errno));
+    else if (!in_place && step <= r->ck.head.increment)
+      status = copy_file(src, dst, ctx);
+  }
+  closedir(d);
+  for (size_t k = 0; in_place && status == PS_OK && k < sizeof ends / sizeof ends[0]; k++) {
+    snprintf(src, sizeof src, "%s/%s", r->from, ends[k]);
+    if (unlink(src) != 0 && errno != ENOENT)
+      status = ps_error(ctx, PS_ERR_IO, "%s: cannot remove: %s", src, strerror(errno));
+  }
+  return status;
+}
+
+/* A restart's outputs: staging is the checkpoint's folder (continued in
+ * place) or a fresh one with its field files; history.csv holds its
+ * rows up to the checkpoint. */
+static int open_restart_outputs(run_state *r, ps_ctx *ctx) {
+  struct stat a, b;
+  int in_place = stat(r->from, &a) == 0 && stat(r->staging, &b) == 0 && a.st_dev == b.st_dev &&
+                 a.st_ino == b.st_ino;
+  if (!in_place) PS_CHECK(ps_outdir_fresh(r->staging, ctx));
+  PS_CHECK(restart_fields(r, in_place, ctx));
+  char path[1400];
+  snprintf(r->hist.dir, sizeof r->hist.dir, "%s", r->staging);
+  snprintf(path, sizeof path, "%s/history.csv", r->staging);
+  r->hist.f = fopen(path, "w");
+  if (!r->hist.f || fputs(r->rows, r->hist.f) < 0 || fflush(r->hist.f) != 0)
+    return ps_error(ctx, PS_ERR_IO, "%s: cannot write", path);
+  return PS_OK;
+}
+
 /* Stage the outputs: an empty out_dir.partial (ps_outdir_prepare has
- * checked it is ours) with history.csv's header. */
+ * checked it is ours) with history.csv's header; for a restart,
+ * open_restart_outputs. */
 static int open_outputs(run_state *r, ps_ctx *ctx) {
   char why[512];
   ps_run_result *old = NULL;
   snprintf(r->staging, sizeof r->staging, "%s.partial", r->out_dir);
+  if (r->restarting) return open_restart_outputs(r, ctx);
   /* a complete result there (not stalled, not interrupted) was on its
    * way to out_dir when a kill stopped the commit: say what goes */
   if (ps_outdir_owned(r->staging, why, sizeof why) == 1 && (old = malloc(sizeof *old)) &&
@@ -146,8 +236,64 @@ static void result_from_path(ps_run_result *res, const ps_path *p) {
   res->crack_tip = p->crack_tip;
 }
 
+/* what identifies this run in a checkpoint (increment and wall: now) */
+static ps_checkpoint_head checkpoint_head(const run_state *r, int64_t increment) {
+  const ps_problem *pb = r->pb;
+  ps_int nd = pb->P.n * pb->P.dim, nfree = 0;
+  for (ps_int j = 0; j < nd; j++) nfree += !pb->fixed[j];
+  ps_checkpoint_head h = {.algorithm = ps_algorithm_version(),
+                          .fingerprint = ps_case_restart_fingerprint(&pb->cs),
+                          .delta = r->mat.delta,
+                          .particles = pb->P.n,
+                          .arms = pb->net.n_arm,
+                          .dofs = nd,
+                          .free_dofs = nfree,
+                          .increment = increment,
+                          .wall = ps_wtime() - r->t0};
+  return h;
+}
+
+/* the state of the solver and of the path, as one list */
+static int state_list(run_state *r, ps_path *p, ps_state_list *l, ps_ctx *ctx) {
+  PS_CHECK(ps_solver_state_list(r->s, l, ctx));
+  return ps_path_state_list(p, l, ctx);
+}
+
+/* staging/checkpoint.bin of the state after p's last increment */
+static int write_checkpoint(run_state *r, ps_path *p, ps_ctx *ctx) {
+  ps_state_list l = {0};
+  const ps_csc *A;
+  int which, status = PS_OK;
+  PS_CHECK_GOTO(ps_solver_factor_matrix(r->s, &which, &A, ctx));
+  PS_CHECK_GOTO(state_list(r, p, &l, ctx));
+  ps_checkpoint_head h = checkpoint_head(r, p->increments);
+  PS_CHECK_GOTO(ps_checkpoint_write(r->staging, &h, which, A, &l, ctx));
+  r->last_checkpoint = p->increments;
+  ps_log(ctx, 2, "# checkpoint at increment %lld: %s/%s\n", (long long)p->increments,
+         r->staging, PS_CHECKPOINT_FILE);
+cleanup:
+  ps_state_list_free(&l);
+  return status;
+}
+
+/* the checkpoint's state into the solver and the path */
+static int restore_checkpoint(run_state *r, ps_path *p, ps_ctx *ctx) {
+  ps_state_list l = {0};
+  int status = PS_OK;
+  PS_CHECK_GOTO(state_list(r, p, &l, ctx));
+  PS_CHECK_GOTO(ps_checkpoint_load_items(&r->ck, &l, ctx));
+  PS_CHECK_GOTO(ps_solver_state_restored(r->s, r->ck.which, r->ck.which ? &r->ck.A : NULL, ctx));
+  ps_log(ctx, 1, "# restarted from %s at increment %lld (load factor %.6g)\n", r->ck.path,
+         (long long)p->increments, ps_solver_lambda(r->s));
+cleanup:
+  ps_state_list_free(&l);
+  return status;
+}
+
 /* The load path under the case's step controller, an increment at a time, recorded as
- * it goes. Returns PS_OK (the outcome is in res) or a fatal status. */
+ * it goes; with pb->checkpoint, checkpoints every output.checkpoint_every
+ * increments and at a resumable end. Returns PS_OK (the outcome is in
+ * res) or a fatal status. */
 static int follow_path(run_state *r, ps_ctx *ctx) {
   ps_problem *pb = r->pb;
   ps_path_problem pp = {.P = &pb->P,
@@ -162,11 +308,20 @@ static int follow_path(run_state *r, ps_ctx *ctx) {
   ps_path p;
   int status = ps_path_init(&p, r->s, &pp, &pb->cs.path,
                              ps_step_control_find(pb->cs.path.control), ctx);
+  const int every = pb->cs.output.checkpoint_every, ckpt = pb->checkpoint && r->out_dir;
+  if (status >= 0 && r->restarting) status = restore_checkpoint(r, &p, ctx);
+  /* the restart's own checkpoint first: the folder it came from may go */
+  if (status >= 0 && r->restarting && ckpt) status = write_checkpoint(r, &p, ctx);
   while (status >= 0 && ps_path_test(&p) == PS_PATH_CONTINUE) {
     ps_int before = p.increments;
     status = ps_path_iterate(&p, ctx);
     if (status >= 0 && p.increments > before) status = record_increment(r, &p, ctx);
+    if (status >= 0 && ckpt && every > 0 && p.increments > before && p.resumable &&
+        p.increments % every == 0)
+      status = write_checkpoint(r, &p, ctx);
   }
+  if (status >= 0 && ckpt && p.resumable && p.increments != r->last_checkpoint)
+    status = write_checkpoint(r, &p, ctx);
   if (status >= 0) {
     result_from_path(r->res, &p);
     snprintf(r->stall_msg, sizeof r->stall_msg, "%s", p.message);
@@ -276,6 +431,66 @@ static void log_start(const run_state *r, double delta, const ps_ctx *ctx) {
          "newton", "residual", "yielding", "broken", "tip/c");
 }
 
+/* 1 when dir/name is a regular file */
+static int has_file(const char *dir, const char *name) {
+  char path[1400];
+  struct stat sb;
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  return stat(path, &sb) == 0 && S_ISREG(sb.st_mode);
+}
+
+/* r->rows = the header and the first k rows of r->from's history.csv
+ * (the rows a later part of the run wrote after the checkpoint go) */
+static int restart_rows(run_state *r, ps_ctx *ctx) {
+  char path[1400], line[4096];
+  int64_t k = r->ck.head.increment, n = -1;
+  size_t len = 0, cap = 0;
+  snprintf(path, sizeof path, "%s/history.csv", r->from);
+  FILE *f = fopen(path, "r");
+  if (!f) return ps_error(ctx, PS_ERR_IO, "%s: cannot read: %s", path, strerror(errno));
+  int status = PS_OK;
+  while (n < k && fgets(line, sizeof line, f)) {
+    size_t l = strlen(line);
+    if (!l || line[l - 1] != '\n') break; /* a row cut short */
+    if (n >= 0 && strtoll(line, NULL, 10) != n + 1) break;
+    if (len + l + 1 > cap) {
+      void *q = r->rows;
+      cap = 2 * (len + l + 1);
+      if ((status = ps_realloc(&q, cap, 1, ctx)) < 0) break;
+      r->rows = q;
+    }
+    memcpy(r->rows + len, line, l + 1);
+    len += l;
+    n++;
+  }
+  fclose(f);
+  if (status == PS_OK && n < k)
+    status = ps_error(ctx, PS_ERR_INPUT, "%s has %lld complete rows, fewer than the %lld "
+                      "increments of its checkpoint %s/%s: restart from the checkpoint's own "
+                      "folder", path, (long long)(n < 0 ? 0 : n), (long long)k, r->from,
+                      PS_CHECKPOINT_FILE);
+  return status;
+}
+
+/* The checkpoint of pb->restart (DIR.partial's when it has one, else
+ * DIR's), checked against this run, and its history rows. Nothing is
+ * changed on disk. Returns PS_OK or fatal. */
+static int load_restart(run_state *r, ps_ctx *ctx) {
+  const char *dir = r->pb->restart;
+  char path[1400];
+  snprintf(r->from, sizeof r->from, "%s.partial", dir);
+  if (!has_file(r->from, PS_CHECKPOINT_FILE)) snprintf(r->from, sizeof r->from, "%s", dir);
+  snprintf(path, sizeof path, "%s/%s", r->from, PS_CHECKPOINT_FILE);
+  PS_CHECK(ps_checkpoint_read(path, &r->ck, ctx));
+  ps_checkpoint_head want = checkpoint_head(r, 0);
+  PS_CHECK(ps_checkpoint_check(&r->ck, &want, r->pb->cs.file, ctx));
+  PS_CHECK(restart_rows(r, ctx));
+  r->restarting = 1;
+  r->last_checkpoint = r->ck.head.increment;
+  r->t0 -= r->ck.head.wall; /* the wall column goes on from the checkpoint's */
+  return PS_OK;
+}
+
 static int run_case(ps_problem *pb, double delta, const char *out_dir, ps_run_result *res,
                     ps_solver **keep, ps_ctx *ctx) {
   int status = PS_OK;
@@ -288,11 +503,15 @@ static int run_case(ps_problem *pb, double delta, const char *out_dir, ps_run_re
   r.t0 = ps_wtime();
   r.mat = pb->mat;
   r.mat.delta = delta;
+  r.last_checkpoint = -1;
   describe_run(&r, delta);
   /* the folders are checked before anything is computed: only a folder
    * of ours is replaced, a result lost in a commit's rename is restored */
   if (out_dir) PS_CHECK_GOTO(ps_outdir_prepare(out_dir, ctx));
+  if (pb->restart) PS_CHECK_GOTO(load_restart(&r, ctx));
   PS_CHECK_GOTO(create_solver(&r, ctx));
+  if ((pb->checkpoint && out_dir) || r.restarting)
+    PS_CHECK_GOTO(ps_solver_keep_factors(r.s, ctx));
   if (ps_signal_received()) { /* before the first increment: nothing to keep */
     status = ps_error(ctx, PS_ERR_INTERRUPTED, "%s: interrupted by %s before the first "
                       "increment; nothing was written", pb->cs.file,
@@ -321,6 +540,8 @@ static int run_case(ps_problem *pb, double delta, const char *out_dir, ps_run_re
     status = ps_error(ctx, PS_RUN_STALLED, "%s", r.stall_msg);
   }
 cleanup:
+  ps_checkpoint_free(&r.ck);
+  free(r.rows);
   ps_report_history_close(&r.hist, ctx);
   if (status < 0 && r.staging[0]) {
     size_t n = strlen(ctx->msg);

@@ -297,3 +297,41 @@ void ps_system_dof_name(const ps_system *s, const double *X, ps_int dof,
     snprintf(buf, len, "particle %lld at (%g, %g, %g), dof %c", (long long)a,
              X[3 * a], X[3 * a + 1], X[3 * a + 2], ax[dof % s->dim]);
 }
+
+int ps_system_state_list(ps_system *s, ps_state_list *l, ps_ctx *ctx) {
+  const size_t na = (size_t)s->net->n_arm, np = (size_t)s->net->n_particle, d = (size_t)s->dim;
+  const size_t dbl = sizeof(double);
+  if (s->family_coupling)
+    for (int term = 0; term < 2; term++)
+      if (!s->G[term]) {
+        s->G[term] = ps_calloc(d * (size_t)s->fam_members_ptr[np], dbl, ctx);
+        if (!s->G[term]) return PS_ERR_NOMEM;
+      }
+  PS_CHECK(ps_state_add(l, "sys.l", s->l, na * dbl, ctx));
+  PS_CHECK(ps_state_add(l, "sys.dl", s->dl, na * dbl, ctx));
+  PS_CHECK(ps_state_add(l, "sys.q", s->q, d * na * dbl, ctx));
+  PS_CHECK(ps_state_add(l, "sys.T", s->T, na * dbl, ctx));
+  PS_CHECK(ps_state_add(l, "sys.tan.D", s->tan.D, na * dbl, ctx));
+  PS_CHECK(ps_state_add(l, "sys.tan.c", s->tan.c, np * dbl, ctx));
+  PS_CHECK(ps_state_add(l, "sys.tan.w", s->tan.w, 2 * na * dbl, ctx));
+  PS_CHECK(ps_state_add(l, "sys.tan.c2", s->tan.c2, np * dbl, ctx));
+  PS_CHECK(ps_state_add(l, "sys.tan.w2", s->tan.w2, 2 * na * dbl, ctx));
+  PS_CHECK(ps_state_add(l, "sys.tan.rot", s->tan.rot, sizeof s->tan.rot, ctx));
+  PS_CHECK(ps_state_add(l, "sys.tq", s->tq, d * na * dbl, ctx));
+  PS_CHECK(ps_state_add(l, "sys.tTl", s->tTl, na * dbl, ctx));
+  PS_CHECK(ps_state_add(l, "sys.free_body", s->free_body, np, ctx));
+  PS_CHECK(ps_state_add(l, "sys.spring", &s->spring, sizeof s->spring, ctx));
+  for (int term = 0; term < 2; term++)
+    if (s->G[term])
+      PS_CHECK(ps_state_add(l, term ? "sys.G1" : "sys.G0", s->G[term],
+                            d * (size_t)s->fam_members_ptr[np] * dbl, ctx));
+  if (s->tan.Dr) PS_CHECK(ps_state_add(l, "sys.tan.Dr", s->tan.Dr, na * dbl, ctx));
+  if (s->th) {
+    PS_CHECK(ps_state_add(l, "sys.th", s->th, na * dbl, ctx));
+    PS_CHECK(ps_state_add(l, "sys.M", s->M, na * dbl, ctx));
+    PS_CHECK(ps_state_add(l, "sys.r", s->r, 2 * na * dbl, ctx));
+    PS_CHECK(ps_state_add(l, "sys.tr", s->tr, 2 * na * dbl, ctx));
+    PS_CHECK(ps_state_add(l, "sys.tM", s->tM, na * dbl, ctx));
+  }
+  return PS_OK;
+}

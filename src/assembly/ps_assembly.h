@@ -116,6 +116,19 @@ int ps_system_create_pattern(ps_system *sys, const ps_network *net,
                              ps_ctx *ctx);
 void ps_system_free(ps_system *sys);
 
+/* The items of the last evaluation for a checkpoint (ps_state_list,
+ * ps_util.h), named "sys." + field: per arm l, dl, q, T, the tangent's
+ * data (the model's stiffnesses, tq, tTl, the family gradients G, free
+ * bodies and spring) and the rotation arrays of a model with arm
+ * rotations, so that the tangent a restored system applies, assembles
+ * and couples is the one it had, whatever evaluations led to it. A
+ * family gradient not yet allocated is allocated here (it is read only
+ * where its coefficient is nonzero). After the items are read back the
+ * caller marks the system not assembled (sys->assembled = 0): the matrix
+ * is assembled again from the restored data when it is needed. Returns
+ * PS_OK, PS_ERR_NOMEM or ps_state_add's status. */
+int ps_system_state_list(ps_system *sys, ps_state_list *l, ps_ctx *ctx);
+
 /* What ps_system_eval computes besides the forces and the energy. */
 enum ps_eval_want {
   PS_EVAL_FORCES = 0,   /* nothing else */

@@ -7,6 +7,7 @@
 #include "ps_io.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* FNV-1a over the bytes of a formatted description */
@@ -157,5 +158,28 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
     snprintf(b, sizeof b, "tip advance %.17g", po->stop_tip_advance);
     fnv(&h, b);
   }
+  return h;
+}
+
+int ps_algorithm_version(void) { return PS_ALGORITHM_VERSION; }
+
+uint64_t ps_case_restart_fingerprint(const ps_case *cs) {
+  ps_case *c = malloc(sizeof *c);
+  if (!c) return 0; /* matches no checkpoint (the writer's is never 0 but by chance) */
+  memcpy(c, cs, sizeof *c);
+  c->path.max_increments = 1;
+  uint64_t h = ps_case_fingerprint(c);
+  free(c);
+  const ps_solver_opts *so = &cs->solver;
+  char b[512];
+  snprintf(b, sizeof b, "restart: linear %s reuse %d cg %.17g %d %d skip %d forcing %d %.17g "
+           "%.17g matrix-free %d truncate %d single %d reanalyze %d majorant %d",
+           so->linear, so->reuse_factor, so->pcg_rtol, so->pcg_max_iterations, so->max_small_steps,
+           so->pcg_skip_arms, so->cg_forcing_adaptive, so->cg_forcing_max, so->cg_forcing,
+           so->matrix_free, so->cg_truncate, so->cg_single_precision, so->reanalyze,
+           so->majorant);
+  fnv(&h, b);
+  snprintf(b, sizeof b, "path rounds %d", cs->path.max_break_rounds);
+  fnv(&h, b);
   return h;
 }

@@ -165,6 +165,18 @@ int ps_case_load(ps_case *cs, const char *path, ps_ctx *ctx);
  * reuses runs of the same case. */
 uint64_t ps_case_fingerprint(const ps_case *cs);
 
+/* The algorithm version that ps_case_fingerprint hashes
+ * (doc/algorithm-versions.md). */
+int ps_algorithm_version(void);
+
+/* The fingerprint a checkpoint must match to be continued by this case
+ * (src/io/checkpoint.c): ps_case_fingerprint with path.max_increments
+ * left out (a run that reached it may be continued with a larger one),
+ * and every solver setting it leaves out added (the linear solver and
+ * the CG settings: they change a run's bits, and a restart must repeat
+ * them). delta is not in it: the checkpoint holds the run's own. */
+uint64_t ps_case_restart_fingerprint(const ps_case *cs);
+
 /* Is s a plain decimal number, the only kind case files and point clouds
  * take: an optional sign, digits with an optional fraction (or a fraction
  * alone), an optional exponent, and nothing else (no blanks, hex, inf,

@@ -36,6 +36,11 @@ typedef struct ps_output_opts {
   double j_rings[PS_MAX_J_RINGS]; /* [j_integral.rings] outer half-widths l
                           of the square rings, m (q = 1 inside l/2, 0
                           outside l) */
+  int checkpoint_every; /* [checkpoint_every] `peristatic run` writes
+                          checkpoint.bin (doc/peristatic.md RESTART) every
+                          n increments, and at the end of the run or at an
+                          interruption between increments; 0: only then
+                          (default 10) */
   int verbosity;       /* [verbosity] 0 quiet, 1 progress, 2 Newton detail,
                           3 source locations in errors (default 1; -q and
                           -v override it) */

@@ -2,6 +2,7 @@
 #include "ps_linsolve.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 const ps_linsolve_type *ps_linsolve_type_find(const char *name) {
@@ -22,11 +23,35 @@ int ps_linsolve_create(ps_linsolve *ls, const ps_linsolve_type *type,
 
 void ps_linsolve_destroy(ps_linsolve *ls) {
   if (ls->type && ls->state) ls->type->destroy(&ls->state);
+  free(ls->kept.p);
+  free(ls->kept.i);
+  free(ls->kept.x);
   memset(ls, 0, sizeof *ls);
+}
+
+int ps_linsolve_keep(ps_linsolve *ls, const ps_csc *A, ps_ctx *ctx) {
+  ps_csc *K = &ls->kept;
+  ps_int nnz = A->p[A->n];
+  if (!K->p || K->n != A->n || K->p[K->n] < nnz) {
+    void *p = K->p, *i = K->i, *x = K->x;
+    K->n = 0;
+    PS_CHECK(ps_realloc(&p, (size_t)A->n + 1, sizeof *K->p, ctx));
+    K->p = p;
+    PS_CHECK(ps_realloc(&i, (size_t)nnz, sizeof *K->i, ctx));
+    K->i = i;
+    PS_CHECK(ps_realloc(&x, (size_t)nnz, sizeof *K->x, ctx));
+    K->x = x;
+  }
+  memcpy(K->p, A->p, ((size_t)A->n + 1) * sizeof *K->p);
+  memcpy(K->i, A->i, (size_t)nnz * sizeof *K->i);
+  memcpy(K->x, A->x, (size_t)nnz * sizeof *K->x);
+  K->n = A->n;
+  return PS_OK;
 }
 
 int ps_linsolve_factor(ps_linsolve *ls, const ps_csc *A, ps_int *bad_col,
                        ps_ctx *ctx) {
+  if (ls->keep_matrix) PS_CHECK(ps_linsolve_keep(ls, A, ctx));
   if (!ls->analysed || ls->reanalyze) {
     PS_CHECK(ls->type->analyze(ls->state, A, &ls->stats, ctx));
     ls->analysed = 1;

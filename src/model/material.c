@@ -98,6 +98,24 @@ void ps_arm_state_copy(ps_arm_state *dst, const ps_arm_state *st) {
   dst->broken_energy = st->broken_energy;
 }
 
+int ps_arm_state_list(ps_arm_state *st, const char *prefix, ps_state_list *l, ps_ctx *ctx) {
+  size_t n = (size_t)st->n_arm;
+  char name[PS_STATE_NAME];
+#define PS_ITEM(field, bytes)                                        \
+  do {                                                               \
+    snprintf(name, sizeof name, "%s%s", prefix, #field);             \
+    PS_CHECK(ps_state_add(l, name, st->field, bytes, ctx));          \
+  } while (0)
+  PS_ITEM(eps_p, 2 * n * sizeof *st->eps_p);
+  PS_ITEM(eps_p_trial, 2 * n * sizeof *st->eps_p_trial);
+  PS_ITEM(broken, n);
+  PS_ITEM(yielding, n);
+  PS_ITEM(stretch, n * sizeof *st->stretch);
+#undef PS_ITEM
+  snprintf(name, sizeof name, "%sbroken_energy", prefix);
+  return ps_state_add(l, name, &st->broken_energy, sizeof st->broken_energy, ctx);
+}
+
 int ps_arm_tangent_alloc(ps_arm_tangent *t, const ps_network *net, ps_ctx *ctx) {
   t->D = ps_calloc((size_t)net->n_arm, sizeof *t->D, ctx);
   t->c = ps_calloc((size_t)net->n_particle, sizeof *t->c, ctx);

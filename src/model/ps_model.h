@@ -147,6 +147,11 @@ void ps_arm_state_free(ps_arm_state *st);
 /* Copy st into dst (both allocated for the same n_arm). */
 void ps_arm_state_copy(ps_arm_state *dst, const ps_arm_state *st);
 
+/* The items of st for a checkpoint (ps_state_list, ps_util.h), named
+ * prefix + field: every array and broken_energy. Returns PS_OK or
+ * ps_state_add's status. */
+int ps_arm_state_list(ps_arm_state *st, const char *prefix, ps_state_list *l, ps_ctx *ctx);
+
 /* Tangent in arm-length space (see top of file). */
 typedef struct ps_arm_tangent {
   double *D;  /* [n_arm] N/m */

@@ -57,7 +57,10 @@ int ps_nl_factor_tangent(ps_solver *s, ps_ctx *ctx) {
   ps_linsolve *first = &s->ls;
   if (s->lu_first) {
     first = s->ldl_ok ? &s->ls_ldl : NULL;
-    if (first && !first->type) PS_CHECK(ps_linsolve_create(first, ps_linsolve_cholmod_ldl, ctx));
+    if (first && !first->type) {
+      PS_CHECK(ps_linsolve_create(first, ps_linsolve_cholmod_ldl, ctx));
+      first->keep_matrix = s->keep_factors;
+    }
   }
   int status = first ? ps_linsolve_factor(first, A, &bad, ctx) : PS_NOT_POSDEF;
   if (status < 0) return status;
@@ -72,8 +75,10 @@ int ps_nl_factor_tangent(ps_solver *s, ps_ctx *ctx) {
     if (!s->lu_first)
       ps_log(ctx, s->n_fallback ? 2 : 1, "  note: tangent %s at %s: UMFPACK for this system\n",
              status == PS_NOT_POSDEF ? "not positive definite" : "singular", name);
-    if (!s->ls_fallback.type)
+    if (!s->ls_fallback.type) {
       PS_CHECK(ps_linsolve_create(&s->ls_fallback, ps_linsolve_umfpack, ctx));
+      s->ls_fallback.keep_matrix = s->keep_factors;
+    }
     status = ps_linsolve_factor(&s->ls_fallback, A, &bad, ctx);
     if (status < 0) return status;
     s->n_fallback++;

@@ -197,6 +197,51 @@ const ps_arm_state *ps_solver_arm_state(const ps_solver *s);
 int ps_solver_last_reason(const ps_solver *s);
 double ps_solver_last_residual(const ps_solver *s);
 
+/* ---- checkpoints (src/io/checkpoint.c; doc/peristatic.md RESTART) ----
+ *
+ * A restarted run must repeat an uninterrupted one to the last bit, so a
+ * checkpoint holds all the solver carries from one increment to the
+ * next: displacements (the committed ones and the predictor's history),
+ * load factors, both arm states (trial and committed), the last
+ * evaluation's forces, energy and tangent data (the tangent predictor
+ * and the next breaking round read them), the statistics, and the factor
+ * the next directions reuse. That factor is not stored: the matrix it
+ * was made of is (ps_solver_keep_factors), and the restored solver
+ * factors it again with the same backend, which gives the same factor;
+ * the backends' statistics are then put back as they were. */
+
+/* Keep a copy of the matrix of every factor from now on (ps_linsolve
+ * keep_matrix; costs the tangent's nonzeros in memory and a copy per
+ * factorisation), so that ps_solver_factor_matrix can give it; the
+ * factor made by ps_solver_create (at rest) is assembled again for it.
+ * Call right after ps_solver_create, on the solver whose state will be
+ * checkpointed and on the one that restores it. Returns PS_OK or
+ * fatal. */
+int ps_solver_keep_factors(ps_solver *s, ps_ctx *ctx);
+
+/* Append the solver's state to l as ps_state_items (names "u", "st.eps_p",
+ * "sys.T", ...): valid until the solver's next call. The same list of a
+ * solver created for the same problem and options receives them back.
+ * Returns PS_OK, PS_ERR_NOMEM or ps_state_add's status. */
+int ps_solver_state_list(ps_solver *s, ps_state_list *l, ps_ctx *ctx);
+
+/* The factor the next directions reuse: *which = 0 none, 1 the chosen
+ * backend's, 2 the majorant's, 3 UMFPACK's, 4 LDL^T's, and *A the matrix
+ * it was made of (NULL for none; the solver's, valid until its next
+ * factorisation). PS_OK, or PS_ERR_INTERNAL without
+ * ps_solver_keep_factors. */
+int ps_solver_factor_matrix(const ps_solver *s, int *which, const ps_csc **A, ps_ctx *ctx);
+
+/* After the items of ps_solver_state_list were read back into s: create
+ * the linear solvers the checkpointed solver had made, factor A (the
+ * matrix of ps_solver_factor_matrix, which = its *which) into the one
+ * `which` names, make it the factor the next directions reuse and put
+ * the backends' statistics back; the tangent is assembled again from the
+ * restored data when a factorisation needs it. Returns PS_OK,
+ * PS_ERR_INPUT (which out of range, A of the wrong order, or A no longer
+ * factors: not this solver's checkpoint), or fatal. */
+int ps_solver_state_restored(ps_solver *s, int which, const ps_csc *A, ps_ctx *ctx);
+
 /* A short sentence for an enum ps_newton_reason, for messages ("line
  * search failed"); "unknown reason" for any other value. */
 const char *ps_newton_reason_text(int reason);

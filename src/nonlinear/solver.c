@@ -676,3 +676,134 @@ const double *ps_solver_arm_elongation(const ps_solver *s) { return s->pd->sys.d
 const ps_arm_state *ps_solver_arm_state(const ps_solver *s) { return &s->pd->st; }
 int ps_solver_last_reason(const ps_solver *s) { return s->last_reason; }
 double ps_solver_last_residual(const ps_solver *s) { return s->last_residual; }
+
+/* ---- checkpoints ---- */
+
+int ps_solver_keep_factors(ps_solver *s, ps_ctx *ctx) {
+  s->keep_factors = 1;
+  s->ls.keep_matrix = s->ls_pre.keep_matrix = 1;
+  s->ls_fallback.keep_matrix = s->ls_ldl.keep_matrix = 1;
+  if (!s->have_factor || !s->ls_last || s->ls_last->kept.n) return PS_OK;
+  /* the factor at rest: the tangent of the last evaluation, unchanged
+   * since ps_solver_create */
+  if (s->ls_last != &s->ls)
+    return ps_error(ctx, PS_ERR_INTERNAL, "ps_solver_keep_factors: call it right after "
+                                          "ps_solver_create");
+  ps_csc *A = NULL;
+  PS_CHECK(s->prob.ops->assemble(s->prob.data, 0, &A, ctx));
+  return ps_linsolve_keep(&s->ls, A, ctx);
+}
+
+/* the linear solvers by the numbers of ps_solver_factor_matrix (1..4) */
+static ps_linsolve *linsolve_of(ps_solver *s, int which) {
+  ps_linsolve *const all[] = {&s->ls, &s->ls_pre, &s->ls_fallback, &s->ls_ldl};
+  return which >= 1 && which <= 4 ? all[which - 1] : NULL;
+}
+
+int ps_solver_state_list(ps_solver *s, ps_state_list *l, ps_ctx *ctx) {
+  const size_t nd = (size_t)s->prob.n_dof * sizeof(double);
+  const size_t na = (size_t)s->pd->net->n_arm;
+#define PS_ITEM(name, field) PS_CHECK(ps_state_add(l, name, &(field), sizeof(field), ctx))
+  PS_CHECK(ps_state_add(l, "u", s->u, nd, ctx));
+  PS_CHECK(ps_state_add(l, "u_saved", s->u_saved, nd, ctx));
+  PS_CHECK(ps_state_add(l, "u_prev", s->u_prev, nd, ctx));
+  PS_CHECK(ps_state_add(l, "f", s->f, nd, ctx));
+  PS_ITEM("energy", s->energy);
+  PS_ITEM("lambda", s->pd->lambda);
+  PS_ITEM("lambda_prev", s->lambda_prev);
+  PS_ITEM("lambda_saved", s->lambda_saved);
+  PS_ITEM("have_prev", s->have_prev);
+  PS_ITEM("have_factor", s->have_factor);
+  PS_ITEM("al_scale", s->al_scale);
+  PS_ITEM("al_have_dir", s->al_have_dir);
+  PS_ITEM("dissipated", s->dissipated);
+  PS_ITEM("newton_iterations", s->newton_iterations);
+  PS_ITEM("n_fallback", s->n_fallback);
+  PS_ITEM("n_line_search_cuts", s->n_line_search_cuts);
+  PS_ITEM("n_shifted", s->n_shifted);
+  PS_ITEM("pcg_iterations", s->pcg_iterations);
+  PS_ITEM("pcg_solves", s->pcg_solves);
+  PS_ITEM("pcg_failures", s->pcg_failures);
+  PS_ITEM("pcg_skipped", s->pcg_skipped);
+  PS_ITEM("its_since_factor", s->its_since_factor);
+  PS_ITEM("solves_since_factor", s->solves_since_factor);
+  PS_ITEM("pre_failures", s->pre_failures);
+  PS_ITEM("pcg_truncated", s->pcg_truncated);
+  PS_ITEM("n_handovers", s->n_handovers);
+  PS_ITEM("n_stagnated", s->n_stagnated);
+  PS_ITEM("cg_rtol", s->cg_rtol);
+  PS_ITEM("t_pcg", s->t_pcg);
+  PS_ITEM("last_reason", s->last_reason);
+  PS_ITEM("last_iterations", s->last_iterations);
+  PS_ITEM("last_residual", s->last_residual);
+  PS_ITEM("pd.dissipation_step", s->pd->dissipation_step);
+  PS_ITEM("pd.t_assembly", s->pd->t_assembly);
+  PS_CHECK(ps_state_add(l, "pd.arm_state_at_factor", s->pd->arm_state_at_factor, na + 1, ctx));
+  static const char *const ls_names[4][2] = {{"ls.stats", "ls.n_since_factor"},
+                                             {"ls_pre.stats", "ls_pre.n_since_factor"},
+                                             {"ls_umfpack.stats", "ls_umfpack.n_since_factor"},
+                                             {"ls_ldl.stats", "ls_ldl.n_since_factor"}};
+  for (int k = 0; k < 4; k++) {
+    ps_linsolve *ls = linsolve_of(s, k + 1);
+    PS_ITEM(ls_names[k][0], ls->stats);
+    PS_ITEM(ls_names[k][1], ls->n_since_factor);
+  }
+#undef PS_ITEM
+  PS_CHECK(ps_arm_state_list(&s->pd->st, "st.", l, ctx));
+  PS_CHECK(ps_arm_state_list(&s->pd->st_saved, "st_saved.", l, ctx));
+  return ps_system_state_list(&s->pd->sys, l, ctx);
+}
+
+int ps_solver_factor_matrix(const ps_solver *s, int *which, const ps_csc **A, ps_ctx *ctx) {
+  *which = 0;
+  *A = NULL;
+  if (!s->keep_factors)
+    return ps_error(ctx, PS_ERR_INTERNAL, "the solver keeps no factor matrices "
+                                          "(ps_solver_keep_factors)");
+  if (!s->have_factor || !s->ls_last) return PS_OK;
+  for (int k = 1; k <= 4; k++)
+    if (s->ls_last == linsolve_of((ps_solver *)s, k)) *which = k;
+  if (!*which || s->ls_last->kept.n != s->prob.n_free)
+    return ps_error(ctx, PS_ERR_INTERNAL, "the solver's last factor has no kept matrix");
+  *A = &s->ls_last->kept;
+  return PS_OK;
+}
+
+int ps_solver_state_restored(ps_solver *s, int which, const ps_csc *A, ps_ctx *ctx) {
+  /* the linear solvers made on first need: created again with the
+   * statistics read back (a backend that factored once exists) */
+  const ps_linsolve_type *lazy[2] = {ps_linsolve_umfpack, ps_linsolve_cholmod_ldl};
+  for (int k = 0; k < 2; k++) {
+    ps_linsolve *ls = linsolve_of(s, 3 + k);
+    if (ls->type || ls->stats.n_factor == 0) continue;
+    ps_linsolve_stats st = ls->stats;
+    int since = ls->n_since_factor;
+    PS_CHECK(ps_linsolve_create(ls, lazy[k], ctx));
+    ls->keep_matrix = s->keep_factors;
+    ls->stats = st;
+    ls->n_since_factor = since;
+  }
+  s->pd->sys.assembled = 0; /* assembled again from the restored tangent */
+  if (which == 0) {
+    s->have_factor = 0;
+    return PS_OK;
+  }
+  ps_linsolve *ls = linsolve_of(s, which);
+  if (!ls || !ls->type || !A || A->n != s->prob.n_free)
+    return ps_error(ctx, PS_ERR_INPUT, "the checkpoint's factor (%d, order %lld) does not fit "
+                    "this solver (%lld free dofs)", which, A ? (long long)A->n : -1LL,
+                    (long long)s->prob.n_free);
+  ps_linsolve_stats st = ls->stats;
+  int since = ls->n_since_factor;
+  ps_int bad = -1;
+  int status = ps_linsolve_factor(ls, A, &bad, ctx);
+  if (status < 0) return status;
+  if (status != PS_OK)
+    return ps_error(ctx, PS_ERR_INPUT, "the checkpoint's factor matrix does not factor again "
+                    "(status %d): not this solver's checkpoint", status);
+  ls->stats = st;
+  ls->n_since_factor = since;
+  s->ls_last = ls;
+  s->have_factor = 1;
+  return PS_OK;
+}

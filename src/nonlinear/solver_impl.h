@@ -34,6 +34,8 @@ struct ps_solver {
   ps_linsolve ls_pre;       /* the majorant's CHOLMOD factor */
   ps_team *team;            /* opts.threads threads (NULL: one) */
   int have_factor;          /* a factor of a recent tangent is available */
+  int keep_factors;         /* 1: the linear solvers keep the matrix of
+                               their factor (ps_solver_keep_factors) */
   ps_solver_opts opts;
 
   /* the load factor lambda and the external forces are the problem's

@@ -57,7 +57,10 @@ int ps_path_break_rounds(ps_path *p, ps_int its0, ps_int *n_broken, int *settle,
     *n_broken += nr;
     *settled = *settle == PS_OK && nr == 0; /* no arm left past delta */
     if (*settle != PS_OK || nr == 0) return PS_OK;
-    if (p->pb.interrupted && p->pb.interrupted(p->pb.interrupted_data, NULL, 0)) return PS_OK;
+    if (p->pb.interrupted && p->pb.interrupted(p->pb.interrupted_data, NULL, 0)) {
+      p->rounds_interrupted = 1;
+      return PS_OK;
+    }
     if (ps_wtime() - t_note > 10.0) {
       ps_solver_stats st;
       ps_solver_get_stats(p->s, &st);

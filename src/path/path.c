@@ -36,6 +36,7 @@ int ps_path_init(ps_path *p, ps_solver *s, const ps_path_problem *pb, const ps_p
   p->o = *o;
   p->control = control;
   p->peak = -INFINITY;
+  p->resumable = 1;
   p->control_state = ps_calloc(1, control->size, ctx);
   if (!p->control_state) return PS_ERR_NOMEM;
   control->init(p->control_state, &p->o);
@@ -45,6 +46,26 @@ int ps_path_init(ps_path *p, ps_solver *s, const ps_path_problem *pb, const ps_p
 void ps_path_free(ps_path *p) {
   free(p->control_state);
   p->control_state = NULL;
+}
+
+int ps_path_state_list(ps_path *p, ps_state_list *l, ps_ctx *ctx) {
+#define PS_ITEM(field) PS_CHECK(ps_state_add(l, "path." #field, &p->field, sizeof p->field, ctx))
+  PS_ITEM(peak);
+  PS_ITEM(lambda_peak);
+  PS_ITEM(crack_tip);
+  PS_ITEM(increments);
+  PS_ITEM(step_cuts);
+  PS_ITEM(gentle_rounds);
+  PS_ITEM(broken_total);
+  PS_ITEM(lambda_max);
+  PS_ITEM(last);
+  PS_ITEM(tip_start);
+  PS_ITEM(recent);
+  PS_ITEM(n_recent);
+#undef PS_ITEM
+  char name[PS_STATE_NAME];
+  snprintf(name, sizeof name, "path.control.%s", p->control->name);
+  return ps_state_add(l, name, p->control_state, p->control->size, ctx);
 }
 
 /* Asks problem.interrupted; when it says stop, the path ends here. */
@@ -111,6 +132,8 @@ int ps_path_iterate(ps_path *p, ps_ctx *ctx) {
   ps_int its0, nb;
   int settle, settled = 0;
   if (p->end) return PS_OK;
+  p->resumable = 0;
+  p->rounds_interrupted = 0;
   if (p->o.control != PS_CONTROL_LOAD) {
     /* the last increment's arms past the criterion break; one
      * re-equilibration at that load (Newton with its line search) puts
@@ -181,6 +204,7 @@ int ps_path_iterate(ps_path *p, ps_ctx *ctx) {
   } else {
     ps_path_reequilibration_failed(p, last->sigma);
   }
+  p->resumable = !p->end && !p->rounds_interrupted;
   return PS_OK;
 }
 

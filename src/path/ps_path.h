@@ -159,6 +159,14 @@ typedef struct ps_path {
   double lambda_max;          /* largest load factor of the converged
                                  increments (0: none yet) */
   ps_path_increment last;
+  int resumable;              /* 1: the solver is in the state the path
+                                 left it in after the last complete
+                                 increment (or at the start), from which
+                                 the path goes on as if never stopped: a
+                                 checkpoint may be taken; 0 after an end
+                                 inside an increment (a stall, a failed
+                                 re-equilibration, an interruption
+                                 between attempts or breaking rounds) */
 
   /* private */
   ps_solver *s;
@@ -170,6 +178,8 @@ typedef struct ps_path {
   double recent[3];           /* boundary stresses of the last converged
                                  increments, the newest last */
   int n_recent;
+  int rounds_interrupted;     /* the last breaking rounds ended early on an
+                                 interruption */
 } ps_path;
 
 /* Start a path on solver s at its current state (load factor 0). The
@@ -197,6 +207,15 @@ int ps_path_iterate(ps_path *p, ps_ctx *ctx);
 int ps_path_test(ps_path *p);
 
 void ps_path_free(ps_path *p);
+
+/* Append the path's state to l for a checkpoint (ps_state_list,
+ * ps_util.h; names "path." + field): the counts, the peak, the largest
+ * load factor, the last increment, the recent boundary stresses and the
+ * step controller's state; not how the path ended (a restored path tests
+ * its stop rules again). Valid while p lives; the same list of a path
+ * initialised for the same case receives them back. Returns PS_OK or
+ * ps_state_add's status. */
+int ps_path_state_list(ps_path *p, ps_state_list *l, ps_ctx *ctx);
 
 /* Breaking rounds (Eq. 118) at the load of the last commit, until no arm
  * breaks: each breaks the arms past delta and re-equilibrates; when the

@@ -65,7 +65,7 @@ static int our_file(const char *name, int tmp_ok) {
   static const char *const fixed[] = {PS_OUTDIR_MARKER, "summary.txt",   "history.csv",
                                       "particles.csv",  "griffith.csv",  "griffith.gp",
                                       "griffith.png",   "griffith_fit.txt", "path.gp",
-                                      "path.png",       NULL};
+                                      "path.png",       "checkpoint.bin",   NULL};
   size_t n = strlen(name);
   for (int i = 0; fixed[i]; i++)
     if (!strcmp(name, fixed[i])) return 1;

@@ -104,6 +104,27 @@ int ps_outfile_open(ps_outfile *o, const char *path, ps_ctx *ctx);
 int ps_outfile_commit(ps_outfile *o, ps_ctx *ctx);
 void ps_outfile_abort(ps_outfile *o);
 
+/* A layer's state for a checkpoint (src/io/checkpoint.c): a list of named
+ * items, each the address and size in bytes of an array or scalar the
+ * layer owns. A layer lists its items (e.g. ps_solver_state_list); the
+ * checkpoint writes their bytes and, into the items of a freshly created
+ * layer of the same sizes, reads them back. Names are at most
+ * PS_STATE_NAME - 1 characters. */
+#define PS_STATE_NAME 40
+typedef struct ps_state_item {
+  char name[PS_STATE_NAME];
+  void *data;
+  size_t bytes;
+} ps_state_item;
+typedef struct ps_state_list {
+  ps_state_item *item;
+  int n, cap;
+} ps_state_list;
+/* Append an item (data may be NULL only when bytes is 0). Returns PS_OK,
+ * PS_ERR_NOMEM, or PS_ERR_INTERNAL for a name too long or used twice. */
+int ps_state_add(ps_state_list *l, const char *name, void *data, size_t bytes, ps_ctx *ctx);
+void ps_state_list_free(ps_state_list *l);
+
 /* Output folders (outdir.c). peristatic replaces or removes only a folder
  * it wrote itself: one holding its marker file PS_OUTDIR_MARKER (written
  * into every output folder it creates), or, for folders of earlier
@@ -111,7 +132,7 @@ void ps_outfile_abort(ps_outfile *o);
  * starts "step,load_factor," or whose griffith.csv starts "delta_over_c,",
  * or an empty folder; and which holds nothing but names peristatic writes
  * (the marker, summary.txt, history.csv, particles.csv, particles_N.vtk,
- * arms_N.vtk, griffith.csv/.gp/.png, griffith_fit.txt, job-N.log, any of
+ * arms_N.vtk, checkpoint.bin, griffith.csv/.gp/.png, griffith_fit.txt, job-N.log, any of
  * these + ".tmp", and a sweep's delta_cN folders, with .partial or .old,
  * holding such files, and delta_cN.claim). Anything else (another folder,
  * a file, a symbolic link, a folder of ours holding a file of someone

@@ -127,3 +127,29 @@ void ps_outfile_abort(ps_outfile *o) {
   o->f = NULL;
   unlink(o->tmp);
 }
+
+int ps_state_add(ps_state_list *l, const char *name, void *data, size_t bytes, ps_ctx *ctx) {
+  if (strlen(name) >= PS_STATE_NAME)
+    return ps_error(ctx, PS_ERR_INTERNAL, "state item name '%s' too long", name);
+  for (int k = 0; k < l->n; k++)
+    if (!strcmp(l->item[k].name, name))
+      return ps_error(ctx, PS_ERR_INTERNAL, "state item '%s' listed twice", name);
+  if (l->n == l->cap) {
+    int cap = l->cap ? 2 * l->cap : 32;
+    void *p = l->item;
+    PS_CHECK(ps_realloc(&p, (size_t)cap, sizeof *l->item, ctx));
+    l->item = p;
+    l->cap = cap;
+  }
+  ps_state_item *it = &l->item[l->n++];
+  snprintf(it->name, sizeof it->name, "%s", name);
+  it->data = data;
+  it->bytes = bytes;
+  return PS_OK;
+}
+
+void ps_state_list_free(ps_state_list *l) {
+  free(l->item);
+  l->item = NULL;
+  l->n = l->cap = 0;
+}

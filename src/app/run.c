@@ -92,10 +92,19 @@ static int copy_file(const char *src, const char *dst, ps_ctx *ctx) {
   return PS_OK;
 }
 
-/* The field files of the restart's folder: those of steps up to the
- * checkpoint's increment into staging (from a completed run's folder),
- * or, when the checkpoint is in staging itself, those of later steps and
- * the reports of the end removed there. */
+/* 1 when the field files of `step` are among those the uninterrupted run
+ * writes up to the checkpoint's increment (every output.vtk_every, not
+ * the final state of a run that ended at the checkpoint) */
+static int keeps_fields(const run_state *r, long step) {
+  const ps_output_opts *o = &r->pb->cs.output;
+  return o->fields && o->vtk_every > 0 && step <= r->ck.head.increment &&
+         step % o->vtk_every == 0;
+}
+
+/* The field files of the restart's folder: those the uninterrupted run
+ * has (keeps_fields) into staging (from a completed run's folder), or,
+ * when the checkpoint is in staging itself, the others and the reports
+ * of the end removed there. */
 static int restart_fields(run_state *r, int in_place, ps_ctx *ctx) {
   static const char *const ends[] = {"summary.txt", "particles.csv", "path.gp", "path.png"};
   char src[2600], dst[2600];
@@ -108,9 +117,9 @@ static int restart_fields(run_state *r, int in_place, ps_ctx *ctx) {
     if (step < 0) continue;
     snprintf(src, sizeof src, "%s/%s", r->from, e->d_name);
     snprintf(dst, sizeof dst, "%s/%s", r->staging, e->d_name);
-    if (in_place && step > r->ck.head.increment && unlink(src) != 0)
+    if (in_place && !keeps_fields(r, step) && unlink(src) != 0)
       status = ps_error(ctx, PS_ERR_IO, "%s: cannot remove: %s", src, strerror(errno));
-    else if (!in_place && step <= r->ck.head.increment)
+    else if (!in_place && keeps_fields(r, step))
       status = copy_file(src, dst, ctx);
   }
   closedir(d);
@@ -528,11 +537,14 @@ static int run_case(ps_problem *pb, double delta, const char *out_dir, ps_run_re
   /* a stalled or interrupted run stays in staging: the caller decides */
   if (out_dir) PS_CHECK_GOTO(finish_outputs(&r, !res->stalled && !res->interrupted, ctx));
   if (res->interrupted) {
-    char where[2600] = "";
+    char where[2600] = "", more[1600] = "";
+    if (out_dir && r.last_checkpoint >= 0)
+      snprintf(more, sizeof more, "; peristatic run --restart %s continues it from its "
+               "checkpoint at increment %lld", out_dir, (long long)r.last_checkpoint);
     if (out_dir)
-      snprintf(where, sizeof where, "; the partial output is in %s%s%s%s", r.staging,
+      snprintf(where, sizeof where, "; the partial output is in %s%s%s%s%s", r.staging,
                is_dir(out_dir) ? ", earlier results in " : "", is_dir(out_dir) ? out_dir : "",
-               is_dir(out_dir) ? " are untouched" : "");
+               is_dir(out_dir) ? " are untouched" : "", more);
     status = ps_error(ctx, PS_ERR_INTERRUPTED, "%s: %s%s", pb->cs.file, res->stop_reason,
                       where);
     r.staging[0] = '\0'; /* the message says it all */

@@ -180,8 +180,9 @@ static int slurp(ps_checkpoint *ck, ps_ctx *ctx) {
   struct stat sb;
   FILE *f = fopen(ck->path, "rb");
   if (!f)
-    return ps_error(ctx, PS_ERR_IO, "%s: cannot read: %s (--restart needs the output folder "
-                    "of a run that wrote a checkpoint)", ck->path, strerror(errno));
+    return ps_error(ctx, errno == ENOENT ? PS_ERR_INPUT : PS_ERR_IO,
+                    "%s: cannot read: %s (--restart needs the output folder of a run that "
+                    "wrote a checkpoint)", ck->path, strerror(errno));
   if (fstat(fileno(f), &sb) != 0 || !S_ISREG(sb.st_mode)) {
     fclose(f);
     return ps_error(ctx, PS_ERR_IO, "%s: not a regular file", ck->path);
@@ -206,6 +207,10 @@ int ps_checkpoint_read(const char *path, ps_checkpoint *ck, ps_ctx *ctx) {
   if (status < 0) goto fail;
   reader r = {ck->data, ck->size, 0, 0};
   char magic[8];
+  if (ck->size < sizeof magic) {
+    status = corrupt(ck, ck->size ? "shorter than its header" : "empty", ctx);
+    goto fail;
+  }
   get(&r, magic, sizeof magic);
   if (r.short_read || memcmp(magic, ps_magic, sizeof magic) != 0) {
     status = ps_error(ctx, PS_ERR_INPUT, "%s is not a peristatic checkpoint", path);

@@ -62,8 +62,8 @@ typedef struct ps_checkpoint {
 
 /* Read and check the file at path (magic, format, byte order, the hash:
  * a truncated or damaged file is refused) into *ck. Returns PS_OK,
- * PS_ERR_IO (cannot read), PS_ERR_INPUT (not a checkpoint of this
- * format, truncated or corrupt; the message names the file), or
+ * PS_ERR_INPUT (no such file, not a checkpoint of this format, truncated
+ * or corrupt; the message names the file), PS_ERR_IO (cannot read), or
  * PS_ERR_NOMEM. ck is freed on failure. */
 int ps_checkpoint_read(const char *path, ps_checkpoint *ck, ps_ctx *ctx);
 

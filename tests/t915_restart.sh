@@ -113,9 +113,9 @@ $P run -q -t 1 -o "$T/ref" "$T/disk-6.yaml"
 sed 's/E: 210.0e9/E: 200.0e9/' "$D/disk.yaml" > "$T/other.yaml"
 snap() { (cd "$T/ref" && ls -lA --time-style=+%s && cat checkpoint.bin history.csv | cksum); }
 snap > "$T/before"
-expect 1 "checkpoint.bin was written for another case" -- run -q --restart "$T/ref" -o "$T/ref" "$T/other.yaml"
+expect 1 "checkpoint.bin was written for another case: its material settings differ" -- run -q --restart "$T/ref" -o "$T/ref" "$T/other.yaml"
 sed 's/max_load: 3.0}/max_load: 3.0}\nsolver: {cg_max_iterations: 20}/' "$D/disk.yaml" > "$T/other_cg.yaml"
-expect 1 "written for another case" -- run -q --restart "$T/ref" -o "$T/ref" "$T/other_cg.yaml"
+expect 1 "written for another case: its solver settings differ" -- run -q --restart "$T/ref" -o "$T/ref" "$T/other_cg.yaml"
 snap > "$T/after"
 if cmp -s "$T/before" "$T/after"; then ok "refused restarts leave the folder as it was"; else ko "a refused restart changed $T/ref"; fi
 cp "$T/ref/checkpoint.bin" "$T/good.bin"

@@ -259,6 +259,7 @@ static ps_checkpoint_head checkpoint_head(const run_state *r, int64_t increment)
                           .free_dofs = nfree,
                           .increment = increment,
                           .wall = ps_wtime() - r->t0};
+  ps_case_restart_part_fingerprints(&pb->cs, h.parts);
   return h;
 }
 

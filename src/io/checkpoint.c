@@ -52,6 +52,7 @@ static void put_body(writer *w, const ps_checkpoint_head *hd, int which, const p
   put_u32(w, (uint32_t)hd->algorithm);
   put_u32(w, 0);
   put_u64(w, hd->fingerprint);
+  for (int k = 0; k < PS_RESTART_PARTS; k++) put_u64(w, hd->parts[k]);
   put_f64(w, hd->delta);
   put_i64(w, hd->particles);
   put_i64(w, hd->arms);
@@ -247,6 +248,7 @@ int ps_checkpoint_read(const char *path, ps_checkpoint *ck, ps_ctx *ctx) {
   hd->algorithm = (int)get_u32(&r);
   (void)get_u32(&r);
   hd->fingerprint = get_u64(&r);
+  for (int k = 0; k < PS_RESTART_PARTS; k++) hd->parts[k] = get_u64(&r);
   hd->delta = get_f64(&r);
   hd->particles = get_i64(&r);
   hd->arms = get_i64(&r);
@@ -315,14 +317,25 @@ int ps_checkpoint_check(const ps_checkpoint *ck, const ps_checkpoint_head *want,
                     "%d (doc/algorithm-versions.md): a restart would not repeat that run; run "
                     "%s afresh",
                     ck->path, h->algorithm, want->algorithm, case_file);
-  if (h->fingerprint != want->fingerprint)
+  if (h->fingerprint != want->fingerprint) {
+    char parts[160] = "";
+    int n = 0, m = 0;
+    for (int k = 0; k < PS_RESTART_PARTS; k++) n += h->parts[k] != want->parts[k];
+    for (int k = 0; k < PS_RESTART_PARTS; k++)
+      if (h->parts[k] != want->parts[k]) {
+        m++;
+        snprintf(parts + strlen(parts), sizeof parts - strlen(parts), "%s%s",
+                 m == 1 ? "" : m == n ? " and " : ", ", ps_case_restart_parts[k]);
+      }
     return ps_error(ctx, PS_ERR_INPUT,
-                    "%s was written for another case: its fingerprint %016llx is not %s's "
-                    "%016llx. Every setting that determines the result (geometry, material, "
-                    "loading, solver, path; path.max_increments may differ) must be the same "
-                    "to restart; run %s afresh or restart from its own output folder",
-                    ck->path, (unsigned long long)h->fingerprint, case_file,
+                    "%s was written for another case: its %s settings differ from %s's "
+                    "(restart fingerprint %016llx, %s's %016llx). Every setting that "
+                    "determines the result must be the same to restart (path.max_increments "
+                    "may differ); run %s afresh or restart from its own output folder",
+                    ck->path, n ? parts : "geometry, material, loading, solver or path",
+                    case_file, (unsigned long long)h->fingerprint, case_file,
                     (unsigned long long)want->fingerprint, case_file);
+  }
   const char *what = NULL;
   long long a = 0, b = 0;
   if (h->particles != want->particles) what = "particles", a = h->particles, b = want->particles;

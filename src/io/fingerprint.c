@@ -183,3 +183,52 @@ uint64_t ps_case_restart_fingerprint(const ps_case *cs) {
   fnv(&h, b);
   return h;
 }
+
+const char *const ps_case_restart_parts[PS_RESTART_PARTS + 1] = {
+    "geometry", "material", "loading", "solver", "path", NULL};
+
+void ps_case_restart_part_fingerprints(const ps_case *cs, uint64_t h[PS_RESTART_PARTS]) {
+  ps_case *d = malloc(sizeof *d);
+  for (int k = 0; k < PS_RESTART_PARTS; k++) h[k] = 0;
+  if (!d) return;
+  for (int k = 0; k < PS_RESTART_PARTS; k++) {
+    ps_case_defaults(d);
+    switch (k) {
+    case 0:
+      d->geometry = cs->geometry;
+      d->dim = cs->dim;
+      d->disk = cs->disk;
+      memcpy(d->counts, cs->counts, sizeof d->counts);
+      d->spacing = cs->spacing;
+      memcpy(d->lattice, cs->lattice, sizeof d->lattice);
+      d->jitter = cs->jitter;
+      memcpy(d->origin, cs->origin, sizeof d->origin);
+      d->n_holes = cs->n_holes;
+      memcpy(d->holes, cs->holes, sizeof d->holes);
+      d->seed = cs->seed;
+      memcpy(d->cloud_file, cs->cloud_file, sizeof d->cloud_file);
+      d->size_rule = cs->size_rule;
+      d->size_neighbours = cs->size_neighbours;
+      d->n_cracks = cs->n_cracks;
+      memcpy(d->cracks, cs->cracks, sizeof d->cracks);
+      break;
+    case 1:
+      d->alpha = cs->alpha;
+      d->kernel_k = cs->kernel_k;
+      memcpy(d->model, cs->model, sizeof d->model);
+      d->horizon_factor = cs->horizon_factor;
+      d->mat = cs->mat;
+      break;
+    case 2:
+      d->load_type = cs->load_type;
+      d->n_bc = cs->n_bc;
+      memcpy(d->bc, cs->bc, sizeof d->bc);
+      d->stress_length = cs->stress_length;
+      break;
+    case 3: d->solver = cs->solver; break;
+    default: d->path = cs->path; break;
+    }
+    h[k] = ps_case_restart_fingerprint(d);
+  }
+  free(d);
+}

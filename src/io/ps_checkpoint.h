@@ -11,7 +11,8 @@
  *   "PSCHKPT\n"                       magic (8 bytes)
  *   u32 format version (PS_CHECKPOINT_FORMAT), u32 0x01020304 (byte
  *   order), u32 algorithm version, u32 0
- *   u64 restart fingerprint (ps_case_restart_fingerprint)
+ *   u64 restart fingerprint (ps_case_restart_fingerprint), u64 those of
+ *   its PS_RESTART_PARTS parts (ps_case_restart_part_fingerprints)
  *   f64 delta, i64 particles, arms, dofs, free dofs
  *   i64 increment, f64 wall seconds of the run up to it
  *   i32 factor (0 none, 1..4: ps_solver_factor_matrix), i32 0,
@@ -25,7 +26,7 @@
 
 #include <stdint.h>
 
-#include "../util/ps_util.h"
+#include "ps_io.h"
 
 /* the file's name inside a run's output folder */
 #define PS_CHECKPOINT_FILE "checkpoint.bin"
@@ -36,6 +37,7 @@
 typedef struct ps_checkpoint_head {
   int algorithm;           /* ps_algorithm_version */
   uint64_t fingerprint;    /* ps_case_restart_fingerprint */
+  uint64_t parts[PS_RESTART_PARTS]; /* ps_case_restart_part_fingerprints */
   double delta;            /* the run's elongation limit, m (inf: none) */
   int64_t particles, arms, dofs, free_dofs;
   int64_t increment;       /* the increments done (history.csv's rows) */

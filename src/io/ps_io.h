@@ -177,6 +177,14 @@ int ps_algorithm_version(void);
  * them). delta is not in it: the checkpoint holds the run's own. */
 uint64_t ps_case_restart_fingerprint(const ps_case *cs);
 
+/* The parts of the restart fingerprint, for saying which one differs:
+ * h[k] is ps_case_restart_fingerprint of the default case with part k of
+ * cs in it (names: ps_case_restart_parts, NULL-terminated: "geometry",
+ * "material" (with the kernel), "loading", "solver", "path"). */
+#define PS_RESTART_PARTS 5
+extern const char *const ps_case_restart_parts[PS_RESTART_PARTS + 1];
+void ps_case_restart_part_fingerprints(const ps_case *cs, uint64_t h[PS_RESTART_PARTS]);
+
 /* Is s a plain decimal number, the only kind case files and point clouds
  * take: an optional sign, digits with an optional fraction (or a fraction
  * alone), an optional exponent, and nothing else (no blanks, hex, inf,

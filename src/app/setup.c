@@ -142,6 +142,15 @@ static int in_case(ps_ctx *ctx, int status, const char *path) {
   return ps_error(ctx, status, "%s: %s", path, m);
 }
 
+/* The particles a caller gave (positions, volumes, blocks) into *p. */
+static int copy_given(ps_particles *p, const ps_particles *g, ps_ctx *ctx) {
+  PS_CHECK(ps_particles_alloc(p, g->dim, g->n, ctx));
+  memcpy(p->x, g->x, sizeof *p->x * (size_t)g->dim * (size_t)g->n);
+  memcpy(p->volume, g->volume, sizeof *p->volume * (size_t)g->n);
+  if (g->block) memcpy(p->block, g->block, sizeof *p->block * (size_t)g->n);
+  return PS_OK;
+}
+
 /* arms across a hole cross its inscribed polygon of this many sides */
 enum { HOLE_SIDES = 64 };
 
@@ -176,7 +185,10 @@ static int make_particles(ps_problem *pb, const ps_case *cs, int dim, ps_crack *
       }
     break;
   case PS_GEOM_CLOUD: /* its errors name the cloud file and line */
-    PS_CHECK(ps_cloud_read(&pb->P, cs->cloud_file, dim, ctx));
+    if (cs->given_particles)
+      PS_CHECK(copy_given(&pb->P, cs->given_particles, ctx));
+    else
+      PS_CHECK(ps_cloud_read(&pb->P, cs->cloud_file, dim, ctx));
     break;
   default:
     return ps_error(ctx, PS_ERR_INPUT, "%s: unknown geometry type", cs->file);

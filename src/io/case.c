@@ -129,29 +129,27 @@ static void set_names(ps_case *cs, const char *path) {
   cs->name[n] = '\0';
 }
 
-int ps_case_load(ps_case *cs, const char *path, ps_ctx *ctx) {
+/* Parse text[len] over *cs (unchanged on failure); `path` names the file
+ * in messages; dir = NULL takes the file's folder and name from path,
+ * else dir is the folder relative paths resolve against. The text's size
+ * and nesting are checked before libyaml sees it. */
+static int load_text(ps_case *cs, const char *text, size_t len, const char *path,
+                     const char *dir, ps_ctx *ctx) {
   if (strlen(path) >= sizeof cs->file)
     return ps_error(ctx, PS_ERR_IO, "%s: path too long", path);
-  /* size and nesting are checked before libyaml sees the text */
-  char *text;
-  size_t len;
-  PS_CHECK(ps_case_read_text(path, &text, &len, ctx));
-  int status = ps_case_check_nesting(path, text, len, ctx);
-  if (status != PS_OK) {
-    free(text);
-    return status;
-  }
+  if (len > PS_CASE_MAX_BYTES)
+    return ps_error(ctx, PS_ERR_INPUT, "%s: case text of %zu bytes is over the limit of %zu",
+                    path, len, PS_CASE_MAX_BYTES);
+  PS_CHECK(ps_case_check_nesting(path, text, len, ctx));
   /* fill a copy so that a failed load leaves *cs as it was */
   ps_case *work = ps_calloc(1, sizeof *work, ctx);
-  if (!work) {
-    free(text);
-    return PS_ERR_NOMEM;
-  }
+  if (!work) return PS_ERR_NOMEM;
   *work = *cs;
   set_names(work, path);
+  if (dir) snprintf(work->dir, sizeof work->dir, "%s", dir);
 
   ps_yaml_file Y;
-  status = ps_yaml_open(&Y, path, text, len, ctx);
+  int status = ps_yaml_open(&Y, path, text, len, ctx);
   if (status == PS_OK) {
     ps_loader L = {.file = path, .doc = &Y.doc, .cs = work, .ctx = ctx};
     yaml_node_t *root = yaml_document_get_root_node(&Y.doc);
@@ -163,6 +161,21 @@ int ps_case_load(ps_case *cs, const char *path, ps_ctx *ctx) {
   }
   ps_yaml_close(&Y);
   free(work);
+  return status;
+}
+
+int ps_case_load(ps_case *cs, const char *path, ps_ctx *ctx) {
+  if (strlen(path) >= sizeof cs->file)
+    return ps_error(ctx, PS_ERR_IO, "%s: path too long", path);
+  char *text;
+  size_t len;
+  PS_CHECK(ps_case_read_text(path, &text, &len, ctx));
+  int status = load_text(cs, text, len, path, NULL, ctx);
   free(text);
   return status;
+}
+
+int ps_case_load_text(ps_case *cs, const char *text, size_t len, const char *name,
+                      ps_ctx *ctx) {
+  return load_text(cs, text, len, name, ".", ctx);
 }

@@ -241,7 +241,7 @@ int ps_case_cross_checks(ps_loader *L) {
                           "geometry.lattice hex is 2D only (geometry.dim is 3)");
   }
   if (cs->dim == 2) cs->counts[2] = 1;
-  if (cs->geometry == PS_GEOM_CLOUD && !cs->cloud_file[0])
+  if (cs->geometry == PS_GEOM_CLOUD && !cs->cloud_file[0] && !cs->given_particles)
     return ps_yaml_fail(L, L->line_type, "geometry.type cloud needs geometry.file");
   if (cs->n_cracks > 0 && cs->dim == 3)
     return ps_yaml_fail(L, L->line_cracks,

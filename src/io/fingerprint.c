@@ -58,6 +58,17 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
            cs->size_neighbours);
   fnv(&h, b);
   /* newer keys enter only when set, so fingerprints of older cases stay */
+  if (cs->given_particles) { /* particles from the caller: their data */
+    const ps_particles *g = cs->given_particles;
+    snprintf(b, sizeof b, "given %d %lld", g->dim, (long long)g->n);
+    fnv(&h, b);
+    for (ps_int a = 0; a < g->n; a++) {
+      char *q = b;
+      for (int k = 0; k < g->dim; k++) q += sprintf(q, "%.17g ", g->x[a * g->dim + k]);
+      sprintf(q, "%.17g %d", g->volume[a], g->block ? g->block[a] : 0);
+      fnv(&h, b);
+    }
+  }
   if (cs->origin[0] != 0 || cs->origin[1] != 0 || cs->origin[2] != 0) {
     snprintf(b, sizeof b, "origin %.17g %.17g %.17g", cs->origin[0], cs->origin[1],
              cs->origin[2]);

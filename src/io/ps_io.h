@@ -93,6 +93,10 @@ typedef struct ps_case {
   unsigned long seed;  /* jitter seed (box; geometry.seed also sets
                           disk.seed) */
   char cloud_file[1024]; /* cloud: path (resolved against dir) */
+  const ps_particles *given_particles; /* cloud: particles given by the
+                          caller (the library's peristatic_set_particles;
+                          borrowed, copied at set-up) instead of a file;
+                          NULL otherwise */
   int size_rule;       /* enum ps_size_rule (default eq115) */
   int size_neighbours; /* n of Eq. 115 (default 5) */
   int n_cracks;
@@ -154,6 +158,13 @@ void ps_case_defaults(ps_case *cs);
  * before libyaml parses it. Returns PS_OK, PS_ERR_INPUT, PS_ERR_IO,
  * PS_ERR_NOMEM; on failure *cs is unchanged. */
 int ps_case_load(ps_case *cs, const char *path, ps_ctx *ctx);
+
+/* ps_case_load from text[len] (a copy of the file's text, at most
+ * PS_CASE_MAX_BYTES): `name` stands for the file in messages and gives the
+ * default case name; relative paths inside resolve against the current
+ * folder. Returns as ps_case_load. */
+int ps_case_load_text(ps_case *cs, const char *text, size_t len, const char *name,
+                      ps_ctx *ctx);
 
 /* A 64-bit hash (FNV-1a) of everything in the case that determines a run's
  * result: the algorithm version, geometry, sizes, cracks, kernel,

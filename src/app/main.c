@@ -45,9 +45,10 @@ static const char *HELP_MAIN =
     "\n"
     "Outputs (written to DIR.partial, renamed to DIR when the run completes, so a\n"
     "failed run leaves earlier results intact): history.csv, summary.txt,\n"
-    "particles.csv, particles_NNNN.vtk and arms_NNNN.vtk (open in ParaView; warp\n"
-    "by 'displacement') and path.png (the load-displacement curve). griffith\n"
-    "adds griffith.csv, griffith_fit.txt, griffith.png.\n"
+    "particles.csv, particles_NNNN.vtu and arms_NNNN.vtu with their time series\n"
+    "particles.pvd and arms.pvd (open a .pvd in ParaView; warp by 'displacement')\n"
+    "and path.png (the load-displacement curve). griffith adds griffith.csv,\n"
+    "griffith_fit.txt, griffith.png.\n"
     "\n"
     "Threads: CG and the per-arm loops of a run use up to 2 threads (-t; default\n"
     "the CPUs, shared among -j jobs; the numbers do not depend on it; use -t 1\n"
@@ -364,7 +365,8 @@ static int cmd_run(ps_problem *pb, const char *outdir, ps_ctx *ctx) {
   int status = ps_run(pb, pb->mat.delta, outdir, &res, ctx);
   if (status == PS_RUN_STALLED) status = ps_run_stalled_error(outdir, ctx);
   if (status >= 0)
-    ps_log(ctx, 1, "# results in %s/ (summary.txt, history.csv, *.vtk)\n", outdir);
+    ps_log(ctx, 1, "# results in %s/ (summary.txt, history.csv, particles.pvd, arms.pvd)\n",
+           outdir);
   return status;
 }
 

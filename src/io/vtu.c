@@ -11,8 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* A value as written: non-finite values become 0 (as in the CSV files'
- * readers, nan/inf would poison ParaView's ranges). */
+/* A value as written: non-finite values become 0 (no nan or inf in the
+ * outputs: they would spoil a reader's colour ranges). */
 static double finite_or_zero(double v) { return isfinite(v) ? v : 0.0; }
 
 /* Check a name for an XML attribute: not empty, no white space, nothing

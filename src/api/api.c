@@ -297,7 +297,8 @@ int peristatic_run(peristatic *ps, const char *out_dir) {
   if (status >= 0) {
     ps->ran = 1;
     if (out_dir)
-      ps_log(ps->ctx, 1, "# results in %s/ (summary.txt, history.csv, VTK files)\n", out_dir);
+      ps_log(ps->ctx, 1, "# results in %s/ (summary.txt, history.csv, particles.pvd, arms.pvd)\n",
+             out_dir);
   }
   return status;
 }

@@ -65,7 +65,8 @@ void ps_problem_free(ps_problem *pb);
  * folders (ps_outdir_prepare: only a folder of ours is replaced), then
  * writes through out_dir.partial, renamed to out_dir at the end so a
  * failed run leaves earlier results intact: history.csv, particles.csv,
- * summary.txt and VTK files (particles_NNNN.vtk, arms_NNNN.vtk); non-finite
+ * summary.txt and VTK files (particles_NNNN.vtu, arms_NNNN.vtu and their
+ * time series particles.pvd, arms.pvd); non-finite
  * numbers are written as n/a. SIGINT or SIGTERM (ps_signal_received) ends
  * the run after the increment or breaking round under way: the outputs so
  * far stay in out_dir.partial and the status is PS_ERR_INTERRUPTED (one

@@ -21,6 +21,7 @@ typedef struct run_state {
   const char *out_dir;      /* NULL: no outputs */
   char staging[1200];       /* out_dir.partial, "" without outputs */
   ps_report_history hist;   /* staging/history.csv */
+  ps_report_series series;  /* the field files in staging (the .pvd lists) */
   char stall_msg[2048];     /* the path's message of a stall */
   double t0;                /* wall seconds at the start */
 } run_state;
@@ -48,7 +49,8 @@ static ps_report_state report_state(const run_state *r) {
                         .T = ps_solver_arm_tension(r->s),
                         .q = ps_solver_arm_direction(r->s),
                         .dl = ps_solver_arm_elongation(r->s),
-                        .st = ps_solver_arm_state(r->s)};
+                        .st = ps_solver_arm_state(r->s),
+                        .lambda = ps_solver_lambda(r->s)};
   return st;
 }
 
@@ -126,7 +128,7 @@ static int record_increment(run_state *r, const ps_path *p, ps_ctx *ctx) {
   const ps_output_opts *out = &r->pb->cs.output;
   if (r->out_dir && out->fields && out->vtk_every > 0 && step % out->vtk_every == 0) {
     ps_report_state st = report_state(r);
-    PS_CHECK(ps_report_write_fields(r->staging, step, 0, &st, ctx));
+    PS_CHECK(ps_report_write_fields(r->staging, step, 0, &st, &r->series, ctx));
   }
   return PS_OK;
 }
@@ -198,7 +200,8 @@ static void log_end(const run_state *r, const ps_ctx *ctx) {
 static int finish_outputs(run_state *r, int commit, ps_ctx *ctx) {
   ps_report_state st = report_state(r);
   if (r->pb->cs.output.fields)
-    PS_CHECK(ps_report_write_fields(r->staging, (int)r->res->increments, 1, &st, ctx));
+    PS_CHECK(ps_report_write_fields(r->staging, (int)r->res->increments, 1, &st, &r->series,
+                                    ctx));
   PS_CHECK(ps_report_history_close(&r->hist, ctx));
   /* the path's plot: with no gnuplot (or a failed one) the script stays */
   PS_CHECK(ps_report_write_path_plot(r->staging, r->pb->cs.name,
@@ -322,6 +325,7 @@ static int run_case(ps_problem *pb, double delta, const char *out_dir, ps_run_re
   }
 cleanup:
   ps_report_history_close(&r.hist, ctx);
+  ps_report_series_free(&r.series);
   if (status < 0 && r.staging[0]) {
     size_t n = strlen(ctx->msg);
     if (is_dir(out_dir))

@@ -1,8 +1,9 @@
 /* ps_io.h: input and output. Case files (YAML via libyaml) into a ps_case,
  * point clouds ("x y [z] volume [block]" per line), and results as CSV and
- * legacy VTK files that ParaView opens. Every output is written to a
- * temporary name and renamed when complete (ps_outfile), so a failed run
- * leaves earlier results intact. */
+ * VTK XML files that ParaView opens (.vtu grids listed as time series in
+ * .pvd collections). Every output is written to a temporary name and
+ * renamed when complete (ps_outfile), so a failed run leaves earlier
+ * results intact. */
 #ifndef PS_IO_H
 #define PS_IO_H
 
@@ -209,14 +210,39 @@ typedef struct ps_field {
   int n_comp_in;       /* components stored per entry in v (1, 2 or 3) */
 } ps_field;
 
-/* Legacy ASCII VTK unstructured grid: n_point points x (dim per point,
- * padded to 3), cells = VERTEX per point when n_line == 0, else the lines
- * (la[i], lb[i]); point and cell fields (names without whitespace;
- * non-finite values are written as 0). Written atomically. Returns PS_OK,
- * PS_ERR_IO, or PS_ERR_INTERNAL for bad arguments. */
-int ps_vtk_write(const char *path, int dim, ps_int n_point, const double *x,
-                 ps_int n_line, const ps_int *la, const ps_int *lb,
-                 const ps_field *point_fields, int n_pf,
-                 const ps_field *cell_fields, int n_cf, ps_ctx *ctx);
+/* An unstructured grid for ps_vtu_write: points, their cells (a VERTEX
+ * per point, or lines) and named arrays on the points, the cells and the
+ * data set as a whole. */
+typedef struct ps_vtu_grid {
+  int dim;                     /* 2 or 3 coordinates per point in x (2D: z = 0) */
+  ps_int n_point;
+  const double *x;             /* [n_point * dim] */
+  ps_int n_line;               /* 0: one VERTEX cell per point; else LINE cells */
+  const ps_int *la, *lb;       /* [n_line] the points each line joins */
+  const ps_field *point_fields;/* [n_pf], n_point entries each */
+  int n_pf;
+  const ps_field *cell_fields; /* [n_cf], one entry per cell */
+  int n_cf;
+  const ps_field *global_fields; /* [n_gf] scalars, one entry each: the data
+                                  set's FieldData (e.g. the load factor) */
+  int n_gf;
+} ps_vtu_grid;
+
+/* A VTK XML unstructured grid (.vtu) at path: the points (padded to 3
+ * coordinates), the cells, and every field as a Float64 DataArray (names
+ * without white space or XML specials; vectors have 3 components, padded
+ * with 0), all in one raw appended block (little-endian, each array a
+ * UInt64 byte count then its values; cells as Int64 connectivity and end
+ * offsets, UInt8 types). Non-finite values are written as 0. Written
+ * atomically (ps_outfile). Returns PS_OK, PS_ERR_IO, PS_ERR_NOMEM, or
+ * PS_ERR_INTERNAL for bad arguments. */
+int ps_vtu_write(const char *path, const ps_vtu_grid *g, ps_ctx *ctx);
+
+/* A ParaView data collection (.pvd) at path listing n files (names
+ * relative to the folder of path, without white space or XML specials)
+ * with their times (finite), in the order given. Written atomically.
+ * Returns PS_OK, PS_ERR_IO, or PS_ERR_INTERNAL for bad arguments. */
+int ps_pvd_write(const char *path, int n, const double *time, const char *const *file,
+                 ps_ctx *ctx);
 
 #endif

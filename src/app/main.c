@@ -407,15 +407,20 @@ int main(int argc, char **argv) {
     cs.max_memory_key = "--max-memory";
   }
   char outdir[1100];
-  if (choose_outdir(c.out, &cs, outdir, sizeof outdir)) return 1;
+  if (choose_outdir(c.out, &cs, outdir, sizeof outdir)) {
+    ps_case_free(&cs);
+    return 1;
+  }
   ps_problem pb;
   double t0 = ps_wtime();
   int info = !strcmp(c.cmd, "info"), griffith = !strcmp(c.cmd, "griffith");
   if (info) printf("case: %s\n", cs.name);
   fflush(stdout);
+  /* pb holds its own copy of the case (its lists freed here) */
   status = ps_problem_setup_sized(&pb, &cs, info ? PS_ESTIMATE_INFO : PS_ESTIMATE_RUN,
                                   griffith ? sweep_jobs(&cs, c.jobs) : 1,
                                   info ? stdout : NULL, &ctx);
+  ps_case_free(&cs);
   if (status < 0) return fail(status, &ctx);
   if (!info && ps_signal_received()) { /* during the set-up: nothing written */
     ps_problem_free(&pb);

@@ -318,6 +318,22 @@ static void tension(void) {
     for (int c = 0; c < t2.n_col; c++)
       if (c != wall) same &= t.v[i][c] == t2.v[i][c];
   ps_check(same, "101 entries: history.csv as with two (but wall_s and the named reactions)");
+  /* the fingerprint: path.steps and fields enter it, names do not */
+  ps_case c;
+  if (ps_case_copy(&c, &pa.cs, &ctx)) die_ctx("case copy", &ctx);
+  uint64_t f0 = ps_case_fingerprint(&pa.cs);
+  snprintf(c.bc[0].name, sizeof c.bc[0].name, "base");
+  int fp_ok = ps_case_fingerprint(&c) == f0;
+  c.path.steps[1] = 0.3;
+  fp_ok &= ps_case_fingerprint(&c) != f0;
+  c.path.steps[1] = 0.25;
+  fp_ok &= ps_case_fingerprint(&c) == f0;
+  c.bc[1].gradient_n[1] = 2;
+  c.bc[1].gradient[1][0] = 1e-4;
+  fp_ok &= ps_case_fingerprint(&c) != f0;
+  ps_check(fp_ok && pa.cs.path.steps[1] == 0.25 && !strcmp(pa.cs.bc[0].name, "bottom"),
+           "fingerprint: path.steps and fields change it, names do not; a copy is its own");
+  ps_case_free(&c);
   ps_solver_free(sa);
   ps_solver_free(sm);
   ps_problem_free(&pa);

@@ -195,6 +195,8 @@ printf '    - select: {x_min: 0.0745}\n      displace: {x: 1e-3}\n      name: ri
 expect 1 "name_chars.yaml:25: loading.boundary.name may hold only letters, digits and _" -- info "$T/name_chars.yaml"
 printf '    - select: {x_min: 0.0745}\n      displace: {x: 1e-3}\n      name: grip\n    - select: {x_min: 0.07}\n      fix: [y]\n      name: grip\n' | entry name_twice
 expect 1 "name_twice.yaml:26: loading.boundary entry 4: name 'grip' is taken by entry 3 (line 23)" -- info "$T/name_twice.yaml"
+printf '    - select: {x_min: 0.0745}\n      displace:\n        x: {hessian: [[1e300, 0], [0, 0]]}\n      about: [-1e150, 0]\n' | entry field_inf
+expect 1 "field_inf.yaml:23: loading.boundary entry 3: the displacement field of component x is not finite at particle" -- info "$T/field_inf.yaml"
 printf '    - select: {x_min: 0.0745}\n      traction: {x: 1e6}\n      name: pull\n' | entry name_traction
 expect 1 "name_traction.yaml:23: loading.boundary entry 3: name 'pull' reports the reactions of supports" -- info "$T/name_traction.yaml"
 

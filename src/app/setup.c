@@ -117,6 +117,11 @@ static int setup_boundary(ps_problem *pb, ps_ctx *ctx) {
         if (bc->displace_set[k]) {
           pb->fixed[a * d + k] = 1;
           pb->ubar[a * d + k] = ps_bc_displacement(bc, k, &P->x[a * d], d);
+          if (!isfinite(pb->ubar[a * d + k]))
+            return ps_error(ctx, PS_ERR_INPUT,
+                            "%s:%d: loading.boundary entry %d: the displacement field of "
+                            "component %c is not finite at particle %lld",
+                            cs->file, bc->line, ib + 1, 'x' + k, (long long)a);
           if (bc->measure) { /* the direction: the sign of the constant part */
             pb->measure[a * d + k] = bc->displace[k] >= 0 ? 1.0 : -1.0;
             if (measure_dir < 0) measure_dir = k;

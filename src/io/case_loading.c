@@ -36,7 +36,8 @@ double ps_bc_displacement(const ps_bc *bc, int k, const double *x, int dim) {
   return u;
 }
 
-/* A list of 1 to 3 numbers into v[]; *n = how many. */
+/* A list of 1 to 3 numbers (coordinates when coords != 0: at most
+ * PS_MAX_COORD) into out[]; *n = how many. */
 static int get_vector(ps_loader *L, yaml_node_t *v, const char *name, int coords,
                       double *out, int *n) {
   char b[80];
@@ -168,8 +169,8 @@ static int on_bc(ps_loader *L, void *arg, const char *key, const char *name,
       if (!((*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') ||
             (*c >= '0' && *c <= '9') || *c == '_'))
         return ps_yaml_fail(L, line_of(v), "%s may hold only letters, digits and _ (it "
-                            "names the history.csv columns reaction_NAME_x, ...; got '%s')",
-                            name, bc->name);
+                            "names the history.csv columns reaction_NAME_x, ...; character "
+                            "%d is not one)", name, (int)(c - bc->name) + 1);
     return PS_OK;
   }
   return ps_yaml_bool(L, v, name, &bc->measure);

@@ -167,6 +167,7 @@ static void test_full(void) {
   for (int i = 0; ok && i < 12; i++)
     ok = fabs(cs.sweep.delta_over_c[i] - 1.0 / (500 + 250 * i)) <= 1e-15 / (500 + 250 * i);
   ps_check(ok, "full: griffith delta/c = 1/500, 1/750, ..., 1/3250");
+  ps_case_free(&cs);
 }
 
 static void test_cloud_case(void) {
@@ -195,6 +196,7 @@ static void test_cloud_case(void) {
     ps_check(p.x[5] == 1e-3 && p.volume[2] == 2e-9 && p.block[1] == 3 && p.block[2] == 0,
              "cloud3d.txt: coordinates, volume, block");
   ps_particles_free(&p);
+  ps_case_free(&cs);
 }
 
 static void test_cloud2d(void) {
@@ -373,6 +375,7 @@ static void test_bad_values(void) {
            ctx.msg);
   ps_check(ps_case_fingerprint(&cs) == ps_case_fingerprint(&ref),
            "memory.yaml: max_memory_gib leaves the fingerprint as it was");
+  ps_case_free(&cs);
 }
 
 /* Write `n` copies of `unit` and then `tail` into path. */
@@ -520,6 +523,7 @@ static void test_case_nomem(void) {
   int s = ps_case_load(&cs, DATA("full.yaml"), &ctx);
   long total = ps_alloc_countdown(-1), bad = 0;
   ps_check(s == PS_OK && total >= 2, "full.yaml: %ld allocations", total);
+  ps_case_free(&cs);
   for (long n = 0; n < total; n++) {
     ps_ctx_init(&ctx);
     ps_case_defaults(&cs);

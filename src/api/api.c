@@ -74,6 +74,7 @@ static void drop_problem(peristatic *ps) {
 void peristatic_free(peristatic *ps) {
   if (!ps) return;
   drop_problem(ps);
+  if (ps->cs) ps_case_free(ps->cs);
   free(ps->cs);
   ps_particles_free(&ps->given);
   free(ps->ctx);
@@ -154,10 +155,12 @@ static int load(peristatic *ps, const char *path, const char *text) {
                       "geometry must be a cloud without a file, of that dimension", path,
                       ps->given.dim);
   if (status != PS_OK) {
+    ps_case_free(cs);
     free(cs);
     return status;
   }
   drop_problem(ps);
+  if (ps->cs) ps_case_free(ps->cs);
   free(ps->cs);
   ps->cs = cs;
   ps->ctx->verbosity = ps->verbosity >= 0 ? ps->verbosity : cs->output.verbosity;

@@ -23,6 +23,7 @@ typedef struct run_state {
   ps_report_history hist;   /* staging/history.csv */
   ps_report_series series;  /* the field files in staging (the .pvd lists) */
   char stall_msg[2048];     /* the path's message of a stall */
+  double *reactions;        /* [pb->n_groups * dim] of the history row */
   double t0;                /* wall seconds at the start */
 } run_state;
 
@@ -69,7 +70,15 @@ static int open_outputs(run_state *r, ps_ctx *ctx) {
                    "complete its commit\n", r->staging);
   free(old);
   PS_CHECK(ps_outdir_fresh(r->staging, ctx));
-  return ps_report_history_open(&r->hist, r->staging, ctx);
+  const ps_problem *pb = r->pb;
+  const char **names = NULL;
+  if (pb->n_groups > 0 && !(names = ps_calloc((size_t)pb->n_groups, sizeof *names, ctx)))
+    return PS_ERR_NOMEM;
+  for (int g = 0; g < pb->n_groups; g++) names[g] = pb->cs.bc[pb->group_bc[g]].name;
+  int status = ps_report_history_open(&r->hist, r->staging, names, pb->n_groups, pb->P.dim,
+                                      ctx);
+  free(names);
+  return status;
 }
 
 /* The prescribed displacement at load factor 1 of the first measured dof
@@ -100,6 +109,24 @@ static double row_displacement(const run_state *r, double lambda) {
   return a > 0 ? w / a : NAN;
 }
 
+/* The reactions of the named loading.boundary entries into
+ * r->reactions: per entry and component, the sum over its particles of
+ * the reactions at their prescribed dofs (free dofs carry none). */
+static void group_reactions(run_state *r) {
+  const ps_problem *pb = r->pb;
+  const double *f = ps_solver_force(r->s);
+  int d = pb->P.dim;
+  for (int g = 0; g < pb->n_groups; g++)
+    for (int k = 0; k < d; k++) {
+      double sum = 0.0;
+      for (ps_int i = pb->group_ptr[g]; i < pb->group_ptr[g + 1]; i++) {
+        ps_int j = pb->group_particle[i] * d + k;
+        if (pb->fixed[j]) sum += f[j];
+      }
+      r->reactions[g * d + k] = sum;
+    }
+}
+
 /* The progress line, history row and (every output.vtk_every) fields of
  * the increment the path just made. */
 static int record_increment(run_state *r, const ps_path *p, ps_ctx *ctx) {
@@ -123,7 +150,9 @@ static int record_increment(run_state *r, const ps_path *p, ps_ctx *ctx) {
                         .displacement = row_displacement(r, inc->lambda),
                         .broken_energy = ps_solver_arm_state(r->s)->broken_energy,
                         .stored_energy = ps_solver_stored_energy(r->s),
-                        .dissipated_energy = ps_solver_dissipated(r->s)};
+                        .dissipated_energy = ps_solver_dissipated(r->s),
+                        .reactions = r->reactions};
+  if (r->reactions) group_reactions(r);
   ps_report_history_row(&r->hist, &row);
   const ps_output_opts *out = &r->pb->cs.output;
   if (r->out_dir && out->fields && out->vtk_every > 0 && step % out->vtk_every == 0) {
@@ -302,6 +331,11 @@ static int run_case(ps_problem *pb, double delta, const char *out_dir, ps_run_re
                       ps_signal_name(ps_signal_received()));
     goto cleanup;
   }
+  if (pb->n_groups > 0 &&
+      !(r.reactions = ps_calloc((size_t)pb->n_groups * pb->P.dim, sizeof *r.reactions, ctx))) {
+    status = PS_ERR_NOMEM;
+    goto cleanup;
+  }
   if (out_dir) PS_CHECK_GOTO(open_outputs(&r, ctx));
   ps_solver_set_forces(r.s, pb->fext);
   log_start(&r, delta, ctx);
@@ -324,6 +358,7 @@ static int run_case(ps_problem *pb, double delta, const char *out_dir, ps_run_re
     status = ps_error(ctx, PS_RUN_STALLED, "%s", r.stall_msg);
   }
 cleanup:
+  free(r.reactions);
   ps_report_history_close(&r.hist, ctx);
   ps_report_series_free(&r.series);
   if (status < 0 && r.staging[0]) {

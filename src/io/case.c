@@ -56,6 +56,44 @@ void ps_case_defaults(ps_case *cs) {
   ps_sweep_opts_default(&cs->sweep);
 }
 
+void ps_case_free(ps_case *cs) {
+  free(cs->bc);
+  cs->bc = NULL;
+  cs->n_bc = 0;
+  free(cs->path.steps);
+  cs->path.steps = NULL;
+  cs->path.n_steps = 0;
+}
+
+int ps_case_copy(ps_case *dst, const ps_case *src, ps_ctx *ctx) {
+  *dst = *src;
+  dst->bc = NULL;
+  dst->path.steps = NULL;
+  if (src->n_bc > 0) {
+    dst->bc = ps_calloc((size_t)src->n_bc, sizeof *dst->bc, ctx);
+    if (!dst->bc) goto nomem;
+    memcpy(dst->bc, src->bc, (size_t)src->n_bc * sizeof *dst->bc);
+  }
+  if (src->path.n_steps > 0) {
+    dst->path.steps = ps_calloc((size_t)src->path.n_steps, sizeof *dst->path.steps, ctx);
+    if (!dst->path.steps) goto nomem;
+    memcpy(dst->path.steps, src->path.steps,
+           (size_t)src->path.n_steps * sizeof *dst->path.steps);
+  }
+  return PS_OK;
+nomem: /* ps_calloc has recorded the error */
+  ps_case_free(dst);
+  return PS_ERR_NOMEM;
+}
+
+int ps_case_add_bc(ps_case *cs, const ps_bc *bc, ps_ctx *ctx) {
+  void *p = cs->bc;
+  PS_CHECK(ps_realloc(&p, (size_t)cs->n_bc + 1, sizeof *cs->bc, ctx));
+  cs->bc = p;
+  cs->bc[cs->n_bc++] = *bc;
+  return PS_OK;
+}
+
 /* ---- the top level: the sections ---- */
 
 static const char *const top_keys[] = {"name",     "geometry", "kernel",
@@ -157,7 +195,17 @@ static int load_text(ps_case *cs, const char *text, size_t len, const char *path
       status = ps_yaml_walk_map(&L, root, "", top_keys, on_top, NULL);
     if (status == PS_OK) status = ps_yaml_only_document(&Y, ctx);
     if (status == PS_OK) status = ps_case_cross_checks(&L);
-    if (status == PS_OK) *cs = *work;
+  }
+  /* the lists the file gave are new: they replace (and free) those of
+   * *cs on success, and are freed on failure */
+  int bc_new = work->bc != cs->bc, steps_new = work->path.steps != cs->path.steps;
+  if (status == PS_OK) {
+    if (bc_new) free(cs->bc);
+    if (steps_new) free(cs->path.steps);
+    *cs = *work;
+  } else {
+    if (bc_new) free(work->bc);
+    if (steps_new) free(work->path.steps);
   }
   ps_yaml_close(&Y);
   free(work);

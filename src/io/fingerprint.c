@@ -31,7 +31,9 @@ static void fnv(uint64_t *h, const char *s) {
  * Newton's
  * tolerance, iterations, line search and small steps; the CG settings
  * that change which solves near the plastic limit converge (cg_truncate
- * off, a fixed cg_forcing); the load path and its stop rules.
+ * off, a fixed cg_forcing); the load path (path.steps too) and its stop
+ * rules; the displacement fields of loading.boundary (but not the
+ * entries' names, which only label history.csv columns).
  * Not hashed (they do not change a run's result beyond the Newton
  * tolerance): the name and output keys, delta and the Griffith list,
  * path.max_break_rounds (a limit: a run that reaches it fails; its place
@@ -124,6 +126,15 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
              bc->displace_set[0], bc->displace_set[1], bc->displace_set[2],
              bc->displace[0], bc->displace[1], bc->displace[2], bc->measure);
     fnv(&h, b);
+    for (int k = 0; k < 3; k++) { /* newer keys: displacement fields, when given */
+      if (!bc->gradient_n[k] && !bc->hessian_n[k]) continue;
+      const double *g = bc->gradient[k], *H = &bc->hessian[k][0][0];
+      snprintf(b, sizeof b, "field %d about %.17g %.17g %.17g gradient %d %.17g %.17g %.17g "
+               "hessian %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g", k,
+               bc->about[0], bc->about[1], bc->about[2], bc->gradient_n[k], g[0], g[1], g[2],
+               bc->hessian_n[k], H[0], H[1], H[2], H[3], H[4], H[5], H[6], H[7], H[8]);
+      fnv(&h, b);
+    }
     if (bc->traction_set[0] || bc->traction_set[1] || bc->traction_set[2]) {
       snprintf(b, sizeof b, "traction %d%d%d %.17g %.17g %.17g", bc->traction_set[0],
                bc->traction_set[1], bc->traction_set[2], bc->traction[0], bc->traction[1],
@@ -146,6 +157,10 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
   if (po->max_arms_per_step > 0 || po->control == PS_CONTROL_DISSIPATION) {
     snprintf(b, sizeof b, "path control %d %.17g %.17g", po->max_arms_per_step,
              po->dissipation_step, po->dissipation_max);
+    fnv(&h, b);
+  }
+  for (int i = 0; i < po->n_steps; i++) { /* newer key: only when set */
+    snprintf(b, sizeof b, "step %.17g", po->steps[i]);
     fnv(&h, b);
   }
   if (po->max_arms_per_round > 0) { /* newer key: only when set */

@@ -21,7 +21,9 @@ enum ps_load_type { PS_LOAD_EQ116 = 0, PS_LOAD_BOUNDARY = 1 };
 
 #define PS_MAX_CRACKS 16
 #define PS_MAX_HOLES 16
-#define PS_MAX_BC 32
+/* loading.boundary entries' names: letters, digits and '_', shorter than
+ * this (they become history.csv columns reaction_<name>_x ...) */
+#define PS_BC_NAME_SIZE 48
 
 /* Case files are checked before libyaml parses them (Debian's libyaml
  * 0.2.5 takes time quadratic in the nesting depth):
@@ -58,12 +60,26 @@ typedef struct ps_select {
   int block;           /* -1: any */
 } ps_select;
 
-/* One boundary condition entry of `loading.boundary`. */
+/* One boundary condition entry of `loading.boundary`. A displaced
+ * component k is prescribed at load factor 1 as a field of the reference
+ * position x, polynomial of degree <= 2 about the point x0 = about:
+ *   ubar_k(x) = displace[k] + sum_j gradient[k][j] (x_j - x0_j)
+ *               + 1/2 sum_jl hessian[k][j][l] (x_j - x0_j) (x_l - x0_l)
+ * (a constant when neither gradient nor hessian is given), and scaled by
+ * the load factor as a whole. */
 typedef struct ps_bc {
   ps_select sel;
   int fix[3];          /* 1: this component held at zero */
   int displace_set[3]; /* 1: this component prescribed */
-  double displace[3];  /* prescribed displacement at load factor 1, m */
+  double displace[3];  /* prescribed displacement at load factor 1 (its
+                          constant part, `value`), m */
+  int gradient_n[3];   /* numbers given in this component's gradient (0:
+                          none; else the case's dim) */
+  double gradient[3][3]; /* d ubar_k / d x_j, dimensionless (m/m) */
+  int hessian_n[3];    /* rows given in this component's hessian (0: none) */
+  double hessian[3][3][3]; /* d2 ubar_k / d x_j d x_l, symmetric, 1/m */
+  int about_n;         /* numbers given in `about` (0: x0 = 0) */
+  double about[3];     /* x0, m */
   int traction_set[3]; /* 1: a traction on this component */
   double traction[3];  /* traction at load factor 1, Pa: the selected
                           particles carry the body force traction / layer
@@ -71,8 +87,16 @@ typedef struct ps_bc {
                           selection's thickness, geometry.spacing */
   int measure;         /* 1: reactions of these particles give the
                           boundary stress (along the displaced component) */
+  char name[PS_BC_NAME_SIZE]; /* "" or the entry's name: history.csv
+                          reports the reactions on its particles */
   int line;            /* line in the case file (messages) */
+  int field_line, about_line; /* lines of the first field key and of about
+                          (messages; 0: none) */
 } ps_bc;
+
+/* ubar_k at the reference position x[dim] of an entry's displaced
+ * component k (the formula above), m. */
+double ps_bc_displacement(const ps_bc *bc, int k, const double *x, int dim);
 
 typedef struct ps_case {
   char file[1024];     /* the case file as given */
@@ -119,7 +143,8 @@ typedef struct ps_case {
   /* loading */
   int load_type;       /* enum ps_load_type (disk default eq116) */
   int n_bc;
-  ps_bc bc[PS_MAX_BC];
+  ps_bc *bc;           /* [n_bc] loading.boundary, owned by the case
+                          (ps_case_free; copies by ps_case_copy) */
   double stress_length;/* boundary: length (2D) or area (3D) dividing the
                           measured reaction; 0: from the bounding box */
 
@@ -148,16 +173,32 @@ typedef struct ps_case {
 
 /* Fill every field with its documented default (disk of Table 1, fibre
  * model with Table 1's material, delta = c/1000); the option structs by
- * their modules' *_opts_default. */
+ * their modules' *_opts_default. No list is allocated (bc and path.steps
+ * are NULL): whatever *cs held before is overwritten, not freed. */
 void ps_case_defaults(ps_case *cs);
+
+/* A case owns two lists on the heap: the boundary entries (cs->bc) and
+ * path.steps (cs->path.steps). ps_case_free frees them and leaves *cs
+ * with none (n_bc = path.n_steps = 0), safe to free again; a plain
+ * struct copy (ps_case c = *cs) shares them and must not be freed as
+ * well. ps_case_copy makes *dst an independent copy of *src (dst's own
+ * lists are not freed: call it on a fresh or freed case). Returns PS_OK
+ * or PS_ERR_NOMEM (then *dst holds no lists). */
+void ps_case_free(ps_case *cs);
+int ps_case_copy(ps_case *dst, const ps_case *src, ps_ctx *ctx);
+
+/* Append a copy of *bc to cs->bc (the array grows by one). Returns PS_OK
+ * or PS_ERR_NOMEM (cs unchanged). */
+int ps_case_add_bc(ps_case *cs, const ps_bc *bc, ps_ctx *ctx);
 
 /* Read a YAML case file over the defaults. Errors name the file and line:
  * "case.yaml:14: material.E must be > 0 (got -3e9)". Unknown keys, keys
  * of another geometry type, wrong types, numbers that are not plain
  * decimal and impossible values are errors; a file over
  * PS_CASE_MAX_BYTES or nested deeper than PS_CASE_MAX_DEPTH is refused
- * before libyaml parses it. Returns PS_OK, PS_ERR_INPUT, PS_ERR_IO,
- * PS_ERR_NOMEM; on failure *cs is unchanged. */
+ * before libyaml parses it. Lists the file gives (loading.boundary,
+ * path.steps) replace and free those *cs held. Returns PS_OK,
+ * PS_ERR_INPUT, PS_ERR_IO, PS_ERR_NOMEM; on failure *cs is unchanged. */
 int ps_case_load(ps_case *cs, const char *path, ps_ctx *ctx);
 
 /* ps_case_load from text[len] (a copy of the file's text, at most

@@ -100,16 +100,26 @@ typedef struct ps_history_row {
                                  the arms dissipated (softening, measured
                                  by the model; ps_solver_dissipated), 0
                                  for a model that measures none */
+  const double *reactions;    /* [n_reactions * dim]: per named
+                                 loading.boundary entry, the reaction
+                                 components summed over its particles, N
+                                 per m of thickness in 2D, N in 3D (after
+                                 the table's columns; NULL when none) */
 } ps_history_row;
 
 /* history.csv, written a row at a time (flushed, so tail -f follows). */
 typedef struct ps_report_history {
   FILE *f;                    /* NULL: not open, rows are dropped */
   char dir[1300];
+  int n_reactions, dim;       /* the reaction columns after the table's */
 } ps_report_history;
 
-/* Create dir/history.csv with its header. Returns PS_OK or PS_ERR_IO. */
-int ps_report_history_open(ps_report_history *h, const char *dir, ps_ctx *ctx);
+/* Create dir/history.csv with its header: the table's columns, then
+ * reaction_<name>_x, _y (, _z in 3D) for each of the n_reactions names.
+ * Returns PS_OK or PS_ERR_IO. */
+int ps_report_history_open(ps_report_history *h, const char *dir,
+                           const char *const *reaction_names, int n_reactions, int dim,
+                           ps_ctx *ctx);
 void ps_report_history_row(ps_report_history *h, const ps_history_row *row);
 /* Close it (nothing when not open). Returns PS_OK, or PS_ERR_IO when a
  * write failed. */

@@ -332,14 +332,20 @@ int ps_report_read_summary(const char *dir, ps_run_result *res) {
   return f ? 0 : -1;
 }
 
-int ps_report_history_open(ps_report_history *h, const char *dir, ps_ctx *ctx) {
+int ps_report_history_open(ps_report_history *h, const char *dir,
+                           const char *const *reaction_names, int n_reactions, int dim,
+                           ps_ctx *ctx) {
   char path[1400];
   snprintf(h->dir, sizeof h->dir, "%s", dir);
+  h->n_reactions = n_reactions;
+  h->dim = dim;
   snprintf(path, sizeof path, "%s/history.csv", dir);
   h->f = fopen(path, "w");
   if (!h->f) return ps_error(ctx, PS_ERR_IO, "%s: cannot open for writing", path);
   for (size_t i = 0; i < N_HISTORY_COLUMNS; i++)
     fprintf(h->f, "%s%s", i ? "," : "", history_columns[i].key);
+  for (int g = 0; g < n_reactions; g++)
+    for (int k = 0; k < dim; k++) fprintf(h->f, ",reaction_%s_%c", reaction_names[g], 'x' + k);
   fprintf(h->f, "\n");
   return PS_OK;
 }
@@ -349,6 +355,9 @@ void ps_report_history_row(ps_report_history *h, const ps_history_row *row) {
   if (!h->f) return;
   for (size_t i = 0; i < N_HISTORY_COLUMNS; i++)
     fprintf(h->f, "%s%s", i ? "," : "", format_value(&history_columns[i], row, buf, sizeof buf));
+  for (int j = 0; j < h->n_reactions * h->dim; j++)
+    fprintf(h->f, ",%s", ps_fmt_or_na(row->reactions ? row->reactions[j] : NAN, 10, buf,
+                                      sizeof buf));
   fprintf(h->f, "\n");
   fflush(h->f); /* tail -f history.csv follows the run */
 }

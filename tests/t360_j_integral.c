@@ -164,7 +164,8 @@ int main(void) {
     const double dxs[4] = {1e-3, 0.5e-3, 0.25e-3, 0.1e-3 / 1.2}; /* last: the paper's */
     double err[4];
     for (int r = 0; r < 4; r++) {
-      ps_case c = cs;
+      ps_case c;
+      if (ps_case_copy(&c, &cs, &ctx)) die_ctx("case copy", &ctx); /* its entries change */
       double dx = dxs[r];
       c.spacing = dx;
       c.counts[0] = (ps_int)lround(0.1 / dx) + 3;
@@ -183,6 +184,7 @@ int main(void) {
                "surface correction (with it: not run at this size)\n",
                dx * 1e3, Joff[2], 100 * (Joff[2] / J_FE - 1));
       err[r] = fabs(Joff[2] / J_FE - 1);
+      ps_case_free(&c);
     }
     /* at 1 mm the 5 mm ring is 2.5 spacings wide inside a 3 mm horizon:
      * no accuracy is expected there, only that refining reduces it */

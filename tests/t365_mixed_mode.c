@@ -239,7 +239,8 @@ static void inclined(const ps_case *base, double beta, double yoff, double sxx,
   ps_ctx ctx;
   ps_ctx_init(&ctx);
   ctx.verbosity = getenv("PS_TEST_VERBOSE") ? 1 : 0;
-  ps_case cs = *base;
+  ps_case cs;
+  if (ps_case_copy(&cs, base, &ctx)) die_ctx("case copy", &ctx); /* entries are added */
   double a = 0.010, xc = 0.080, yc = 0.080 + yoff, dx = cs.spacing;
   if (fabs(fabs(tan(beta)) - 1) < 1e-9) {
     /* at 45 degrees a crack through the plate's centre (a cell corner)
@@ -271,8 +272,8 @@ static void inclined(const ps_case *base, double beta, double yoff, double sxx,
     left.traction_set[0] = right.traction_set[0] = 1;
     left.traction[0] = -sxx;
     right.traction[0] = sxx;
-    cs.bc[cs.n_bc++] = left;
-    cs.bc[cs.n_bc++] = right;
+    if (ps_case_add_bc(&cs, &left, &ctx) || ps_case_add_bc(&cs, &right, &ctx))
+      die_ctx("side tractions", &ctx);
   }
   ps_problem pb;
   ps_run_result res;
@@ -284,6 +285,7 @@ static void inclined(const ps_case *base, double beta, double yoff, double sxx,
   for (int k = 0; k < 2; k++) evaluate(&pb, sv, t[k], d[k], l, dx, &r[k]);
   ps_solver_free(sv);
   ps_problem_free(&pb);
+  ps_case_free(&cs);
 }
 
 int main(void) {

@@ -44,14 +44,14 @@
 #    the two rows next to the plane at half its saturated damage or more
 #    (no bridge left behind). The tip: the furthest such particle;
 #    saturated damage: the share of the particle's arms that cross the
-#    plane (from the final arms_*.vtk); da = tip - 13 mm.
+#    plane (from the final arms_*.vtu); da = tip - 13 mm.
 # 3. (b) energy balance. Per breaking increment, the stored energy the
 #    elastic loading would have given, E_k-1 + W_k, minus the settled
 #    stored energy E_k, is at least the energy of the arms broken in it,
 #    B_k - B_k-1 (tolerance 1e-4 E_k): a broken arm's energy is lost, and
 #    re-equilibrating at fixed grips can only lower the energy further.
 #    Summed: D = W - E_final >= B = broken_energy. And B >= the sum over
-#    the broken arms (arms_*.vtk, `broken`; their number is history's
+#    the broken arms (arms_*.vtu, `broken`; their number is history's
 #    arms_broken) of the energy each holds at exactly s0,
 #    1/2 k (s0 xi)^2 with k = c V_a V_b / xi, times (1 - 1e-3): an arm
 #    breaks only past s0.
@@ -129,7 +129,10 @@ else
   summary
   exit 1
 fi
-arms=$(ls "$out"/arms_*.vtk 2>/dev/null | tail -n 1)
+# the final arms file as text (tests/vtu_dump: the legacy VTK layout)
+arms="$T/arms.txt"
+./tests/vtu_dump "$(ls "$out"/arms_*.vtu 2>/dev/null | tail -n 1)" > "$arms" ||
+  ko "DCB: the final arms_*.vtu does not read"
 
 # the analysis: name value lines into $T/an.txt
 awk -v E="$E" -v nu="$NU" -v G="$GC" -v dx="$DX" -v m="$M" -v yc="$YC" -v a0="$A0" '
@@ -142,7 +145,7 @@ BEGIN { pi = atan2(0, -1); K = E / (2 * (1 - nu)); d = m * dx
 FILENAME == ARGV[1] {
   if ($1 == "POINTS") { sec = "P"; np = 0; next }
   if ($1 == "CELLS") { sec = "C"; na = 0; next }
-  if ($1 == "CELL_TYPES" || $1 == "POINT_DATA" || $1 == "CELL_DATA") { sec = ""; next }
+  if ($1 == "CELL_TYPES" || $1 == "POINT_DATA" || $1 == "CELL_DATA" || $1 == "FIELD") { sec = ""; next }
   if ($1 == "SCALARS") { sec = ($2 == "broken") ? "B" : ""; nb = 0; next }
   if ($1 == "LOOKUP_TABLE") next
   if (sec == "P") { px[np] = $1; py[np] = $2; np++ }
@@ -228,7 +231,7 @@ if [ "$(v bad_increments)" = 0 ] && holds "$(v D) >= $(v B)" && holds "$(v B) >=
    [ "$(v vtk_broken)" = "$(v arms_broken)" ]; then
   ok "DCB: energy balance: every breaking increment releases at least its broken arms' energy (worst ratio $(v min_ratio)); D = W - E = $(v D) >= B = $(v B) >= $(v Bmin) J/m, the $(v arms_broken) broken arms ($(v vtk_crossing) crossing) at s0 = $(v s0)"
 else
-  ko "DCB: energy balance: $(v bad_increments) increments release less than their broken arms' energy (worst ratio $(v min_ratio)), D $(v D), B $(v B), at s0 $(v Bmin) J/m, broken arms $(v vtk_broken) (vtk) vs $(v arms_broken) (history)"
+  ko "DCB: energy balance: $(v bad_increments) increments release less than their broken arms' energy (worst ratio $(v min_ratio)), D $(v D), B $(v B), at s0 $(v Bmin) J/m, broken arms $(v vtk_broken) (arms_*.vtu) vs $(v arms_broken) (history)"
 fi
 
 # 4. (c) the ratios to G_c da

@@ -1,14 +1,13 @@
-/* t700_io.c: case files, point clouds and VTK output. Valid inputs under
+/* t700_io.c: case files and point clouds. Valid inputs under
  * tests/data/io load with the right values; each bad input fails with
  * PS_ERR_INPUT (PS_ERR_IO for a missing file) and a message naming the
- * file, the line and the parameter; a VTK file is written atomically. */
+ * file, the line and the parameter. The field files: t710_vtu.c. */
 #include "check.h"
 #include "io/ps_io.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <unistd.h>
 
 #ifndef PS_TEST_DATA
 #error "PS_TEST_DATA must name the tests/data directory"
@@ -168,6 +167,7 @@ static void test_full(void) {
   for (int i = 0; ok && i < 12; i++)
     ok = fabs(cs.sweep.delta_over_c[i] - 1.0 / (500 + 250 * i)) <= 1e-15 / (500 + 250 * i);
   ps_check(ok, "full: griffith delta/c = 1/500, 1/750, ..., 1/3250");
+  ps_case_free(&cs);
 }
 
 static void test_cloud_case(void) {
@@ -196,6 +196,7 @@ static void test_cloud_case(void) {
     ps_check(p.x[5] == 1e-3 && p.volume[2] == 2e-9 && p.block[1] == 3 && p.block[2] == 0,
              "cloud3d.txt: coordinates, volume, block");
   ps_particles_free(&p);
+  ps_case_free(&cs);
 }
 
 static void test_cloud2d(void) {
@@ -374,6 +375,7 @@ static void test_bad_values(void) {
            ctx.msg);
   ps_check(ps_case_fingerprint(&cs) == ps_case_fingerprint(&ref),
            "memory.yaml: max_memory_gib leaves the fingerprint as it was");
+  ps_case_free(&cs);
 }
 
 /* Write `n` copies of `unit` and then `tail` into path. */
@@ -521,6 +523,7 @@ static void test_case_nomem(void) {
   int s = ps_case_load(&cs, DATA("full.yaml"), &ctx);
   long total = ps_alloc_countdown(-1), bad = 0;
   ps_check(s == PS_OK && total >= 2, "full.yaml: %ld allocations", total);
+  ps_case_free(&cs);
   for (long n = 0; n < total; n++) {
     ps_ctx_init(&ctx);
     ps_case_defaults(&cs);
@@ -530,65 +533,6 @@ static void test_case_nomem(void) {
     bad += !(s == PS_ERR_NOMEM && strstr(ctx.msg, "out of memory") && cs.alpha == 5.1);
   }
   ps_check(bad == 0, "full.yaml: each allocation failing gives PS_ERR_NOMEM (%ld did not)", bad);
-}
-
-static void test_vtk(void) {
-  const char *path = "t700_tmp.vtk";
-  ps_ctx ctx;
-  ps_ctx_init(&ctx);
-  double x[8] = {0, 0, 1, 0, 0, 1, 1, 1};
-  double u[8] = {0.1, 0.2, NAN, 0, 0, 0, 1, 1};
-  double s[4] = {1, 2, INFINITY, 4};
-  ps_int la[3] = {0, 1, 2}, lb[3] = {1, 3, 3};
-  double cs[3] = {5, 6, 7};
-  ps_field pf[2] = {{"displacement", 3, u, 2}, {"damage", 1, s, 1}};
-  ps_field cf[1] = {{"broken", 1, cs, 1}};
-  remove(path);
-  int st = ps_vtk_write(path, 2, 4, x, 3, la, lb, pf, 2, cf, 1, &ctx);
-  ps_check(st == PS_OK, "vtk: lines written (%s)", ctx.msg);
-  FILE *f = fopen(path, "r");
-  ps_check(f != NULL, "vtk: %s exists", path);
-  if (f) {
-    char line[256], all[4096] = "";
-    size_t len = 0;
-    while (fgets(line, sizeof line, f) && len + strlen(line) < sizeof all) {
-      strcat(all, line);
-      len += strlen(line);
-    }
-    fclose(f);
-    ps_check(!strncmp(all, "# vtk DataFile Version", 22), "vtk: header");
-    ps_check(strstr(all, "\nPOINTS 4 double\n0 0 0\n1 0 0\n") != NULL, "vtk: POINTS 4");
-    ps_check(strstr(all, "CELLS 3 9\n2 0 1\n") && strstr(all, "CELL_TYPES 3\n3\n3\n3\n"),
-             "vtk: 3 LINE cells");
-    ps_check(strstr(all, "VECTORS displacement double\n0.1 0.2 0\n0 0 0\n") != NULL,
-             "vtk: vectors padded, nan written as 0");
-    ps_check(strstr(all, "LOOKUP_TABLE default\n1\n2\n0\n4\n") != NULL,
-             "vtk: scalars, inf written as 0");
-    ps_check(strstr(all, "CELL_DATA 3\nSCALARS broken double 1\n") != NULL,
-             "vtk: cell data");
-  }
-  ps_check(access("t700_tmp.vtk.tmp", F_OK) != 0, "vtk: no .tmp left");
-
-  /* vertex cells, 3D */
-  double x3[6] = {0, 0, 0, 1, 2, 3};
-  st = ps_vtk_write(path, 3, 2, x3, 0, NULL, NULL, NULL, 0, NULL, 0, &ctx);
-  ps_check(st == PS_OK, "vtk: vertices written");
-  f = fopen(path, "r");
-  if (f) {
-    char all[1024];
-    size_t n = fread(all, 1, sizeof all - 1, f);
-    all[n] = '\0';
-    fclose(f);
-    ps_check(strstr(all, "POINTS 2 double\n0 0 0\n1 2 3\nCELLS 2 4\n1 0\n1 1\n"
-                         "CELL_TYPES 2\n1\n1\n") != NULL,
-             "vtk: 2 VERTEX cells");
-  }
-  remove(path);
-
-  /* an unwritable path: PS_ERR_IO, nothing left behind */
-  st = ps_vtk_write("no_such_dir_t700/x.vtk", 2, 4, x, 0, NULL, NULL, NULL, 0, NULL, 0,
-                    &ctx);
-  ps_check(st == PS_ERR_IO, "vtk: unwritable path gives PS_ERR_IO (%s)", ctx.msg);
 }
 
 int main(void) {
@@ -602,6 +546,5 @@ int main(void) {
   test_case_limits();
   test_cloud_limits();
   test_case_nomem();
-  test_vtk();
   return ps_check_summary();
 }

@@ -47,20 +47,28 @@ fi
 
 # a good run writes its outputs
 if $P run -q -o "$T/good" "$D/box_base.yaml" && [ -f "$T/good/summary.txt" ] &&
-   [ -f "$T/good/history.csv" ] && head -1 "$T/good/particles_0002.vtk" | grep -q "# vtk DataFile" &&
-   grep -q "^POINTS 128 double" "$T/good/particles_0002.vtk" &&
+   [ -f "$T/good/history.csv" ] && $V "$T/good/particles_0002.vtu" > "$T/good.dump" &&
+   grep -q "^POINTS 128$" "$T/good.dump" && grep -q "^FIELD load_factor 1$" "$T/good.dump" &&
+   $V "$T/good/arms_0001.vtu" | grep -q "^SCALARS broken double 1$" &&
    [ "$(wc -l < "$T/good/history.csv")" -eq 3 ] && ! grep -qi nan "$T/good/history.csv"; then
-  ok "a good run writes summary.txt, history.csv (2 increments, no NaN) and VTK"
+  ok "a good run writes summary.txt, history.csv (2 increments, no NaN) and VTU files"
 else
   ko "a good run writes its outputs"
 fi
+# the time series: every increment (vtk_every 1), the final state last
+if series_ok "$T/good" && [ "$(cut -d' ' -f1 "$T/series.particles" | tr '\n' ' ')" = "1 2 " ]; then
+  ok "particles.pvd and arms.pvd list steps 1 and 2, files that exist; the last displacement is particles.csv's"
+else
+  ko "the time series of a good run: $why"
+fi
 # a 3D case runs to fracture through the whole pipeline
 if $P run -q -o "$T/b3" "$srcdir/data/cases/tension-block-3d.yaml" &&
-   grep -q "^fractured: yes" "$T/b3/summary.txt" && grep -q "^POINTS 432 double" "$T/b3/particles_0012.vtk" &&
-   head -1 "$T/b3/particles.csv" | grep -q "uz,damage.*stress_xz_Pa"; then
-  ok "3D block: runs to fracture, writes 3D VTK and CSV"
+   grep -q "^fractured: yes" "$T/b3/summary.txt" && $V "$T/b3/particles_0012.vtu" | grep -q "^POINTS 432$" &&
+   head -1 "$T/b3/particles.csv" | grep -q "uz,damage.*stress_xz_Pa" && series_ok "$T/b3" &&
+   [ "$(cat "$T/series.arms")" = "12 arms_0012.vtu" ]; then
+  ok "3D block: runs to fracture, writes 3D VTU (the final state only: vtk_every 0, in the .pvd files; displacement as in the CSV)"
 else
-  ko "3D block run"
+  ko "3D block run: $why"
 fi
 # a diverging run names the load factor, exits 2, and leaves them intact
 cp "$T/good/summary.txt" "$T/summary.before"

@@ -131,11 +131,11 @@ else
 fi
 mkdir -p "$T/legacy" "$T/empty"
 printf 'case: an-older-version\n' > "$T/legacy/summary.txt"
-touch "$T/legacy/particles_0001.vtk"
+touch "$T/legacy/particles_0001.vtk" "$T/legacy/arms_0001.vtk"
 if $P run -q -o "$T/legacy" "$D/box.yaml" && $P run -q -o "$T/empty" "$D/box.yaml" &&
    grep -q "^case: outdir-box" "$T/legacy/summary.txt" && [ ! -e "$T/legacy/particles_0001.vtk" ] &&
    [ -f "$T/empty/summary.txt" ]; then
-  ok "a folder of an earlier version (summary.txt of ours, no marker) and an empty folder are replaced"
+  ok "a folder of an earlier version (summary.txt of ours, legacy .vtk field files, no marker) and an empty folder are replaced"
 else
   ko "an earlier version's folder or an empty folder"
 fi
@@ -254,10 +254,11 @@ else
   ko "DIR.old was not restored: $out"
 fi
 mkdir -p "$T/win.old" "$T/win.partial"
-touch "$T/win.old/.peristatic" "$T/win.partial/.peristatic" "$T/win.partial/particles_0099.vtk"
+touch "$T/win.old/.peristatic" "$T/win.partial/.peristatic" "$T/win.partial/particles_0099.vtu" \
+  "$T/win.partial/arms.pvd" "$T/win.partial/arms_0099.vtu.tmp"
 out=$($P run -v -o "$T/win" "$D/box.yaml" 2>&1)
 if printf '%s' "$out" | grep -q "removing t910_tmp/win.old, left over" && [ ! -e "$T/win.old" ] &&
-   [ ! -e "$T/win.partial" ] && [ ! -e "$T/win/particles_0099.vtk" ] && grep -q "^case: outdir-box" "$T/win/summary.txt"; then
+   [ ! -e "$T/win.partial" ] && [ ! -e "$T/win/particles_0099.vtu" ] && grep -q "^case: outdir-box" "$T/win/summary.txt"; then
   ok "a leftover DIR.old (ours) is removed (said at -v), an old DIR.partial (ours) replaced"
 else
   ko "leftover DIR.old / DIR.partial: $out"
@@ -361,6 +362,21 @@ for s in INT TERM; do
     ko "SIG$s during a run: exit $rc, $(cat "$T/sig.err")"
   fi
 done
+# kill -9 during a run that writes fields: DIR.partial's particles.pvd and
+# arms.pvd list the files written so far (steps 5 and 10 at least: the
+# history row of step 11 follows step 10's files), all there and readable;
+# arms.pvd may lack the last step when the kill fell between the two
+rm -rf "$T/k9.partial"
+$P run -q -t 1 -o "$T/k9" "$D/box_fields.yaml" 2>/dev/null &
+bg=$!
+wait_for "$T/k9.partial/history.csv" 12
+kill -9 $bg
+wait $bg 2>/dev/null
+if series_ok "$T/k9.partial" partial && [ "$(head -n 2 "$T/series.particles" | cut -d' ' -f1 | tr '\n' ' ')" = "5 10 " ]; then
+  ok "kill -9 of a run: DIR.partial's .pvd files list steps $(cut -d' ' -f1 "$T/series.particles" | tr '\n' ' ')(files that exist and read)"
+else
+  ko "kill -9 of a run: the time series in DIR.partial: $why"
+fi
 # a sweep: the parent passes SIGTERM on, the workers end their runs, and
 # --resume -o DIR continues and completes
 $P griffith -q -j 2 -o "$T/gsig" "$D/sweep_slow.yaml" 2> "$T/gsig.err" &

@@ -71,8 +71,14 @@ if $P run -q -t 1 -o "$T/chain" "$T/disk-9.yaml" &&
    $P run -q -t 2 --restart "$T/chain" -o "$T/chain" "$T/disk-22.yaml" &&
    $P run -q -t 2 --restart "$T/chain" -o "$T/chain2" "$D/disk.yaml"; then
   same "$T/disk-full" "$T/chain2" "disk.yaml cut at 9, restarted to 22, restarted into another folder (-t 2)"
-  if [ -f "$T/chain2/particles_0020.vtk" ] && [ ! -e "$T/chain2/particles_0022.vtk" ]; then
-    ok "the restart keeps the field files of the uninterrupted run (step 20), not the cut run's final one (22)"
+  fields_same=1
+  for f in "$T"/disk-full/*.vtu "$T"/disk-full/*.pvd; do
+    cmp -s "$f" "$T/chain2/${f##*/}" || fields_same=0
+  done
+  if [ $fields_same -eq 1 ] && [ -f "$T/chain2/particles_0020.vtu" ] &&
+     [ ! -e "$T/chain2/particles_0022.vtu" ] &&
+     [ "$(ls "$T/disk-full")" = "$(ls "$T/chain2")" ]; then
+    ok "the restart's field files and .pvd series are the uninterrupted run's (step 20 kept, the cut run's final 22 not)"
   else
     ko "field files after a restart: $(ls "$T/chain2" | tr '\n' ' ')"
   fi

@@ -154,6 +154,52 @@ expect 1 "soft_state.yaml:29: material.fracture.softening_ratio is for the bond 
 sed 's/  stop_load_drop: 0.05/  stop_load_drop: 0.05\n  control: dissipation/' "$N" > "$T/diss_brittle.yaml"
 expect 1 "diss_brittle.yaml:49: path.control dissipation needs arms that dissipate energy as they deform" -- info "$T/diss_brittle.yaml"
 
+# loading fields, names and path.steps (issue 21 item 5): the tension bar
+# with its path or its last boundary entry replaced
+B="$srcdir/data/cases/tension-bar.yaml"
+head -25 "$B" > "$T/bar_head.yaml"
+steps() { cat "$T/bar_head.yaml" - > "$T/$1.yaml"; }
+printf 'path:\n  steps: [0.1, 0.5, 0.5, 1]\n' | steps steps_flat
+expect 1 "steps_flat.yaml:27: path.steps must increase: entry 3 (0.5) is not above entry 2 (0.5)" -- info "$T/steps_flat.yaml"
+printf 'path:\n  steps: [0.5, 0.25]\n' | steps steps_down
+expect 1 "steps_down.yaml:27: path.steps must increase: entry 2 (0.25) is not above entry 1 (0.5)" -- info "$T/steps_down.yaml"
+printf 'path:\n  steps:\n    - 0.5\n    - -1\n' | steps steps_negative
+expect 1 "steps_negative.yaml:29: path.steps must be > 0 (got -1)" -- info "$T/steps_negative.yaml"
+printf 'path:\n  steps: []\n' | steps steps_empty
+expect 1 "steps_empty.yaml:27: path.steps must be a list of load factors" -- info "$T/steps_empty.yaml"
+printf 'path:\n  steps: 1\n' | steps steps_scalar
+expect 1 "steps_scalar.yaml:27: path.steps must be a list of load factors, e.g. \[0.25, 0.5, 1\] (got 1)" -- info "$T/steps_scalar.yaml"
+printf 'path:\n  control: arc_length\n  steps: [0.5, 1]\n' | steps steps_arc
+expect 1 "steps_arc.yaml:28: path.steps is a list of load factors for load control, but path.control is arc_length (line 27)" -- info "$T/steps_arc.yaml"
+printf 'path:\n  steps: [0.5, 1]\n  max_load: 2\n' | steps steps_max
+expect 1 "steps_max.yaml:28: path.max_load and path.steps (line 27) are both given" -- info "$T/steps_max.yaml"
+printf 'path:\n  load_step: 0.1\n  steps: [0.5, 1]\n' | steps steps_dl
+expect 1 "steps_dl.yaml:27: path.load_step and path.steps (line 28) are both given" -- info "$T/steps_dl.yaml"
+head -22 "$B" > "$T/bar_bc.yaml"
+entry() { cat "$T/bar_bc.yaml" - > "$T/$1.yaml"; }
+printf '    - select: {x_min: 0.0745}\n      displace: {x: {value: 1e-3, gradient: [0, 1e-3, 0]}}\n' | entry grad3
+expect 1 "grad3.yaml:24: loading.boundary entry 3: displace.x.gradient has 3 numbers but geometry.dim is 2" -- info "$T/grad3.yaml"
+printf '    - select: {x_min: 0.0745}\n      displace:\n        x: {hessian: [[0, 1], [2, 0]]}\n' | entry hess_asym
+expect 1 "hess_asym.yaml:25: loading.boundary.displace.x.hessian must be symmetric" -- info "$T/hess_asym.yaml"
+printf '    - select: {x_min: 0.0745}\n      displace:\n        x: {hessian: [[0, 1], [1]]}\n' | entry hess_ragged
+expect 1 "hess_ragged.yaml:25: loading.boundary.displace.x.hessian must be square: row 2 has 1 numbers" -- info "$T/hess_ragged.yaml"
+printf '    - select: {x_min: 0.0745}\n      displace: {x: {}}\n' | entry field_empty
+expect 1 "field_empty.yaml:24: loading.boundary.displace.x is empty" -- info "$T/field_empty.yaml"
+printf '    - select: {x_min: 0.0745}\n      displace: {x: {slope: 1}}\n' | entry field_key
+expect 1 "field_key.yaml:24: .*slope" -- info "$T/field_key.yaml"
+printf '    - select: {x_min: 0.0745}\n      displace: {x: 1e-3}\n      about: [0, 0]\n' | entry about_alone
+expect 1 "about_alone.yaml:25: loading.boundary entry 3: about is the point of a displacement field" -- info "$T/about_alone.yaml"
+printf '    - select: {x_min: 0.0745}\n      displace: {x: {gradient: [1e-3, 0]}}\n      about: [0, 0, 0]\n' | entry about_3d
+expect 1 "about_3d.yaml:25: loading.boundary entry 3: about has 3 coordinates but geometry.dim is 2" -- info "$T/about_3d.yaml"
+printf '    - select: {x_min: 0.0745}\n      displace: {x: 1e-3}\n      name: right-grip\n' | entry name_chars
+expect 1 "name_chars.yaml:25: loading.boundary.name may hold only letters, digits and _" -- info "$T/name_chars.yaml"
+printf '    - select: {x_min: 0.0745}\n      displace: {x: 1e-3}\n      name: grip\n    - select: {x_min: 0.07}\n      fix: [y]\n      name: grip\n' | entry name_twice
+expect 1 "name_twice.yaml:26: loading.boundary entry 4: name 'grip' is taken by entry 3 (line 23)" -- info "$T/name_twice.yaml"
+printf '    - select: {x_min: 0.0745}\n      displace:\n        x: {hessian: [[1e300, 0], [0, 0]]}\n      about: [-1e150, 0]\n' | entry field_inf
+expect 1 "field_inf.yaml:23: loading.boundary entry 3: the displacement field of component x is not finite at particle" -- info "$T/field_inf.yaml"
+printf '    - select: {x_min: 0.0745}\n      traction: {x: 1e6}\n      name: pull\n' | entry name_traction
+expect 1 "name_traction.yaml:23: loading.boundary entry 3: name 'pull' reports the reactions of supports" -- info "$T/name_traction.yaml"
+
 rm -rf "$T" "$T.partial"
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

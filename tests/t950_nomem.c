@@ -47,9 +47,11 @@ static int whole_run(const char *path, const char *out, ps_run_result *res, ps_c
   ps_case_defaults(&cs);
   memset(res, 0, sizeof *res);
   PS_CHECK(ps_case_load(&cs, path, ctx));
-  PS_CHECK(ps_problem_setup(&pb, &cs, ctx));
+  int status = ps_problem_setup(&pb, &cs, ctx);
+  ps_case_free(&cs); /* pb has its own copy */
+  if (status < 0) return status;
   pb.threads = 1;
-  int status = ps_run(&pb, pb.mat.delta, out, res, ctx);
+  status = ps_run(&pb, pb.mat.delta, out, res, ctx);
   ps_problem_free(&pb);
   return status;
 }

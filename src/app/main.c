@@ -1,6 +1,5 @@
 /* main.c: the peristatic command line: `peristatic run CASE.yaml`,
  * `peristatic griffith CASE.yaml`, `peristatic info CASE.yaml`, --help. */
-#include <gsl/gsl_errno.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -8,7 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "app/ps_app.h"
+#include "api/peristatic.h"
 #include "config.h"
 
 static const char *HELP_MAIN =
@@ -47,9 +46,10 @@ static const char *HELP_MAIN =
     "\n"
     "Outputs (written to DIR.partial, renamed to DIR when the run completes, so a\n"
     "failed run leaves earlier results intact): history.csv, summary.txt,\n"
-    "particles.csv, particles_NNNN.vtk and arms_NNNN.vtk (open in ParaView; warp\n"
-    "by 'displacement') and path.png (the load-displacement curve). griffith\n"
-    "adds griffith.csv, griffith_fit.txt, griffith.png.\n"
+    "particles.csv, particles_NNNN.vtu and arms_NNNN.vtu with their time series\n"
+    "particles.pvd and arms.pvd (open a .pvd in ParaView; warp by 'displacement')\n"
+    "and path.png (the load-displacement curve). griffith adds griffith.csv,\n"
+    "griffith_fit.txt, griffith.png.\n"
     "\n"
     "Threads: CG and the per-arm loops of a run use up to 2 threads (-t; default\n"
     "the CPUs, shared among -j jobs; the numbers do not depend on it; use -t 1\n"
@@ -167,10 +167,6 @@ static const char *help_for(const char *cmd) {
   return HELP_MAIN;
 }
 
-#ifdef HAVE_OPENBLAS_SET_NUM_THREADS
-void openblas_set_num_threads(int n);
-#endif
-
 /* CHOLMOD as Debian builds it (SuiteSparse 5.12) zeroes and scatters in
  * its supernodal factorisation with 4 OpenMP threads, asked for by a
  * num_threads clause that OMP_NUM_THREADS does not override: on a small
@@ -183,22 +179,6 @@ void openblas_set_num_threads(int n);
 static void limit_openmp_threads(char **argv) {
   if (getenv("OMP_THREAD_LIMIT") || setenv("OMP_THREAD_LIMIT", "1", 1) != 0) return;
   execv("/proc/self/exe", argv); /* no /proc: carry on as we are */
-}
-
-/* the runs a sweep holds at once: -j N, at most one per delta */
-static int sweep_jobs(const ps_case *cs, int jobs) {
-  return cs->sweep.n > 0 && cs->sweep.n < jobs ? cs->sweep.n : jobs;
-}
-
-/* the exit status of a fatal status (doc/peristatic.md EXIT STATUS) */
-static int exit_code(int status) {
-  switch (status) {
-  case PS_ERR_INPUT: return 1;
-  case PS_ERR_IO: return 3;
-  case PS_ERR_INTERRUPTED: /* the shell's 128 + signal number */
-    return 128 + (ps_signal_received() ? ps_signal_received() : SIGINT);
-  default: return 2;
-  }
 }
 
 /* the number from 1 to 64 after option argv[*i] (*i moves to it), or -1
@@ -214,14 +194,23 @@ static int count_arg(int argc, char **argv, int *i, const char *what) {
   return (int)v;
 }
 
+/* Is s a plain decimal number (digits, a point, a sign, an exponent; no
+ * hex, inf or nan) that strtod reads whole? */
+static int plain_decimal(const char *s) {
+  char *end = NULL;
+  if (!s[0] || strspn(s, "0123456789.eE+-") != strlen(s)) return 0;
+  strtod(s, &end);
+  return end && !*end;
+}
+
 /* the number of GiB after option argv[*i] (*i moves to it): a plain
- * decimal number (ps_is_decimal) in (0, PS_MAX_MEMORY_GIB], the range of
+ * decimal number in (0, PERISTATIC_MAX_MEMORY_GIB], the range of
  * solver.max_memory_gib; or -1 after a message */
 static double memory_arg(int argc, char **argv, int *i) {
-  double v = ++*i < argc && ps_is_decimal(argv[*i], 0) ? strtod(argv[*i], NULL) : 0;
-  if (*i >= argc || !(v > 0) || !(v <= PS_MAX_MEMORY_GIB)) {
+  double v = ++*i < argc && plain_decimal(argv[*i]) ? strtod(argv[*i], NULL) : 0;
+  if (*i >= argc || !(v > 0) || !(v <= PERISTATIC_MAX_MEMORY_GIB)) {
     fprintf(stderr, "peristatic: --max-memory needs a number of GiB > 0 (at most %g)\n",
-            PS_MAX_MEMORY_GIB);
+            PERISTATIC_MAX_MEMORY_GIB);
     return -1;
   }
   return v;
@@ -316,146 +305,49 @@ static int check_command(const cli *c) {
   return -1;
 }
 
-/* The output folder into outdir[len]: -o DIR, else output.dir, else
- * out/<case name>, without trailing slashes ("out/x/" would stage into
- * out/x/.partial and then fail to rename). Returns 0, or 1 after a
- * message when it names no folder of its own ("/", ".", "..") or is too
- * long for what peristatic writes inside it (PS_OUTDIR_MAX), before any
- * folder is created. */
-static int choose_outdir(const char *out, const ps_case *cs, char *outdir, size_t len) {
-  const char *given = out ? out : cs->output.dir[0] ? cs->output.dir : NULL;
-  size_t gl = given ? strlen(given) : 4 + strlen(cs->name);
-  while (given && gl > 1 && given[gl - 1] == '/') gl--;
-  if (gl > PS_OUTDIR_MAX || gl >= len) {
-    fprintf(stderr, "peristatic: output directory '%.60s...' is too long (%zu characters; at "
-                    "most %d, to leave room for the files peristatic writes inside it)\n",
-            given ? given : "out/", gl, PS_OUTDIR_MAX);
-    return 1;
-  }
-  if (given)
-    snprintf(outdir, len, "%s", given);
-  else
-    snprintf(outdir, len, "out/%s", cs->name);
-  size_t ol = strlen(outdir);
-  while (ol > 1 && outdir[ol - 1] == '/') outdir[--ol] = '\0';
-  const char *base = strrchr(outdir, '/');
-  base = base ? base + 1 : outdir;
-  if (!strcmp(base, ".") || !strcmp(base, "..") || !strcmp(outdir, "/") || !outdir[0]) {
-    fprintf(stderr, "peristatic: output directory '%s' must name a folder of its own\n",
-            outdir);
-    return 1;
-  }
-  return 0;
-}
-
-/* peristatic info, after the set-up (the estimate is printed): sizes of the
- * network, the fingerprint and the tangent's pattern (two horizons unless
- * the model has no family terms: what a factorisation will face); t0 =
- * wall seconds at the start of the set-up. Returns PS_OK or fatal. */
-static int cmd_info(const ps_problem *pb, double t0, ps_ctx *ctx) {
-  const ps_case *cs = &pb->cs;
-  ps_int nfree = 0, nd = (ps_int)pb->P.dim * pb->P.n;
-  for (ps_int j = 0; j < nd; j++) nfree += !pb->fixed[j];
-  printf("particles: %lld\narms: %lld\narms_per_particle: %.2f\n"
-         "size_ratio_max_over_min: %.1f\nfree_dofs: %lld\ncase_fingerprint: %016llx\n"
-         "setup_s: %.3f\n",
-         (long long)pb->P.n, (long long)pb->net.n_arm, 2.0 * pb->net.n_arm / pb->P.n,
-         pb->net.max_h_ratio, (long long)nfree,
-         (unsigned long long)ps_case_fingerprint(cs), ps_wtime() - t0);
-  ps_system sys;
-  double t1 = ps_wtime();
-  const ps_model_type *type = ps_model_type_find(cs->model);
-  int status = ps_system_create_pattern(&sys, &pb->net, pb->fixed,
-                                        type ? type->family_coupling : 1, ctx);
-  if (status < 0) return status;
-  ps_int d2 = (ps_int)pb->P.dim * pb->P.dim;
-  double mib = ((double)d2 * sys.bptr[pb->P.n] * 8 + (double)sys.fam_slot_ptr[pb->P.n] * 8 +
-                (double)sys.A.p[sys.n_free] * 24) / 1048576.0;
-  printf("tangent_nnz_upper: %lld\ntangent_nnz_per_row: %.1f\n"
-         "particle_pairs_coupled: %lld\nassembly_memory_MiB: %.0f\npattern_s: %.3f\n",
-         (long long)sys.A.p[sys.n_free],
-         2.0 * sys.A.p[sys.n_free] / (double)(sys.n_free > 0 ? sys.n_free : 1),
-         (long long)sys.bptr[pb->P.n], mib, ps_wtime() - t1);
-  ps_system_free(&sys);
-  return PS_OK;
-}
-
-/* peristatic run: the case with its own delta into outdir. A stalled
- * solve is an error for `run` (exit 2); its outputs stay in the partial
- * folder. Returns PS_OK or fatal. */
-static int cmd_run(ps_problem *pb, const char *outdir, ps_ctx *ctx) {
-  ps_run_result res;
-  int status = ps_run(pb, pb->mat.delta, outdir, &res, ctx);
-  if (status == PS_RUN_STALLED) status = ps_run_stalled_error(outdir, ctx);
-  if (status >= 0)
-    ps_log(ctx, 1, "# results in %s/ (summary.txt, history.csv, *.vtk)\n", outdir);
-  return status;
-}
-
-/* peristatic griffith: the sweep into outdir. Returns PS_OK or fatal. */
-static int cmd_griffith(ps_problem *pb, const cli *c, const char *outdir, ps_ctx *ctx) {
-  double slope, icpt, r2;
-  int nf;
-  int status = ps_griffith_jobs(pb, outdir, c->resume, c->jobs, &slope, &icpt, &r2, &nf, ctx);
-  if (status >= 0) ps_log(ctx, 1, "# results in %s/ (griffith.csv, griffith.png)\n", outdir);
-  return status;
-}
-
 /* the message of a fatal status on stderr; its exit status */
-static int fail(int status, const ps_ctx *ctx) {
-  fprintf(stderr, "peristatic: %s\n", ctx->msg);
-  return exit_code(status);
+static int fail(int status, const peristatic *ps) {
+  fprintf(stderr, "peristatic: %s\n", peristatic_error(ps));
+  return peristatic_exit_status(status);
+}
+
+/* The command on the case: set-up, then run, griffith or info. Returns
+ * PERISTATIC_OK or an error status (the message in ps). */
+static int command(peristatic *ps, const cli *c) {
+  int status = peristatic_load_file(ps, c->file);
+  if (status == PERISTATIC_OK && c->verbosity >= 0)
+    status = peristatic_set_verbosity(ps, c->verbosity);
+  if (status == PERISTATIC_OK && c->max_memory > 0)
+    status = peristatic_set_max_memory(ps, c->max_memory, "--max-memory");
+  if (status == PERISTATIC_OK) status = peristatic_set_threads(ps, c->threads);
+  if (status == PERISTATIC_OK && c->restart) status = peristatic_set_restart(ps, c->restart);
+  char outdir[1100];
+  if (status == PERISTATIC_OK) status = peristatic_output_dir(ps, c->out, outdir, sizeof outdir);
+  if (status != PERISTATIC_OK) return status;
+  if (!strcmp(c->cmd, "info")) return peristatic_info(ps, stdout);
+  if (!strcmp(c->cmd, "griffith")) return peristatic_griffith(ps, outdir, c->resume, c->jobs);
+  /* a stalled solve is an error for `run` (exit 2); its outputs stay in
+   * the partial folder */
+  status = peristatic_run(ps, outdir);
+  return status == PERISTATIC_STALLED ? peristatic_stalled_error(ps, outdir) : status;
 }
 
 int main(int argc, char **argv) {
   limit_openmp_threads(argv);
-  ps_ctx ctx;
-  ps_ctx_init(&ctx);
-  gsl_set_error_handler_off();
-#ifdef HAVE_OPENBLAS_SET_NUM_THREADS
-  if (!getenv("OPENBLAS_NUM_THREADS")) openblas_set_num_threads(1);
-#endif
+  peristatic_init_process();
   cli c;
   int code = parse_options(argc, argv, &c);
   if (code < 0) code = check_command(&c);
   if (code >= 0) return code;
   /* only run and griffith look at the flag; info ends at once */
-  if (strcmp(c.cmd, "info")) ps_signals_install();
-  ps_case cs;
-  ps_case_defaults(&cs);
-  int status = ps_case_load(&cs, c.file, &ctx);
-  if (status < 0) return fail(status, &ctx);
-  ctx.verbosity = c.verbosity >= 0 ? c.verbosity : cs.output.verbosity;
-  if (c.max_memory > 0) {
-    cs.max_memory_gib = c.max_memory;
-    cs.max_memory_key = "--max-memory";
+  if (strcmp(c.cmd, "info")) peristatic_install_signal_handlers();
+  peristatic *ps = peristatic_new();
+  if (!ps) {
+    fputs("peristatic: out of memory\n", stderr);
+    return 2;
   }
-  char outdir[1100];
-  if (choose_outdir(c.out, &cs, outdir, sizeof outdir)) return 1;
-  ps_problem pb;
-  double t0 = ps_wtime();
-  int info = !strcmp(c.cmd, "info"), griffith = !strcmp(c.cmd, "griffith");
-  if (info) printf("case: %s\n", cs.name);
-  fflush(stdout);
-  status = ps_problem_setup_sized(&pb, &cs, info ? PS_ESTIMATE_INFO : PS_ESTIMATE_RUN,
-                                  griffith ? sweep_jobs(&cs, c.jobs) : 1,
-                                  info ? stdout : NULL, &ctx);
-  if (status < 0) return fail(status, &ctx);
-  if (!info && ps_signal_received()) { /* during the set-up: nothing written */
-    ps_problem_free(&pb);
-    ps_error(&ctx, PS_ERR_INTERRUPTED, "%s: interrupted by %s during the set-up; nothing was "
-             "written", cs.file, ps_signal_name(ps_signal_received()));
-    return fail(PS_ERR_INTERRUPTED, &ctx);
-  }
-  pb.threads = c.threads;
-  pb.checkpoint = !info && !griffith; /* run writes checkpoints, the sweep's runs none */
-  pb.restart = c.restart;
-  if (info)
-    status = cmd_info(&pb, t0, &ctx);
-  else if (griffith)
-    status = cmd_griffith(&pb, &c, outdir, &ctx);
-  else
-    status = cmd_run(&pb, outdir, &ctx);
-  ps_problem_free(&pb);
-  return status < 0 ? fail(status, &ctx) : 0;
+  int status = command(ps, &c);
+  code = status < 0 ? fail(status, ps) : 0;
+  peristatic_free(ps);
+  return code;
 }

@@ -12,8 +12,10 @@
 #include "../post/ps_post.h"
 
 typedef struct ps_problem {
-  ps_case cs;             /* the case (copy); its option structs go to the
-                             layers as they are (cs.solver, cs.path) */
+  ps_case cs;             /* the case: pb's own copy (ps_case_copy, freed
+                             by ps_problem_free); its option structs go
+                             to the layers as they are (cs.solver,
+                             cs.path) */
   ps_particles P;
   ps_kernel kernel;
   ps_network net;
@@ -25,6 +27,12 @@ typedef struct ps_problem {
   double *fext;           /* [n_dof] forces at lambda 1 from tractions (N,
                              per unit thickness in 2D), or NULL if none */
   double measure_length;  /* m (2D) or m^2 (3D) */
+  int n_groups;           /* named loading.boundary entries: their
+                             reactions go to history.csv */
+  int *group_bc;          /* [n_groups] each one's index in cs.bc */
+  ps_int *group_ptr;      /* [n_groups + 1] group g's particles are
+                             group_particle[group_ptr[g] .. group_ptr[g+1]) */
+  ps_int *group_particle; /* the particles each named entry selects */
   double t_network;       /* wall seconds of geometry + network */
   int threads;            /* threads per run (ps_solver_opts.threads; 0:
                              the CPUs this process may use, shared among
@@ -71,7 +79,8 @@ void ps_problem_free(ps_problem *pb);
  * folders (ps_outdir_prepare: only a folder of ours is replaced), then
  * writes through out_dir.partial, renamed to out_dir at the end so a
  * failed run leaves earlier results intact: history.csv, particles.csv,
- * summary.txt and VTK files (particles_NNNN.vtk, arms_NNNN.vtk); non-finite
+ * summary.txt and VTK files (particles_NNNN.vtu, arms_NNNN.vtu and their
+ * time series particles.pvd, arms.pvd); non-finite
  * numbers are written as n/a. SIGINT or SIGTERM (ps_signal_received) ends
  * the run after the increment or breaking round under way: the outputs so
  * far stay in out_dir.partial and the status is PS_ERR_INTERRUPTED (one

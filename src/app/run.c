@@ -25,7 +25,9 @@ typedef struct run_state {
   const char *out_dir;      /* NULL: no outputs */
   char staging[1200];       /* out_dir.partial, "" without outputs */
   ps_report_history hist;   /* staging/history.csv */
+  ps_report_series series;  /* the field files in staging (the .pvd lists) */
   char stall_msg[2048];     /* the path's message of a stall */
+  double *reactions;        /* [pb->n_groups * dim] of the history row */
   double t0;                /* wall seconds at the start (a restarted
                                run's: less the wall of the run it
                                continues) */
@@ -61,20 +63,26 @@ static ps_report_state report_state(const run_state *r) {
                         .T = ps_solver_arm_tension(r->s),
                         .q = ps_solver_arm_direction(r->s),
                         .dl = ps_solver_arm_elongation(r->s),
-                        .st = ps_solver_arm_state(r->s)};
+                        .st = ps_solver_arm_state(r->s),
+                        .lambda = ps_solver_lambda(r->s)};
   return st;
 }
 
-/* the step of a field file of ours (particles_NNNN.vtk, arms_NNNN.vtk),
+/* the step of a field file of ours (particles_NNNN.vtu, arms_NNNN.vtu),
  * or -1 */
-static long vtk_step(const char *name) {
+static long vtu_step(const char *name) {
   const char *p = !strncmp(name, "particles_", 10) ? name + 10
                   : !strncmp(name, "arms_", 5)      ? name + 5
                                                     : NULL;
   char *end = NULL;
   if (!p || *p < '0' || *p > '9') return -1;
   long step = strtol(p, &end, 10);
-  return end && !strcmp(end, ".vtk") ? step : -1;
+  return end && !strcmp(end, ".vtu") ? step : -1;
+}
+
+static int step_order(const void *a, const void *b) {
+  long x = *(const long *)a, y = *(const long *)b;
+  return x < y ? -1 : x > y;
 }
 
 /* dst = a copy of src (a hard link where the file system allows) */
@@ -104,16 +112,20 @@ static int keeps_fields(const run_state *r, long step) {
 /* The field files of the restart's folder: those the uninterrupted run
  * has (keeps_fields) into staging (from a completed run's folder), or,
  * when the checkpoint is in staging itself, the others and the reports
- * of the end removed there. */
+ * of the end removed there; the kept steps make the series of the .pvd
+ * files. */
 static int restart_fields(run_state *r, int in_place, ps_ctx *ctx) {
-  static const char *const ends[] = {"summary.txt", "particles.csv", "path.gp", "path.png"};
+  static const char *const ends[] = {"summary.txt", "particles.csv", "path.gp", "path.png",
+                                     "particles.pvd", "arms.pvd"};
   char src[2600], dst[2600];
+  long *kept = NULL;
+  size_t n_kept = 0, cap = 0;
   DIR *d = opendir(r->from);
   struct dirent *e;
   int status = PS_OK;
   if (!d) return ps_error(ctx, PS_ERR_IO, "%s: cannot list: %s", r->from, strerror(errno));
   while (status == PS_OK && (e = readdir(d))) {
-    long step = vtk_step(e->d_name);
+    long step = vtu_step(e->d_name);
     if (step < 0) continue;
     snprintf(src, sizeof src, "%s/%s", r->from, e->d_name);
     snprintf(dst, sizeof dst, "%s/%s", r->staging, e->d_name);
@@ -121,6 +133,15 @@ static int restart_fields(run_state *r, int in_place, ps_ctx *ctx) {
       status = ps_error(ctx, PS_ERR_IO, "%s: cannot remove: %s", src, strerror(errno));
     else if (!in_place && keeps_fields(r, step))
       status = copy_file(src, dst, ctx);
+    if (status == PS_OK && keeps_fields(r, step) && !strncmp(e->d_name, "particles_", 10)) {
+      if (n_kept == cap) {
+        void *q = kept;
+        cap = cap ? 2 * cap : 16;
+        status = ps_realloc(&q, cap, sizeof *kept, ctx);
+        kept = q;
+      }
+      if (status == PS_OK) kept[n_kept++] = step;
+    }
   }
   closedir(d);
   for (size_t k = 0; in_place && status == PS_OK && k < sizeof ends / sizeof ends[0]; k++) {
@@ -128,6 +149,10 @@ static int restart_fields(run_state *r, int in_place, ps_ctx *ctx) {
     if (unlink(src) != 0 && errno != ENOENT)
       status = ps_error(ctx, PS_ERR_IO, "%s: cannot remove: %s", src, strerror(errno));
   }
+  if (n_kept) qsort(kept, n_kept, sizeof *kept, step_order);
+  for (size_t k = 0; status == PS_OK && k < n_kept; k++)
+    status = ps_report_series_add(r->staging, &r->series, (int)kept[k], ctx);
+  free(kept);
   return status;
 }
 
@@ -166,7 +191,15 @@ static int open_outputs(run_state *r, ps_ctx *ctx) {
                    "complete its commit\n", r->staging);
   free(old);
   PS_CHECK(ps_outdir_fresh(r->staging, ctx));
-  return ps_report_history_open(&r->hist, r->staging, ctx);
+  const ps_problem *pb = r->pb;
+  const char **names = NULL;
+  if (pb->n_groups > 0 && !(names = ps_calloc((size_t)pb->n_groups, sizeof *names, ctx)))
+    return PS_ERR_NOMEM;
+  for (int g = 0; g < pb->n_groups; g++) names[g] = pb->cs.bc[pb->group_bc[g]].name;
+  int status = ps_report_history_open(&r->hist, r->staging, names, pb->n_groups, pb->P.dim,
+                                      ctx);
+  free(names);
+  return status;
 }
 
 /* The prescribed displacement at load factor 1 of the first measured dof
@@ -197,6 +230,24 @@ static double row_displacement(const run_state *r, double lambda) {
   return a > 0 ? w / a : NAN;
 }
 
+/* The reactions of the named loading.boundary entries into
+ * r->reactions: per entry and component, the sum over its particles of
+ * the reactions at their prescribed dofs (free dofs carry none). */
+static void group_reactions(run_state *r) {
+  const ps_problem *pb = r->pb;
+  const double *f = ps_solver_force(r->s);
+  int d = pb->P.dim;
+  for (int g = 0; g < pb->n_groups; g++)
+    for (int k = 0; k < d; k++) {
+      double sum = 0.0;
+      for (ps_int i = pb->group_ptr[g]; i < pb->group_ptr[g + 1]; i++) {
+        ps_int j = pb->group_particle[i] * d + k;
+        if (pb->fixed[j]) sum += f[j];
+      }
+      r->reactions[g * d + k] = sum;
+    }
+}
+
 /* The progress line, history row and (every output.vtk_every) fields of
  * the increment the path just made. */
 static int record_increment(run_state *r, const ps_path *p, ps_ctx *ctx) {
@@ -220,12 +271,14 @@ static int record_increment(run_state *r, const ps_path *p, ps_ctx *ctx) {
                         .displacement = row_displacement(r, inc->lambda),
                         .broken_energy = ps_solver_arm_state(r->s)->broken_energy,
                         .stored_energy = ps_solver_stored_energy(r->s),
-                        .dissipated_energy = ps_solver_dissipated(r->s)};
+                        .dissipated_energy = ps_solver_dissipated(r->s),
+                        .reactions = r->reactions};
+  if (r->reactions) group_reactions(r);
   ps_report_history_row(&r->hist, &row);
   const ps_output_opts *out = &r->pb->cs.output;
   if (r->out_dir && out->fields && out->vtk_every > 0 && step % out->vtk_every == 0) {
     ps_report_state st = report_state(r);
-    PS_CHECK(ps_report_write_fields(r->staging, step, 0, &st, ctx));
+    PS_CHECK(ps_report_write_fields(r->staging, step, 0, &st, &r->series, ctx));
   }
   return PS_OK;
 }
@@ -363,7 +416,8 @@ static void log_end(const run_state *r, const ps_ctx *ctx) {
 static int finish_outputs(run_state *r, int commit, ps_ctx *ctx) {
   ps_report_state st = report_state(r);
   if (r->pb->cs.output.fields)
-    PS_CHECK(ps_report_write_fields(r->staging, (int)r->res->increments, 1, &st, ctx));
+    PS_CHECK(ps_report_write_fields(r->staging, (int)r->res->increments, 1, &st, &r->series,
+                                    ctx));
   PS_CHECK(ps_report_history_close(&r->hist, ctx));
   /* the path's plot: with no gnuplot (or a failed one) the script stays */
   PS_CHECK(ps_report_write_path_plot(r->staging, r->pb->cs.name,
@@ -528,6 +582,11 @@ static int run_case(ps_problem *pb, double delta, const char *out_dir, ps_run_re
                       ps_signal_name(ps_signal_received()));
     goto cleanup;
   }
+  if (pb->n_groups > 0 &&
+      !(r.reactions = ps_calloc((size_t)pb->n_groups * pb->P.dim, sizeof *r.reactions, ctx))) {
+    status = PS_ERR_NOMEM;
+    goto cleanup;
+  }
   if (out_dir) PS_CHECK_GOTO(open_outputs(&r, ctx));
   ps_solver_set_forces(r.s, pb->fext);
   log_start(&r, delta, ctx);
@@ -553,9 +612,11 @@ static int run_case(ps_problem *pb, double delta, const char *out_dir, ps_run_re
     status = ps_error(ctx, PS_RUN_STALLED, "%s", r.stall_msg);
   }
 cleanup:
+  free(r.reactions);
   ps_checkpoint_free(&r.ck);
   free(r.rows);
   ps_report_history_close(&r.hist, ctx);
+  ps_report_series_free(&r.series);
   if (status < 0 && r.staging[0]) {
     size_t n = strlen(ctx->msg);
     if (is_dir(out_dir))

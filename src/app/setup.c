@@ -16,6 +16,10 @@ void ps_problem_free(ps_problem *pb) {
   free(pb->ubar);
   free(pb->measure);
   free(pb->fext);
+  free(pb->group_bc);
+  free(pb->group_ptr);
+  free(pb->group_particle);
+  ps_case_free(&pb->cs);
   memset(pb, 0, sizeof *pb);
 }
 
@@ -56,6 +60,37 @@ static int setup_eq116(ps_problem *pb, ps_ctx *ctx) {
   return PS_OK;
 }
 
+/* The named loading.boundary entries and the particles each selects
+ * (pb->group_*), for their reactions in history.csv. */
+static int setup_groups(ps_problem *pb, ps_ctx *ctx) {
+  const ps_particles *P = &pb->P;
+  const ps_case *cs = &pb->cs;
+  int n = 0;
+  for (int ib = 0; ib < cs->n_bc; ib++) n += cs->bc[ib].name[0] != '\0';
+  if (n == 0) return PS_OK;
+  pb->group_bc = ps_calloc((size_t)n, sizeof *pb->group_bc, ctx);
+  pb->group_ptr = ps_calloc((size_t)n + 1, sizeof *pb->group_ptr, ctx);
+  if (!pb->group_bc || !pb->group_ptr) return PS_ERR_NOMEM;
+  for (int ib = 0, g = 0; ib < cs->n_bc; ib++) {
+    if (!cs->bc[ib].name[0]) continue;
+    pb->group_bc[g] = ib;
+    ps_int hits = 0;
+    for (ps_int a = 0; a < P->n; a++) hits += selected(P, a, &cs->bc[ib].sel);
+    pb->group_ptr[g + 1] = pb->group_ptr[g] + hits;
+    g++;
+  }
+  pb->group_particle =
+      ps_calloc((size_t)pb->group_ptr[n] + 1, sizeof *pb->group_particle, ctx);
+  if (!pb->group_particle) return PS_ERR_NOMEM;
+  for (int g = 0; g < n; g++) {
+    ps_int j = pb->group_ptr[g];
+    for (ps_int a = 0; a < P->n; a++)
+      if (selected(P, a, &cs->bc[pb->group_bc[g]].sel)) pb->group_particle[j++] = a;
+  }
+  pb->n_groups = n;
+  return PS_OK;
+}
+
 static int setup_boundary(ps_problem *pb, ps_ctx *ctx) {
   const ps_particles *P = &pb->P;
   const ps_case *cs = &pb->cs;
@@ -81,8 +116,13 @@ static int setup_boundary(ps_problem *pb, ps_ctx *ctx) {
         }
         if (bc->displace_set[k]) {
           pb->fixed[a * d + k] = 1;
-          pb->ubar[a * d + k] = bc->displace[k];
-          if (bc->measure) {
+          pb->ubar[a * d + k] = ps_bc_displacement(bc, k, &P->x[a * d], d);
+          if (!isfinite(pb->ubar[a * d + k]))
+            return ps_error(ctx, PS_ERR_INPUT,
+                            "%s:%d: loading.boundary entry %d: the displacement field of "
+                            "component %c is not finite at particle %lld",
+                            cs->file, bc->line, ib + 1, 'x' + k, (long long)a);
+          if (bc->measure) { /* the direction: the sign of the constant part */
             pb->measure[a * d + k] = bc->displace[k] >= 0 ? 1.0 : -1.0;
             if (measure_dir < 0) measure_dir = k;
           }
@@ -112,6 +152,7 @@ static int setup_boundary(ps_problem *pb, ps_ctx *ctx) {
                     "%s: nothing loads the model: no loading.boundary entry displaces "
                     "a particle (displace: {x: ...}) or applies a traction",
                     cs->file);
+  PS_CHECK(setup_groups(pb, ctx));
   if (cs->stress_length > 0) {
     pb->measure_length = cs->stress_length;
   } else if (measure_dir >= 0) {
@@ -140,6 +181,15 @@ static int in_case(ps_ctx *ctx, int status, const char *path) {
   char m[sizeof ctx->msg];
   snprintf(m, sizeof m, "%s", ctx->msg);
   return ps_error(ctx, status, "%s: %s", path, m);
+}
+
+/* The particles a caller gave (positions, volumes, blocks) into *p. */
+static int copy_given(ps_particles *p, const ps_particles *g, ps_ctx *ctx) {
+  PS_CHECK(ps_particles_alloc(p, g->dim, g->n, ctx));
+  memcpy(p->x, g->x, sizeof *p->x * (size_t)g->dim * (size_t)g->n);
+  memcpy(p->volume, g->volume, sizeof *p->volume * (size_t)g->n);
+  if (g->block) memcpy(p->block, g->block, sizeof *p->block * (size_t)g->n);
+  return PS_OK;
 }
 
 /* arms across a hole cross its inscribed polygon of this many sides */
@@ -176,7 +226,10 @@ static int make_particles(ps_problem *pb, const ps_case *cs, int dim, ps_crack *
       }
     break;
   case PS_GEOM_CLOUD: /* its errors name the cloud file and line */
-    PS_CHECK(ps_cloud_read(&pb->P, cs->cloud_file, dim, ctx));
+    if (cs->given_particles)
+      PS_CHECK(copy_given(&pb->P, cs->given_particles, ctx));
+    else
+      PS_CHECK(ps_cloud_read(&pb->P, cs->cloud_file, dim, ctx));
     break;
   default:
     return ps_error(ctx, PS_ERR_INPUT, "%s: unknown geometry type", cs->file);
@@ -382,8 +435,8 @@ int ps_problem_setup_sized(ps_problem *pb, const ps_case *cs, int purpose, int j
                            FILE *report, ps_ctx *ctx) {
   int status = PS_OK;
   double t0 = ps_wtime();
+  ps_crack *cracks = NULL;
   memset(pb, 0, sizeof *pb);
-  pb->cs = *cs;
   /* the horizon models (bond, state): arms within the horizon delta (and
    * the model's reach beyond it), horizon_setup */
   const ps_model_type *type = ps_model_type_find(cs->model);
@@ -400,9 +453,13 @@ int ps_problem_setup_sized(ps_problem *pb, const ps_case *cs, int purpose, int j
     reach = ps_model_lattice_reach(type, cs->horizon_factor);
   int dim = cs->geometry == PS_GEOM_DISK ? 2 : cs->dim;
   PS_CHECK(estimate_counts(cs, dim, lattice, reach, purpose, ctx));
-  ps_crack *cracks = ps_calloc((size_t)(cs->n_cracks + 1 + HOLE_SIDES * cs->n_holes),
-                               sizeof *cracks, ctx);
-  if (!cracks) return PS_ERR_NOMEM;
+  PS_CHECK(ps_case_copy(&pb->cs, cs, ctx)); /* pb owns its copy: ps_problem_free */
+  cracks = ps_calloc((size_t)(cs->n_cracks + 1 + HOLE_SIDES * cs->n_holes), sizeof *cracks,
+                     ctx);
+  if (!cracks) {
+    status = PS_ERR_NOMEM;
+    goto cleanup;
+  }
   int n_cracks = cs->n_cracks;
   memcpy(cracks, cs->cracks, sizeof(ps_crack) * (size_t)cs->n_cracks);
   PS_CHECK_GOTO(make_particles(pb, cs, dim, cracks, &n_cracks, ctx));

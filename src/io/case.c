@@ -56,6 +56,44 @@ void ps_case_defaults(ps_case *cs) {
   ps_sweep_opts_default(&cs->sweep);
 }
 
+void ps_case_free(ps_case *cs) {
+  free(cs->bc);
+  cs->bc = NULL;
+  cs->n_bc = 0;
+  free(cs->path.steps);
+  cs->path.steps = NULL;
+  cs->path.n_steps = 0;
+}
+
+int ps_case_copy(ps_case *dst, const ps_case *src, ps_ctx *ctx) {
+  *dst = *src;
+  dst->bc = NULL;
+  dst->path.steps = NULL;
+  if (src->n_bc > 0) {
+    dst->bc = ps_calloc((size_t)src->n_bc, sizeof *dst->bc, ctx);
+    if (!dst->bc) goto nomem;
+    memcpy(dst->bc, src->bc, (size_t)src->n_bc * sizeof *dst->bc);
+  }
+  if (src->path.n_steps > 0) {
+    dst->path.steps = ps_calloc((size_t)src->path.n_steps, sizeof *dst->path.steps, ctx);
+    if (!dst->path.steps) goto nomem;
+    memcpy(dst->path.steps, src->path.steps,
+           (size_t)src->path.n_steps * sizeof *dst->path.steps);
+  }
+  return PS_OK;
+nomem: /* ps_calloc has recorded the error */
+  ps_case_free(dst);
+  return PS_ERR_NOMEM;
+}
+
+int ps_case_add_bc(ps_case *cs, const ps_bc *bc, ps_ctx *ctx) {
+  void *p = cs->bc;
+  PS_CHECK(ps_realloc(&p, (size_t)cs->n_bc + 1, sizeof *cs->bc, ctx));
+  cs->bc = p;
+  cs->bc[cs->n_bc++] = *bc;
+  return PS_OK;
+}
+
 /* ---- the top level: the sections ---- */
 
 static const char *const top_keys[] = {"name",     "geometry", "kernel",
@@ -129,29 +167,27 @@ static void set_names(ps_case *cs, const char *path) {
   cs->name[n] = '\0';
 }
 
-int ps_case_load(ps_case *cs, const char *path, ps_ctx *ctx) {
+/* Parse text[len] over *cs (unchanged on failure); `path` names the file
+ * in messages; dir = NULL takes the file's folder and name from path,
+ * else dir is the folder relative paths resolve against. The text's size
+ * and nesting are checked before libyaml sees it. */
+static int load_text(ps_case *cs, const char *text, size_t len, const char *path,
+                     const char *dir, ps_ctx *ctx) {
   if (strlen(path) >= sizeof cs->file)
     return ps_error(ctx, PS_ERR_IO, "%s: path too long", path);
-  /* size and nesting are checked before libyaml sees the text */
-  char *text;
-  size_t len;
-  PS_CHECK(ps_case_read_text(path, &text, &len, ctx));
-  int status = ps_case_check_nesting(path, text, len, ctx);
-  if (status != PS_OK) {
-    free(text);
-    return status;
-  }
+  if (len > PS_CASE_MAX_BYTES)
+    return ps_error(ctx, PS_ERR_INPUT, "%s: case text of %zu bytes is over the limit of %zu",
+                    path, len, PS_CASE_MAX_BYTES);
+  PS_CHECK(ps_case_check_nesting(path, text, len, ctx));
   /* fill a copy so that a failed load leaves *cs as it was */
   ps_case *work = ps_calloc(1, sizeof *work, ctx);
-  if (!work) {
-    free(text);
-    return PS_ERR_NOMEM;
-  }
+  if (!work) return PS_ERR_NOMEM;
   *work = *cs;
   set_names(work, path);
+  if (dir) snprintf(work->dir, sizeof work->dir, "%s", dir);
 
   ps_yaml_file Y;
-  status = ps_yaml_open(&Y, path, text, len, ctx);
+  int status = ps_yaml_open(&Y, path, text, len, ctx);
   if (status == PS_OK) {
     ps_loader L = {.file = path, .doc = &Y.doc, .cs = work, .ctx = ctx};
     yaml_node_t *root = yaml_document_get_root_node(&Y.doc);
@@ -159,10 +195,35 @@ int ps_case_load(ps_case *cs, const char *path, ps_ctx *ctx) {
       status = ps_yaml_walk_map(&L, root, "", top_keys, on_top, NULL);
     if (status == PS_OK) status = ps_yaml_only_document(&Y, ctx);
     if (status == PS_OK) status = ps_case_cross_checks(&L);
-    if (status == PS_OK) *cs = *work;
+  }
+  /* the lists the file gave are new: they replace (and free) those of
+   * *cs on success, and are freed on failure */
+  int bc_new = work->bc != cs->bc, steps_new = work->path.steps != cs->path.steps;
+  if (status == PS_OK) {
+    if (bc_new) free(cs->bc);
+    if (steps_new) free(cs->path.steps);
+    *cs = *work;
+  } else {
+    if (bc_new) free(work->bc);
+    if (steps_new) free(work->path.steps);
   }
   ps_yaml_close(&Y);
   free(work);
+  return status;
+}
+
+int ps_case_load(ps_case *cs, const char *path, ps_ctx *ctx) {
+  if (strlen(path) >= sizeof cs->file)
+    return ps_error(ctx, PS_ERR_IO, "%s: path too long", path);
+  char *text;
+  size_t len;
+  PS_CHECK(ps_case_read_text(path, &text, &len, ctx));
+  int status = load_text(cs, text, len, path, NULL, ctx);
   free(text);
   return status;
+}
+
+int ps_case_load_text(ps_case *cs, const char *text, size_t len, const char *name,
+                      ps_ctx *ctx) {
+  return load_text(cs, text, len, name, ".", ctx);
 }

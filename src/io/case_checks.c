@@ -217,6 +217,58 @@ static int dissipation_check(ps_loader *L) {
                             : bond ? " without softening_ratio" : "");
 }
 
+/* The displacement fields of loading.boundary against dim: a gradient of
+ * dim numbers, a hessian of dim rows, about of dim coordinates. */
+static int fields_check(ps_loader *L) {
+  const ps_case *cs = L->cs;
+  for (int i = 0; i < cs->n_bc; i++) {
+    const ps_bc *bc = &cs->bc[i];
+    for (int k = 0; k < cs->dim; k++) {
+      if (bc->gradient_n[k] && bc->gradient_n[k] != cs->dim)
+        return ps_yaml_fail(L, bc->field_line,
+                            "loading.boundary entry %d: displace.%c.gradient has %d numbers "
+                            "but geometry.dim is %d (one per coordinate)",
+                            i + 1, 'x' + k, bc->gradient_n[k], cs->dim);
+      if (bc->hessian_n[k] && bc->hessian_n[k] != cs->dim)
+        return ps_yaml_fail(L, bc->field_line,
+                            "loading.boundary entry %d: displace.%c.hessian is %d x %d but "
+                            "geometry.dim is %d",
+                            i + 1, 'x' + k, bc->hessian_n[k], bc->hessian_n[k], cs->dim);
+    }
+    if (bc->about_n && bc->about_n != cs->dim)
+      return ps_yaml_fail(L, bc->about_line,
+                          "loading.boundary entry %d: about has %d coordinates but "
+                          "geometry.dim is %d", i + 1, bc->about_n, cs->dim);
+  }
+  return PS_OK;
+}
+
+/* path.steps is load control's list of load factors: not with another
+ * control, nor with the keys it replaces; its last entry is max_load. */
+static int steps_check(ps_loader *L) {
+  ps_path_opts *o = &L->cs->path;
+  static const char *const control[] = {"load", "arc_length", "dissipation"};
+  if (!L->line_steps) return PS_OK;
+  if (o->control != PS_CONTROL_LOAD)
+    return ps_yaml_fail(L, L->line_steps,
+                        "path.steps is a list of load factors for load control, but "
+                        "path.control is %s (line %d): remove one",
+                        control[o->control], L->line_control);
+  const char *key = L->line_load_step ? "load_step"
+                    : L->line_load_step_after_break ? "load_step_after_break"
+                    : L->line_max_load ? "max_load" : NULL;
+  int line = L->line_load_step ? L->line_load_step
+             : L->line_load_step_after_break ? L->line_load_step_after_break
+                                              : L->line_max_load;
+  if (key)
+    return ps_yaml_fail(L, line,
+                        "path.%s and path.steps (line %d) are both given: the list sets "
+                        "every increment and its last entry is the last load factor",
+                        key, L->line_steps);
+  o->max_load = o->steps[o->n_steps - 1];
+  return PS_OK;
+}
+
 /* case_impl.h */
 int ps_case_cross_checks(ps_loader *L) {
   static const char *const gname[] = {"disk", "box", "cloud"};
@@ -241,7 +293,7 @@ int ps_case_cross_checks(ps_loader *L) {
                           "geometry.lattice hex is 2D only (geometry.dim is 3)");
   }
   if (cs->dim == 2) cs->counts[2] = 1;
-  if (cs->geometry == PS_GEOM_CLOUD && !cs->cloud_file[0])
+  if (cs->geometry == PS_GEOM_CLOUD && !cs->cloud_file[0] && !cs->given_particles)
     return ps_yaml_fail(L, L->line_type, "geometry.type cloud needs geometry.file");
   if (cs->n_cracks > 0 && cs->dim == 3)
     return ps_yaml_fail(L, L->line_cracks,
@@ -297,5 +349,6 @@ int ps_case_cross_checks(ps_loader *L) {
           L, bc->line,
           "loading.boundary entry %d uses the z component but geometry.dim is 2", i + 1);
   }
+  if (fields_check(L) != PS_OK || steps_check(L) != PS_OK) return PS_ERR_INPUT;
   return PS_OK;
 }

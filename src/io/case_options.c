@@ -78,16 +78,49 @@ const char *const ps_case_path_keys[] = {
     "stop_crack_tip", "stop_tip_advance", "stop_load_drop", "max_break_rounds",
     "max_arms_per_round", "control", "arc_length_max", "arc_length_psi",
     "arc_length_iterations", "max_arms_per_step", "dissipation_step", "dissipation_max",
-    NULL};
+    "steps", NULL};
+
+/* path.steps: a list of load factors > 0, each above the one before */
+static int get_steps(ps_loader *L, yaml_node_t *v, const char *name) {
+  ps_path_opts *o = &L->cs->path;
+  char b[80];
+  L->line_steps = line_of(v);
+  if (v->type != YAML_SEQUENCE_NODE || seq_len(v) == 0)
+    return ps_yaml_fail(L, line_of(v), "%s must be a list of load factors, e.g. [0.25, 0.5, "
+                        "1] (got %s)", name,
+                        v->type == YAML_SEQUENCE_NODE ? "an empty list" : ps_yaml_got(v, b));
+  int n = seq_len(v);
+  o->n_steps = 0;
+  o->steps = NULL; /* the list of the case loaded over, if any, is ps_case_load's */
+  if (!(o->steps = ps_calloc((size_t)n, sizeof *o->steps, L->ctx))) return PS_ERR_NOMEM;
+  for (int i = 0; i < n; i++) {
+    yaml_node_t *e = seq_item(L, v, i);
+    if (ps_yaml_pos(L, e, name, &o->steps[i])) return PS_ERR_INPUT;
+    if (i > 0 && !(o->steps[i] > o->steps[i - 1]))
+      return ps_yaml_fail(L, line_of(e), "%s must increase: entry %d (%g) is not above "
+                          "entry %d (%g)", name, i + 1, o->steps[i], i, o->steps[i - 1]);
+    o->n_steps++;
+  }
+  return PS_OK;
+}
 
 int ps_case_on_path(ps_loader *L, void *arg, const char *key, const char *name,
                     yaml_node_t *v) {
   ps_path_opts *o = &L->cs->path;
   (void)arg;
-  if (IS("load_step")) return ps_yaml_pos(L, v, name, &o->load_step);
-  if (IS("load_step_after_break"))
+  if (IS("steps")) return get_steps(L, v, name);
+  if (IS("load_step")) {
+    L->line_load_step = line_of(v);
+    return ps_yaml_pos(L, v, name, &o->load_step);
+  }
+  if (IS("load_step_after_break")) {
+    L->line_load_step_after_break = line_of(v);
     return ps_yaml_pos(L, v, name, &o->load_step_after_break);
-  if (IS("max_load")) return ps_yaml_pos(L, v, name, &o->max_load);
+  }
+  if (IS("max_load")) {
+    L->line_max_load = line_of(v);
+    return ps_yaml_pos(L, v, name, &o->max_load);
+  }
   if (IS("max_increments"))
     return ps_yaml_int(L, v, name, 1, INT_MAX, &o->max_increments);
   if (IS("min_step")) return ps_yaml_pos(L, v, name, &o->min_step);

@@ -32,7 +32,9 @@ static void fnv(uint64_t *h, const char *s) {
  * Newton's
  * tolerance, iterations, line search and small steps; the CG settings
  * that change which solves near the plastic limit converge (cg_truncate
- * off, a fixed cg_forcing); the load path and its stop rules.
+ * off, a fixed cg_forcing); the load path (path.steps too) and its stop
+ * rules; the displacement fields of loading.boundary (but not the
+ * entries' names, which only label history.csv columns).
  * Not hashed (they do not change a run's result beyond the Newton
  * tolerance): the name and output keys, delta and the Griffith list,
  * path.max_break_rounds (a limit: a run that reaches it fails; its place
@@ -59,6 +61,17 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
            cs->size_neighbours);
   fnv(&h, b);
   /* newer keys enter only when set, so fingerprints of older cases stay */
+  if (cs->given_particles) { /* particles from the caller: their data */
+    const ps_particles *g = cs->given_particles;
+    snprintf(b, sizeof b, "given %d %lld", g->dim, (long long)g->n);
+    fnv(&h, b);
+    for (ps_int a = 0; a < g->n; a++) {
+      char *q = b;
+      for (int k = 0; k < g->dim; k++) q += sprintf(q, "%.17g ", g->x[a * g->dim + k]);
+      sprintf(q, "%.17g %d", g->volume[a], g->block ? g->block[a] : 0);
+      fnv(&h, b);
+    }
+  }
   if (cs->origin[0] != 0 || cs->origin[1] != 0 || cs->origin[2] != 0) {
     snprintf(b, sizeof b, "origin %.17g %.17g %.17g", cs->origin[0], cs->origin[1],
              cs->origin[2]);
@@ -114,6 +127,15 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
              bc->displace_set[0], bc->displace_set[1], bc->displace_set[2],
              bc->displace[0], bc->displace[1], bc->displace[2], bc->measure);
     fnv(&h, b);
+    for (int k = 0; k < 3; k++) { /* newer keys: displacement fields, when given */
+      if (!bc->gradient_n[k] && !bc->hessian_n[k]) continue;
+      const double *g = bc->gradient[k], *H = &bc->hessian[k][0][0];
+      snprintf(b, sizeof b, "field %d about %.17g %.17g %.17g gradient %d %.17g %.17g %.17g "
+               "hessian %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g", k,
+               bc->about[0], bc->about[1], bc->about[2], bc->gradient_n[k], g[0], g[1], g[2],
+               bc->hessian_n[k], H[0], H[1], H[2], H[3], H[4], H[5], H[6], H[7], H[8]);
+      fnv(&h, b);
+    }
     if (bc->traction_set[0] || bc->traction_set[1] || bc->traction_set[2]) {
       snprintf(b, sizeof b, "traction %d%d%d %.17g %.17g %.17g", bc->traction_set[0],
                bc->traction_set[1], bc->traction_set[2], bc->traction[0], bc->traction[1],
@@ -136,6 +158,10 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
   if (po->max_arms_per_step > 0 || po->control == PS_CONTROL_DISSIPATION) {
     snprintf(b, sizeof b, "path control %d %.17g %.17g", po->max_arms_per_step,
              po->dissipation_step, po->dissipation_max);
+    fnv(&h, b);
+  }
+  for (int i = 0; i < po->n_steps; i++) { /* newer key: only when set */
+    snprintf(b, sizeof b, "step %.17g", po->steps[i]);
     fnv(&h, b);
   }
   if (po->max_arms_per_round > 0) { /* newer key: only when set */
@@ -166,7 +192,7 @@ int ps_algorithm_version(void) { return PS_ALGORITHM_VERSION; }
 uint64_t ps_case_restart_fingerprint(const ps_case *cs) {
   ps_case *c = malloc(sizeof *c);
   if (!c) return 0; /* matches no checkpoint (the writer's is never 0 but by chance) */
-  memcpy(c, cs, sizeof *c);
+  memcpy(c, cs, sizeof *c); /* its lists borrowed: read, never freed through c */
   c->path.max_increments = 1;
   uint64_t h = ps_case_fingerprint(c);
   free(c);
@@ -188,7 +214,8 @@ const char *const ps_case_restart_parts[PS_RESTART_PARTS + 1] = {
     "geometry", "material", "loading", "solver", "path", NULL};
 
 void ps_case_restart_part_fingerprints(const ps_case *cs, uint64_t h[PS_RESTART_PARTS]) {
-  ps_case *d = malloc(sizeof *d);
+  ps_case *d = malloc(sizeof *d); /* the defaults (which own no list) with cs's
+                                     part, its lists borrowed */
   for (int k = 0; k < PS_RESTART_PARTS; k++) h[k] = 0;
   if (!d) return;
   for (int k = 0; k < PS_RESTART_PARTS; k++) {
@@ -207,6 +234,7 @@ void ps_case_restart_part_fingerprints(const ps_case *cs, uint64_t h[PS_RESTART_
       memcpy(d->holes, cs->holes, sizeof d->holes);
       d->seed = cs->seed;
       memcpy(d->cloud_file, cs->cloud_file, sizeof d->cloud_file);
+      d->given_particles = cs->given_particles;
       d->size_rule = cs->size_rule;
       d->size_neighbours = cs->size_neighbours;
       d->n_cracks = cs->n_cracks;
@@ -222,7 +250,7 @@ void ps_case_restart_part_fingerprints(const ps_case *cs, uint64_t h[PS_RESTART_
     case 2:
       d->load_type = cs->load_type;
       d->n_bc = cs->n_bc;
-      memcpy(d->bc, cs->bc, sizeof d->bc);
+      d->bc = cs->bc; /* borrowed: read, never freed through d */
       d->stress_length = cs->stress_length;
       break;
     case 3: d->solver = cs->solver; break;

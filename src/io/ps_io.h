@@ -1,8 +1,9 @@
 /* ps_io.h: input and output. Case files (YAML via libyaml) into a ps_case,
  * point clouds ("x y [z] volume [block]" per line), and results as CSV and
- * legacy VTK files that ParaView opens. Every output is written to a
- * temporary name and renamed when complete (ps_outfile), so a failed run
- * leaves earlier results intact. */
+ * VTK XML files that ParaView opens (.vtu grids listed as time series in
+ * .pvd collections). Every output is written to a temporary name and
+ * renamed when complete (ps_outfile), so a failed run leaves earlier
+ * results intact. */
 #ifndef PS_IO_H
 #define PS_IO_H
 
@@ -20,7 +21,9 @@ enum ps_load_type { PS_LOAD_EQ116 = 0, PS_LOAD_BOUNDARY = 1 };
 
 #define PS_MAX_CRACKS 16
 #define PS_MAX_HOLES 16
-#define PS_MAX_BC 32
+/* loading.boundary entries' names: letters, digits and '_', shorter than
+ * this (they become history.csv columns reaction_<name>_x ...) */
+#define PS_BC_NAME_SIZE 48
 
 /* Case files are checked before libyaml parses them (Debian's libyaml
  * 0.2.5 takes time quadratic in the nesting depth):
@@ -57,12 +60,26 @@ typedef struct ps_select {
   int block;           /* -1: any */
 } ps_select;
 
-/* One boundary condition entry of `loading.boundary`. */
+/* One boundary condition entry of `loading.boundary`. A displaced
+ * component k is prescribed at load factor 1 as a field of the reference
+ * position x, polynomial of degree <= 2 about the point x0 = about:
+ *   ubar_k(x) = displace[k] + sum_j gradient[k][j] (x_j - x0_j)
+ *               + 1/2 sum_jl hessian[k][j][l] (x_j - x0_j) (x_l - x0_l)
+ * (a constant when neither gradient nor hessian is given), and scaled by
+ * the load factor as a whole. */
 typedef struct ps_bc {
   ps_select sel;
   int fix[3];          /* 1: this component held at zero */
   int displace_set[3]; /* 1: this component prescribed */
-  double displace[3];  /* prescribed displacement at load factor 1, m */
+  double displace[3];  /* prescribed displacement at load factor 1 (its
+                          constant part, `value`), m */
+  int gradient_n[3];   /* numbers given in this component's gradient (0:
+                          none; else the case's dim) */
+  double gradient[3][3]; /* d ubar_k / d x_j, dimensionless (m/m) */
+  int hessian_n[3];    /* rows given in this component's hessian (0: none) */
+  double hessian[3][3][3]; /* d2 ubar_k / d x_j d x_l, symmetric, 1/m */
+  int about_n;         /* numbers given in `about` (0: x0 = 0) */
+  double about[3];     /* x0, m */
   int traction_set[3]; /* 1: a traction on this component */
   double traction[3];  /* traction at load factor 1, Pa: the selected
                           particles carry the body force traction / layer
@@ -70,8 +87,16 @@ typedef struct ps_bc {
                           selection's thickness, geometry.spacing */
   int measure;         /* 1: reactions of these particles give the
                           boundary stress (along the displaced component) */
+  char name[PS_BC_NAME_SIZE]; /* "" or the entry's name: history.csv
+                          reports the reactions on its particles */
   int line;            /* line in the case file (messages) */
+  int field_line, about_line; /* lines of the first field key and of about
+                          (messages; 0: none) */
 } ps_bc;
+
+/* ubar_k at the reference position x[dim] of an entry's displaced
+ * component k (the formula above), m. */
+double ps_bc_displacement(const ps_bc *bc, int k, const double *x, int dim);
 
 typedef struct ps_case {
   char file[1024];     /* the case file as given */
@@ -93,6 +118,10 @@ typedef struct ps_case {
   unsigned long seed;  /* jitter seed (box; geometry.seed also sets
                           disk.seed) */
   char cloud_file[1024]; /* cloud: path (resolved against dir) */
+  const ps_particles *given_particles; /* cloud: particles given by the
+                          caller (the library's peristatic_set_particles;
+                          borrowed, copied at set-up) instead of a file;
+                          NULL otherwise */
   int size_rule;       /* enum ps_size_rule (default eq115) */
   int size_neighbours; /* n of Eq. 115 (default 5) */
   int n_cracks;
@@ -114,7 +143,8 @@ typedef struct ps_case {
   /* loading */
   int load_type;       /* enum ps_load_type (disk default eq116) */
   int n_bc;
-  ps_bc bc[PS_MAX_BC];
+  ps_bc *bc;           /* [n_bc] loading.boundary, owned by the case
+                          (ps_case_free; copies by ps_case_copy) */
   double stress_length;/* boundary: length (2D) or area (3D) dividing the
                           measured reaction; 0: from the bounding box */
 
@@ -143,17 +173,40 @@ typedef struct ps_case {
 
 /* Fill every field with its documented default (disk of Table 1, fibre
  * model with Table 1's material, delta = c/1000); the option structs by
- * their modules' *_opts_default. */
+ * their modules' *_opts_default. No list is allocated (bc and path.steps
+ * are NULL): whatever *cs held before is overwritten, not freed. */
 void ps_case_defaults(ps_case *cs);
+
+/* A case owns two lists on the heap: the boundary entries (cs->bc) and
+ * path.steps (cs->path.steps). ps_case_free frees them and leaves *cs
+ * with none (n_bc = path.n_steps = 0), safe to free again; a plain
+ * struct copy (ps_case c = *cs) shares them and must not be freed as
+ * well. ps_case_copy makes *dst an independent copy of *src (dst's own
+ * lists are not freed: call it on a fresh or freed case). Returns PS_OK
+ * or PS_ERR_NOMEM (then *dst holds no lists). */
+void ps_case_free(ps_case *cs);
+int ps_case_copy(ps_case *dst, const ps_case *src, ps_ctx *ctx);
+
+/* Append a copy of *bc to cs->bc (the array grows by one). Returns PS_OK
+ * or PS_ERR_NOMEM (cs unchanged). */
+int ps_case_add_bc(ps_case *cs, const ps_bc *bc, ps_ctx *ctx);
 
 /* Read a YAML case file over the defaults. Errors name the file and line:
  * "case.yaml:14: material.E must be > 0 (got -3e9)". Unknown keys, keys
  * of another geometry type, wrong types, numbers that are not plain
  * decimal and impossible values are errors; a file over
  * PS_CASE_MAX_BYTES or nested deeper than PS_CASE_MAX_DEPTH is refused
- * before libyaml parses it. Returns PS_OK, PS_ERR_INPUT, PS_ERR_IO,
- * PS_ERR_NOMEM; on failure *cs is unchanged. */
+ * before libyaml parses it. Lists the file gives (loading.boundary,
+ * path.steps) replace and free those *cs held. Returns PS_OK,
+ * PS_ERR_INPUT, PS_ERR_IO, PS_ERR_NOMEM; on failure *cs is unchanged. */
 int ps_case_load(ps_case *cs, const char *path, ps_ctx *ctx);
+
+/* ps_case_load from text[len] (a copy of the file's text, at most
+ * PS_CASE_MAX_BYTES): `name` stands for the file in messages and gives the
+ * default case name; relative paths inside resolve against the current
+ * folder. Returns as ps_case_load. */
+int ps_case_load_text(ps_case *cs, const char *text, size_t len, const char *name,
+                      ps_ctx *ctx);
 
 /* A 64-bit hash (FNV-1a) of everything in the case that determines a run's
  * result: the algorithm version, geometry, sizes, cracks, kernel,
@@ -218,14 +271,39 @@ typedef struct ps_field {
   int n_comp_in;       /* components stored per entry in v (1, 2 or 3) */
 } ps_field;
 
-/* Legacy ASCII VTK unstructured grid: n_point points x (dim per point,
- * padded to 3), cells = VERTEX per point when n_line == 0, else the lines
- * (la[i], lb[i]); point and cell fields (names without whitespace;
- * non-finite values are written as 0). Written atomically. Returns PS_OK,
- * PS_ERR_IO, or PS_ERR_INTERNAL for bad arguments. */
-int ps_vtk_write(const char *path, int dim, ps_int n_point, const double *x,
-                 ps_int n_line, const ps_int *la, const ps_int *lb,
-                 const ps_field *point_fields, int n_pf,
-                 const ps_field *cell_fields, int n_cf, ps_ctx *ctx);
+/* An unstructured grid for ps_vtu_write: points, their cells (a VERTEX
+ * per point, or lines) and named arrays on the points, the cells and the
+ * data set as a whole. */
+typedef struct ps_vtu_grid {
+  int dim;                     /* 2 or 3 coordinates per point in x (2D: z = 0) */
+  ps_int n_point;
+  const double *x;             /* [n_point * dim] */
+  ps_int n_line;               /* 0: one VERTEX cell per point; else LINE cells */
+  const ps_int *la, *lb;       /* [n_line] the points each line joins */
+  const ps_field *point_fields;/* [n_pf], n_point entries each */
+  int n_pf;
+  const ps_field *cell_fields; /* [n_cf], one entry per cell */
+  int n_cf;
+  const ps_field *global_fields; /* [n_gf] scalars, one entry each: the data
+                                  set's FieldData (e.g. the load factor) */
+  int n_gf;
+} ps_vtu_grid;
+
+/* A VTK XML unstructured grid (.vtu) at path: the points (padded to 3
+ * coordinates), the cells, and every field as a Float64 DataArray (names
+ * without white space or XML specials; vectors have 3 components, padded
+ * with 0), all in one raw appended block (little-endian, each array a
+ * UInt64 byte count then its values; cells as Int64 connectivity and end
+ * offsets, UInt8 types). Non-finite values are written as 0. Written
+ * atomically (ps_outfile). Returns PS_OK, PS_ERR_IO, PS_ERR_NOMEM, or
+ * PS_ERR_INTERNAL for bad arguments. */
+int ps_vtu_write(const char *path, const ps_vtu_grid *g, ps_ctx *ctx);
+
+/* A ParaView data collection (.pvd) at path listing n files (names
+ * relative to the folder of path, without white space or XML specials)
+ * with their times (finite), in the order given. Written atomically.
+ * Returns PS_OK, PS_ERR_IO, or PS_ERR_INTERNAL for bad arguments. */
+int ps_pvd_write(const char *path, int n, const double *time, const char *const *file,
+                 ps_ctx *ctx);
 
 #endif

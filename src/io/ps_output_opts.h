@@ -14,10 +14,12 @@ enum ps_j_tips { PS_J_TIPS_BOTH = 0, PS_J_TIPS_START = 1, PS_J_TIPS_END = 2 };
 typedef struct ps_output_opts {
   char dir[1024];      /* [dir] "" (default): the command line uses
                           out/<case name> */
-  int vtk_every;       /* [vtk_every] write VTK every n increments (0: the
-                          last only; default 10) */
-  int fields;          /* [fields] 0: no VTK and no particles.csv, only
-                          history.csv and summary.txt (default 1) */
+  int vtk_every;       /* [vtk_every] write the field files (.vtu) every n
+                          increments, and the last state (0: the last
+                          only; default 10) */
+  int fields;          /* [fields] 0: no field files (.vtu, .pvd) and no
+                          particles.csv, only history.csv and summary.txt
+                          (default 1) */
   int n_j_rings;       /* [j_integral] J of the final state by Eq. 39 and
                           Eq. 36 (Fallah) and K_I, K_II (interaction
                           integral) for each tip and square ring, into

@@ -1,6 +1,7 @@
 /* ps_report.h: the files a run writes, in one place: summary.txt (the
  * run's record, ps_run_result, as "key: value" lines), history.csv (one
- * row per increment), particles.csv and the VTK files of a state, and
+ * row per increment), particles.csv and the VTK files of a state (.vtu
+ * grids and the .pvd time series that lists them), and
  * the reading back of summary.txt and history.csv (griffith --resume).
  * The keys of summary.txt and the columns of history.csv are each
  * defined once, in a table in report.c that both the writer and the
@@ -55,6 +56,7 @@ typedef struct ps_report_state {
   const double *u;          /* [n_dof] displacements, m */
   const double *T, *q, *dl; /* arm tensions, unit directions, elongations */
   const ps_arm_state *st;   /* yielding, broken, plastic strains */
+  double lambda;            /* the load factor */
 } ps_report_state;
 
 /* dir/summary.txt from res (through FILE.tmp, renamed): every key of the
@@ -98,16 +100,26 @@ typedef struct ps_history_row {
                                  the arms dissipated (softening, measured
                                  by the model; ps_solver_dissipated), 0
                                  for a model that measures none */
+  const double *reactions;    /* [n_reactions * dim]: per named
+                                 loading.boundary entry, the reaction
+                                 components summed over its particles, N
+                                 per m of thickness in 2D, N in 3D (after
+                                 the table's columns; NULL when none) */
 } ps_history_row;
 
 /* history.csv, written a row at a time (flushed, so tail -f follows). */
 typedef struct ps_report_history {
   FILE *f;                    /* NULL: not open, rows are dropped */
   char dir[1300];
+  int n_reactions, dim;       /* the reaction columns after the table's */
 } ps_report_history;
 
-/* Create dir/history.csv with its header. Returns PS_OK or PS_ERR_IO. */
-int ps_report_history_open(ps_report_history *h, const char *dir, ps_ctx *ctx);
+/* Create dir/history.csv with its header: the table's columns, then
+ * reaction_<name>_x, _y (, _z in 3D) for each of the n_reactions names.
+ * Returns PS_OK or PS_ERR_IO. */
+int ps_report_history_open(ps_report_history *h, const char *dir,
+                           const char *const *reaction_names, int n_reactions, int dim,
+                           ps_ctx *ctx);
 void ps_report_history_row(ps_report_history *h, const ps_history_row *row);
 /* Close it (nothing when not open). Returns PS_OK, or PS_ERR_IO when a
  * write failed. */
@@ -133,10 +145,32 @@ int ps_gnuplot_run(const char *dir, const char *script);
  * history.csv has converged = 0)? Then *sigma = its boundary stress, Pa. */
 int ps_report_last_attempt_failed(const char *dir, double *sigma);
 
-/* dir/particles_NNNN.vtk and dir/arms_NNNN.vtk of the state (NNNN = step),
- * and with final != 0 also dir/particles.csv (doc/peristatic.md, OUTPUT
- * FILES). Returns PS_OK, PS_ERR_IO, PS_ERR_NOMEM. */
+/* The field files of a run so far: the steps written, in order (what
+ * particles.pvd and arms.pvd list). Start it zeroed; free it with
+ * ps_report_series_free. */
+typedef struct ps_report_series {
+  int *step;
+  int n, cap;
+} ps_report_series;
+void ps_report_series_free(ps_report_series *series);
+/* step (not below the series' last) joins the series of the field files
+ * already in dir (those a restarted run keeps) and dir/particles.pvd and
+ * dir/arms.pvd are rewritten. Returns PS_OK, PS_ERR_IO, PS_ERR_NOMEM or
+ * PS_ERR_INTERNAL (a step below the last). */
+int ps_report_series_add(const char *dir, ps_report_series *series, int step, ps_ctx *ctx);
+
+/* dir/particles_NNNN.vtu and dir/arms_NNNN.vtu of the state (NNNN = step;
+ * the same points and point fields, the arms as lines with their own
+ * fields; the load factor and the step as the data set's FieldData); with
+ * series (else NULL), step joins it (a step equal to its last one is that
+ * entry, written again) and dir/particles.pvd and dir/arms.pvd are
+ * rewritten to list every step of the series, time = the step; with
+ * final != 0 also dir/particles.csv (doc/peristatic.md, OUTPUT FILES).
+ * Each file is written atomically and the .pvd files after the .vtu
+ * files, so an interrupted run's folder lists only files that exist.
+ * Returns PS_OK, PS_ERR_IO, PS_ERR_NOMEM, PS_ERR_INTERNAL (a step below
+ * the series' last). */
 int ps_report_write_fields(const char *dir, int step, int final, const ps_report_state *state,
-                           ps_ctx *ctx);
+                           ps_report_series *series, ps_ctx *ctx);
 
 #endif

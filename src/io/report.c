@@ -1,10 +1,9 @@
 /* report.c: the files of a run: summary.txt and history.csv, each from a
  * table of keys/columns that the writer and the reader share, and the
- * fields of a state (VTK, particles.csv) with damage (Eq. 119), arm
- * strains and the PD stress tensor (Fallah et al. Eq. 24); J of the final
- * state (Eq. 39, Eq. 36) and K_I, K_II (interaction integral) per crack
- * tip and ring in summary.txt; the defaults of the output
- * options (ps_output_opts.h). */
+ * J of the final state (Eq. 39, Eq. 36) and K_I, K_II (interaction
+ * integral) per crack tip and ring in summary.txt; the defaults of the
+ * output options (ps_output_opts.h). The fields of a state are in
+ * report_fields.c. */
 #include "ps_report.h"
 
 #include <limits.h>
@@ -334,14 +333,20 @@ int ps_report_read_summary(const char *dir, ps_run_result *res) {
   return f ? 0 : -1;
 }
 
-int ps_report_history_open(ps_report_history *h, const char *dir, ps_ctx *ctx) {
+int ps_report_history_open(ps_report_history *h, const char *dir,
+                           const char *const *reaction_names, int n_reactions, int dim,
+                           ps_ctx *ctx) {
   char path[1400];
   snprintf(h->dir, sizeof h->dir, "%s", dir);
+  h->n_reactions = n_reactions;
+  h->dim = dim;
   snprintf(path, sizeof path, "%s/history.csv", dir);
   h->f = fopen(path, "w");
   if (!h->f) return ps_error(ctx, PS_ERR_IO, "%s: cannot open for writing", path);
   for (size_t i = 0; i < N_HISTORY_COLUMNS; i++)
     fprintf(h->f, "%s%s", i ? "," : "", history_columns[i].key);
+  for (int g = 0; g < n_reactions; g++)
+    for (int k = 0; k < dim; k++) fprintf(h->f, ",reaction_%s_%c", reaction_names[g], 'x' + k);
   fprintf(h->f, "\n");
   return PS_OK;
 }
@@ -351,6 +356,9 @@ void ps_report_history_row(ps_report_history *h, const ps_history_row *row) {
   if (!h->f) return;
   for (size_t i = 0; i < N_HISTORY_COLUMNS; i++)
     fprintf(h->f, "%s%s", i ? "," : "", format_value(&history_columns[i], row, buf, sizeof buf));
+  for (int j = 0; j < h->n_reactions * h->dim; j++)
+    fprintf(h->f, ",%s", ps_fmt_or_na(row->reactions ? row->reactions[j] : NAN, 10, buf,
+                                      sizeof buf));
   fprintf(h->f, "\n");
   fflush(h->f); /* tail -f history.csv follows the run */
 }
@@ -401,127 +409,4 @@ int ps_report_last_attempt_failed(const char *dir, double *sigma) {
   if (parse_history_row(last, &row) <= need) return 0;
   *sigma = row.boundary_stress;
   return row.converged == 0;
-}
-
-/* Per-particle and per-arm quantities of a state for the field files. */
-typedef struct fields {
-  double *phi;     /* [n] damage, Eq. 119 */
-  double *pstrain; /* [n] arm strain of largest magnitude / eps_y */
-  double *pplast;  /* [n] largest plastic elongation / delta */
-  double *astrain, *aplast, *abroken; /* [n_arm] */
-  double *scomp;   /* [6 n] stress components, component-major */
-} fields;
-
-static const char *const stress_name[6] = {"stress_xx", "stress_yy", "stress_xy",
-                                           "stress_zz", "stress_yz", "stress_xz"};
-
-static void fields_free(fields *F) {
-  free(F->phi);
-  free(F->pstrain);
-  free(F->pplast);
-  free(F->astrain);
-  free(F->aplast);
-  free(F->abroken);
-  free(F->scomp);
-}
-
-static int fields_compute(fields *F, const ps_report_state *s, ps_ctx *ctx) {
-  const ps_network *net = s->net;
-  const ps_particles *P = s->P;
-  int d = P->dim, ncomp = d == 2 ? 3 : 6; /* xx yy xy [zz yz xz] */
-  static const int cij[6][2] = {{0, 0}, {1, 1}, {0, 1}, {2, 2}, {1, 2}, {0, 2}};
-  ps_int n = P->n, na = net->n_arm;
-  F->phi = ps_calloc((size_t)n, sizeof(double), ctx);
-  F->pstrain = ps_calloc((size_t)n, sizeof(double), ctx);
-  F->pplast = ps_calloc((size_t)n, sizeof(double), ctx);
-  F->astrain = ps_calloc((size_t)na, sizeof(double), ctx);
-  F->aplast = ps_calloc((size_t)na, sizeof(double), ctx);
-  F->abroken = ps_calloc((size_t)na, sizeof(double), ctx);
-  double *sigma = ps_calloc((size_t)(n * d * d), sizeof(double), ctx);
-  F->scomp = ps_calloc((size_t)(n * 6), sizeof(double), ctx);
-  if (!F->phi || !F->pstrain || !F->pplast || !F->astrain || !F->aplast || !F->abroken ||
-      !sigma || !F->scomp) {
-    free(sigma);
-    return PS_ERR_NOMEM;
-  }
-  ps_post_damage(net, s->st, F->phi);
-  double ey = s->mat->yield_strain, delta = s->mat->delta;
-  for (ps_int i = 0; i < na; i++) {
-    F->astrain[i] = s->dl[i] / net->r0[i] / ey;
-    F->aplast[i] = isfinite(delta) ? ps_arm_plastic_strain(s->st, i, s->mat->yield_rule) *
-                                         net->r0[i] / delta
-                                   : 0.0;
-    F->abroken[i] = s->st->broken[i];
-    if (s->st->broken[i]) continue;
-    ps_int e[2] = {net->a[i], net->b[i]};
-    for (int k = 0; k < 2; k++) {
-      if (fabs(F->astrain[i]) > fabs(F->pstrain[e[k]])) F->pstrain[e[k]] = F->astrain[i];
-      if (F->aplast[i] > F->pplast[e[k]]) F->pplast[e[k]] = F->aplast[i];
-    }
-  }
-  /* PD stress tensor, Eq. 24 of Fallah et al. (2020) */
-  ps_post_stress_tensor(P, net, s->T, s->q, sigma);
-  for (int c = 0; c < ncomp; c++)
-    for (ps_int a = 0; a < n; a++)
-      F->scomp[c * n + a] = sigma[a * d * d + cij[c][0] * d + cij[c][1]];
-  free(sigma);
-  return PS_OK;
-}
-
-static int write_particles_csv(const char *dir, const ps_report_state *s, const fields *F,
-                               ps_ctx *ctx) {
-  const ps_particles *P = s->P;
-  int d = P->dim, ncomp = d == 2 ? 3 : 6;
-  ps_int n = P->n;
-  char path[1400];
-  ps_outfile o;
-  snprintf(path, sizeof path, "%s/particles.csv", dir);
-  PS_CHECK(ps_outfile_open(&o, path, ctx));
-  fprintf(o.f, d == 2 ? "id,x,y,ux,uy,damage,volume,mass,h,block"
-                      : "id,x,y,z,ux,uy,uz,damage,volume,mass,h,block");
-  for (int c = 0; c < ncomp; c++) fprintf(o.f, ",%s_Pa", stress_name[c]);
-  fprintf(o.f, "\n");
-  for (ps_int a = 0; a < n; a++) {
-    fprintf(o.f, "%lld", (long long)a);
-    for (int k = 0; k < d; k++) fprintf(o.f, ",%.10g", P->x[a * d + k]);
-    for (int k = 0; k < d; k++) fprintf(o.f, ",%.10g", s->u[a * d + k]);
-    fprintf(o.f, ",%.6g,%.6g,%.6g,%.6g,%d", F->phi[a], P->volume[a],
-            s->mat->rho * P->volume[a], P->h[a], P->block[a]);
-    for (int c = 0; c < ncomp; c++) fprintf(o.f, ",%.6g", F->scomp[c * n + a]);
-    fprintf(o.f, "\n");
-  }
-  return ps_outfile_commit(&o, ctx);
-}
-
-int ps_report_write_fields(const char *dir, int step, int final, const ps_report_state *s,
-                           ps_ctx *ctx) {
-  const ps_particles *P = s->P;
-  const ps_network *net = s->net;
-  int d = P->dim, ncomp = d == 2 ? 3 : 6, status = PS_OK;
-  ps_int n = P->n, na = net->n_arm;
-  char path[1400];
-  fields F;
-  memset(&F, 0, sizeof F);
-  PS_CHECK_GOTO(fields_compute(&F, s, ctx));
-  ps_field pf[11] = {{"displacement", 3, s->u, d},
-                     {"damage", 1, F.phi, 1},
-                     {"arm_strain_over_eps_y", 1, F.pstrain, 1},
-                     {"plastic_elongation_over_delta", 1, F.pplast, 1},
-                     {"h", 1, P->h, 1}};
-  int npf = 5;
-  for (int c = 0; c < ncomp; c++) {
-    ps_field fc = {stress_name[c], 1, &F.scomp[c * n], 1};
-    pf[npf++] = fc;
-  }
-  ps_field af[3] = {{"arm_strain_over_eps_y", 1, F.astrain, 1},
-                    {"plastic_elongation_over_delta", 1, F.aplast, 1},
-                    {"broken", 1, F.abroken, 1}};
-  snprintf(path, sizeof path, "%s/particles_%04d.vtk", dir, step);
-  PS_CHECK_GOTO(ps_vtk_write(path, d, n, P->x, 0, NULL, NULL, pf, npf, NULL, 0, ctx));
-  snprintf(path, sizeof path, "%s/arms_%04d.vtk", dir, step);
-  PS_CHECK_GOTO(ps_vtk_write(path, d, n, P->x, na, net->a, net->b, pf, npf, af, 3, ctx));
-  if (final) PS_CHECK_GOTO(write_particles_csv(dir, s, &F, ctx));
-cleanup:
-  fields_free(&F);
-  return status;
 }

@@ -192,6 +192,11 @@ const double *ps_solver_arm_tension(const ps_solver *s);
 const double *ps_solver_arm_direction(const ps_solver *s);
 const double *ps_solver_arm_elongation(const ps_solver *s);
 const ps_arm_state *ps_solver_arm_state(const ps_solver *s);
+/* The force vector of the last evaluation [n_dof], N (per m of thickness
+ * in 2D): at prescribed dofs the reactions (the force the supports exert
+ * on the particle, the gradient of the stored energy), at free dofs the
+ * residual r = f_int - lambda fext. */
+const double *ps_solver_force(const ps_solver *s);
 /* How the last Newton solve ended: enum ps_newton_reason, and its
  * relative residual. */
 int ps_solver_last_reason(const ps_solver *s);

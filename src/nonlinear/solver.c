@@ -670,6 +670,7 @@ void ps_solver_get_stats(const ps_solver *s, ps_solver_stats *st) {
 
 double ps_solver_lambda(const ps_solver *s) { return s->pd->lambda; }
 const double *ps_solver_u(const ps_solver *s) { return s->u; }
+const double *ps_solver_force(const ps_solver *s) { return s->f; }
 const double *ps_solver_arm_tension(const ps_solver *s) { return s->pd->sys.T; }
 const double *ps_solver_arm_direction(const ps_solver *s) { return s->pd->sys.q; }
 const double *ps_solver_arm_elongation(const ps_solver *s) { return s->pd->sys.dl; }

@@ -26,6 +26,8 @@ void ps_path_opts_default(ps_path_opts *o) {
   o->max_arms_per_step = 0;
   o->dissipation_step = 0.0;
   o->dissipation_max = 0.0;
+  o->steps = NULL;
+  o->n_steps = 0;
 }
 
 int ps_path_init(ps_path *p, ps_solver *s, const ps_path_problem *pb, const ps_path_opts *o,
@@ -244,8 +246,8 @@ static int stop_rule(ps_path *p) {
   }
   if (last->lambda >= o->max_load) { /* exact: the target snaps to max_load */
     p->end = PS_PATH_MAX_LOAD;
-    snprintf(p->stop_reason, sizeof p->stop_reason, "path.max_load = %g reached: %s",
-             o->max_load,
+    snprintf(p->stop_reason, sizeof p->stop_reason, "%s = %g reached: %s",
+             o->n_steps > 0 ? "the last of path.steps" : "path.max_load", o->max_load,
              p->broken_total ? "arms broke but the crack did not run" : "no fracture");
     return 1;
   }

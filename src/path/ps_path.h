@@ -75,7 +75,10 @@ typedef struct ps_step_control_type {
 /* Load control: increments of load_step (min(load_step,
  * load_step_after_break) once an arm has broken), halved on each failed
  * attempt and doubled back towards the nominal one after two accepted
- * increments in a row; the target snaps to max_load. */
+ * increments in a row; the target snaps to max_load. With path.steps
+ * (o->n_steps > 0) the targets are the listed load factors in turn: a
+ * failed attempt halves the increment tried, which doubles after two
+ * accepted increments until the target is the next entry again. */
 extern const ps_step_control_type *const ps_step_control_load;
 
 /* Arc-length control (control_arclength.c; ps_solver_arclength_step):

@@ -61,6 +61,14 @@ typedef struct ps_path_opts {
   double dissipation_max;       /* dissipation control: the largest tau, J;
                                    0: 1/50 of the largest stored energy so
                                    far (default) */
+  double *steps;                /* load control: the load factors to reach
+                                   in turn (path.steps: > 0, increasing;
+                                   max_load is the last), or NULL (default:
+                                   increments of load_step). Owned by the
+                                   ps_case that holds these options
+                                   (ps_case_free); a copy of the options
+                                   borrows it */
+  int n_steps;                  /* entries of steps (0: none) */
 } ps_path_opts;
 
 /* path.control */

@@ -57,7 +57,8 @@ static void stall_advice(const ps_path *p, char *buf, size_t len, int *softens) 
     return;
   }
   if (!*softens) {
-    snprintf(buf + l, len - l, " Try a smaller path.load_step or solver.linear: umfpack");
+    snprintf(buf + l, len - l, " Try %s or solver.linear: umfpack",
+             p->o.n_steps > 0 ? "closer path.steps" : "a smaller path.load_step");
     return;
   }
   if (type == ps_model_fibre &&
@@ -73,8 +74,8 @@ static void stall_advice(const ps_path *p, char *buf, size_t len, int *softens) 
                           "end the path before this load (path.max_load) or change the "
                           "material.");
   if (l < len)
-    snprintf(buf + l, len - l, " A smaller path.load_step or solver.linear: umfpack will "
-                               "not help");
+    snprintf(buf + l, len - l, " %s or solver.linear: umfpack will not help",
+             p->o.n_steps > 0 ? "Closer path.steps" : "A smaller path.load_step");
 }
 
 void ps_path_newton_stalled(ps_path *p, double target) {

@@ -65,13 +65,17 @@ static int our_file(const char *name, int tmp_ok) {
   static const char *const fixed[] = {PS_OUTDIR_MARKER, "summary.txt",   "history.csv",
                                       "particles.csv",  "griffith.csv",  "griffith.gp",
                                       "griffith.png",   "griffith_fit.txt", "path.gp",
-                                      "path.png",       "checkpoint.bin",   NULL};
+                                      "path.png",       "particles.pvd", "arms.pvd",
+                                      "checkpoint.bin", NULL};
+  /* NAME_N.SUFFIX; .vtk: the legacy field files of earlier versions */
+  static const char *const numbered_names[][2] = {
+      {"particles_", ".vtu"}, {"arms_", ".vtu"}, {"particles_", ".vtk"},
+      {"arms_", ".vtk"},      {"job-", ".log"}};
   size_t n = strlen(name);
   for (int i = 0; fixed[i]; i++)
     if (!strcmp(name, fixed[i])) return 1;
-  if (numbered(name, "particles_", ".vtk") || numbered(name, "arms_", ".vtk") ||
-      numbered(name, "job-", ".log"))
-    return 1;
+  for (size_t i = 0; i < sizeof numbered_names / sizeof numbered_names[0]; i++)
+    if (numbered(name, numbered_names[i][0], numbered_names[i][1])) return 1;
   if (tmp_ok && n > 4 && !strcmp(name + n - 4, ".tmp")) {
     char base[256];
     if (n - 4 >= sizeof base) return 0;

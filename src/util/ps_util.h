@@ -131,8 +131,10 @@ void ps_state_list_free(ps_state_list *l);
  * versions, one whose summary.txt starts "case: ", whose history.csv
  * starts "step,load_factor," or whose griffith.csv starts "delta_over_c,",
  * or an empty folder; and which holds nothing but names peristatic writes
- * (the marker, summary.txt, history.csv, particles.csv, particles_N.vtk,
- * arms_N.vtk, checkpoint.bin, griffith.csv/.gp/.png, griffith_fit.txt, job-N.log, any of
+ * (the marker, summary.txt, history.csv, particles.csv, particles_N.vtu,
+ * arms_N.vtu, particles.pvd, arms.pvd, particles_N.vtk and arms_N.vtk of
+ * earlier versions, griffith.csv/.gp/.png, path.gp/.png,
+ * checkpoint.bin, griffith_fit.txt, job-N.log, any of
  * these + ".tmp", and a sweep's delta_cN folders, with .partial or .old,
  * holding such files, and delta_cN.claim). Anything else (another folder,
  * a file, a symbolic link, a folder of ours holding a file of someone
@@ -140,7 +142,7 @@ void ps_state_list_free(ps_state_list *l);
 #define PS_OUTDIR_MARKER ".peristatic"
 /* The longest output folder name the command line takes: room for what
  * peristatic writes inside it, up to a sweep's
- * DIR.partial/delta_cNNNN.partial/particles_NNNN.vtk.tmp, within the
+ * DIR.partial/delta_cNNNN.partial/particles_NNNN.vtu.tmp, within the
  * 1024 characters of a ps_outfile path. */
 #define PS_OUTDIR_MAX 900
 

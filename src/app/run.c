@@ -68,6 +68,27 @@ static ps_report_state report_state(const run_state *r) {
   return st;
 }
 
+/* the names of the named loading entries, whose reactions history.csv
+ * has (*names NULL when none). Returns PS_OK or PS_ERR_NOMEM. */
+static int reaction_names(const run_state *r, const char ***names, ps_ctx *ctx) {
+  const ps_problem *pb = r->pb;
+  *names = NULL;
+  if (pb->n_groups > 0 && !(*names = ps_calloc((size_t)pb->n_groups, sizeof **names, ctx)))
+    return PS_ERR_NOMEM;
+  for (int g = 0; g < pb->n_groups; g++) (*names)[g] = pb->cs.bc[pb->group_bc[g]].name;
+  return PS_OK;
+}
+
+/* staging/history.csv with its header */
+static int history_open(run_state *r, ps_ctx *ctx) {
+  const char **names;
+  PS_CHECK(reaction_names(r, &names, ctx));
+  int status = ps_report_history_open(&r->hist, r->staging, names, r->pb->n_groups,
+                                      r->pb->P.dim, ctx);
+  free(names);
+  return status;
+}
+
 /* the step of a field file of ours (particles_NNNN.vtu, arms_NNNN.vtu),
  * or -1 */
 static long vtu_step(const char *name) {
@@ -165,12 +186,10 @@ static int open_restart_outputs(run_state *r, ps_ctx *ctx) {
                  a.st_ino == b.st_ino;
   if (!in_place) PS_CHECK(ps_outdir_fresh(r->staging, ctx));
   PS_CHECK(restart_fields(r, in_place, ctx));
-  char path[1400];
-  snprintf(r->hist.dir, sizeof r->hist.dir, "%s", r->staging);
-  snprintf(path, sizeof path, "%s/history.csv", r->staging);
-  r->hist.f = fopen(path, "w");
-  if (!r->hist.f || fputs(r->rows, r->hist.f) < 0 || fflush(r->hist.f) != 0)
-    return ps_error(ctx, PS_ERR_IO, "%s: cannot write", path);
+  PS_CHECK(history_open(r, ctx));
+  const char *rows = strchr(r->rows, '\n') + 1; /* after the header (restart_rows) */
+  if (fputs(rows, r->hist.f) < 0 || fflush(r->hist.f) != 0)
+    return ps_error(ctx, PS_ERR_IO, "%s/history.csv: cannot write", r->staging);
   return PS_OK;
 }
 
@@ -191,15 +210,7 @@ static int open_outputs(run_state *r, ps_ctx *ctx) {
                    "complete its commit\n", r->staging);
   free(old);
   PS_CHECK(ps_outdir_fresh(r->staging, ctx));
-  const ps_problem *pb = r->pb;
-  const char **names = NULL;
-  if (pb->n_groups > 0 && !(names = ps_calloc((size_t)pb->n_groups, sizeof *names, ctx)))
-    return PS_ERR_NOMEM;
-  for (int g = 0; g < pb->n_groups; g++) names[g] = pb->cs.bc[pb->group_bc[g]].name;
-  int status = ps_report_history_open(&r->hist, r->staging, names, pb->n_groups, pb->P.dim,
-                                      ctx);
-  free(names);
-  return status;
+  return history_open(r, ctx);
 }
 
 /* The prescribed displacement at load factor 1 of the first measured dof
@@ -528,6 +539,23 @@ static int restart_rows(run_state *r, ps_ctx *ctx) {
     n++;
   }
   fclose(f);
+  if (status == PS_OK && n >= 0) { /* the columns: this run's (named entries' reactions) */
+    const char **names;
+    PS_CHECK(reaction_names(r, &names, ctx));
+    const ps_problem *pb = r->pb;
+    size_t need = ps_report_history_header(NULL, 0, names, pb->n_groups, pb->P.dim) + 1;
+    char *head = ps_calloc(need, 1, ctx);
+    if (head) ps_report_history_header(head, need, names, pb->n_groups, pb->P.dim);
+    size_t l0 = strcspn(r->rows, "\n") + 1;
+    if (!head)
+      status = PS_ERR_NOMEM;
+    else if (strlen(head) != l0 || strncmp(head, r->rows, l0) != 0)
+      status = ps_error(ctx, PS_ERR_INPUT, "%s has other columns than %s's history.csv would "
+                        "(its named loading entries differ): not this case's run", path,
+                        r->pb->cs.file);
+    free(head);
+    free(names);
+  }
   if (status == PS_OK && n < k)
     status = ps_error(ctx, PS_ERR_INPUT, "%s has %lld complete rows, fewer than the %lld "
                       "increments of its checkpoint %s/%s: restart from the checkpoint's own "

@@ -114,9 +114,14 @@ typedef struct ps_report_history {
   int n_reactions, dim;       /* the reaction columns after the table's */
 } ps_report_history;
 
-/* Create dir/history.csv with its header: the table's columns, then
- * reaction_<name>_x, _y (, _z in 3D) for each of the n_reactions names.
- * Returns PS_OK or PS_ERR_IO. */
+/* history.csv's header line (newline included): the table's columns,
+ * then reaction_<name>_x, _y (, _z in 3D) for each of the n_reactions
+ * names, into buf[len] as snprintf would (buf may be NULL with len 0);
+ * returns its length. */
+size_t ps_report_history_header(char *buf, size_t len, const char *const *reaction_names,
+                                int n_reactions, int dim);
+/* Create dir/history.csv with its header (ps_report_history_header).
+ * Returns PS_OK, PS_ERR_IO or PS_ERR_NOMEM. */
 int ps_report_history_open(ps_report_history *h, const char *dir,
                            const char *const *reaction_names, int n_reactions, int dim,
                            ps_ctx *ctx);

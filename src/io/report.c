@@ -333,6 +333,18 @@ int ps_report_read_summary(const char *dir, ps_run_result *res) {
   return f ? 0 : -1;
 }
 
+size_t ps_report_history_header(char *buf, size_t len, const char *const *reaction_names,
+                                int n_reactions, int dim) {
+  size_t n = 0;
+#define PS_PUT(...) n += (size_t)snprintf(buf + (n < len ? n : len), n < len ? len - n : 0, __VA_ARGS__)
+  for (size_t i = 0; i < N_HISTORY_COLUMNS; i++) PS_PUT("%s%s", i ? "," : "", history_columns[i].key);
+  for (int g = 0; g < n_reactions; g++)
+    for (int k = 0; k < dim; k++) PS_PUT(",reaction_%s_%c", reaction_names[g], 'x' + k);
+  PS_PUT("\n");
+#undef PS_PUT
+  return n;
+}
+
 int ps_report_history_open(ps_report_history *h, const char *dir,
                            const char *const *reaction_names, int n_reactions, int dim,
                            ps_ctx *ctx) {
@@ -341,13 +353,14 @@ int ps_report_history_open(ps_report_history *h, const char *dir,
   h->n_reactions = n_reactions;
   h->dim = dim;
   snprintf(path, sizeof path, "%s/history.csv", dir);
+  size_t need = ps_report_history_header(NULL, 0, reaction_names, n_reactions, dim) + 1;
+  char *head = ps_calloc(need, 1, ctx);
+  if (!head) return PS_ERR_NOMEM;
+  ps_report_history_header(head, need, reaction_names, n_reactions, dim);
   h->f = fopen(path, "w");
-  if (!h->f) return ps_error(ctx, PS_ERR_IO, "%s: cannot open for writing", path);
-  for (size_t i = 0; i < N_HISTORY_COLUMNS; i++)
-    fprintf(h->f, "%s%s", i ? "," : "", history_columns[i].key);
-  for (int g = 0; g < n_reactions; g++)
-    for (int k = 0; k < dim; k++) fprintf(h->f, ",reaction_%s_%c", reaction_names[g], 'x' + k);
-  fprintf(h->f, "\n");
+  int bad = !h->f || fputs(head, h->f) < 0;
+  free(head);
+  if (bad) return ps_error(ctx, PS_ERR_IO, "%s: cannot open for writing", path);
   return PS_OK;
 }
 

@@ -4,8 +4,9 @@
 # checkpoint gives the uninterrupted run's history.csv (all columns but
 # the wall time), particles.csv and summary.txt counts to the last bit:
 # under load control with yielding and breaking arms (a small disk),
-# arc-length control past a limit load (a perforated plate) and
-# dissipation control of softening arms (a notched plate). A checkpoint of
+# arc-length control past a limit load (a perforated plate), dissipation
+# control of softening arms (a notched plate) and path.steps with named
+# entries' reactions (a box). A checkpoint of
 # another case, a damaged one and a truncated one are refused (exit 1)
 # with the folder left as it was.
 srcdir=${srcdir:-.}
@@ -49,8 +50,9 @@ cut_case() {
 }
 
 # 1. stopped by path.max_increments at k and restarted with the full case
-# (max_increments may differ): load, arc-length and dissipation control
-for c in disk:13 arc:17 soft:20; do
+# (max_increments may differ): load, arc-length and dissipation control,
+# path.steps
+for c in disk:13 arc:17 soft:20 steps:5; do
   name=${c%%:*}
   k=${c#*:}
   $P run -q -t 1 -o "$T/$name-full" "$D/$name.yaml" || ko "$name: the uninterrupted run failed"
@@ -137,6 +139,9 @@ if head -c 20 "$T/good.bin" | cmp -s - "$T/ref/checkpoint.bin"; then
 else
   ko "a refused checkpoint changed"
 fi
+# named entries are not in the fingerprint, but they are history.csv's columns
+sed 's/name: right/name: grip/' "$D/steps.yaml" > "$T/renamed.yaml"
+expect 1 "history.csv has other columns than" -- run -q --restart "$T/steps" -o "$T/steps" "$T/renamed.yaml"
 expect 1 "no-such/checkpoint.bin: cannot read" -- run -q --restart "$T/no-such" -o "$T/x" "$D/disk.yaml"
 expect 1 "restart is an option of run" -- griffith -q --restart "$T/ref" "$D/disk.yaml"
 

@@ -23,28 +23,22 @@ int ps_linsolve_create(ps_linsolve *ls, const ps_linsolve_type *type,
 
 void ps_linsolve_destroy(ps_linsolve *ls) {
   if (ls->type && ls->state) ls->type->destroy(&ls->state);
-  free(ls->kept.p);
-  free(ls->kept.i);
   free(ls->kept.x);
   memset(ls, 0, sizeof *ls);
 }
 
 int ps_linsolve_keep(ps_linsolve *ls, const ps_csc *A, ps_ctx *ctx) {
   ps_csc *K = &ls->kept;
-  ps_int nnz = A->p[A->n];
-  if (!K->p || K->n != A->n || K->p[K->n] < nnz) {
-    void *p = K->p, *i = K->i, *x = K->x;
-    K->n = 0;
-    PS_CHECK(ps_realloc(&p, (size_t)A->n + 1, sizeof *K->p, ctx));
-    K->p = p;
-    PS_CHECK(ps_realloc(&i, (size_t)nnz, sizeof *K->i, ctx));
-    K->i = i;
-    PS_CHECK(ps_realloc(&x, (size_t)nnz, sizeof *K->x, ctx));
+  size_t nnz = (size_t)A->p[A->n];
+  if (nnz > ls->kept_cap) {
+    void *x = K->x;
+    PS_CHECK(ps_realloc(&x, nnz, sizeof *K->x, ctx));
     K->x = x;
+    ls->kept_cap = nnz;
   }
-  memcpy(K->p, A->p, ((size_t)A->n + 1) * sizeof *K->p);
-  memcpy(K->i, A->i, (size_t)nnz * sizeof *K->i);
-  memcpy(K->x, A->x, (size_t)nnz * sizeof *K->x);
+  memcpy(K->x, A->x, nnz * sizeof *K->x);
+  K->p = A->p;
+  K->i = A->i;
   K->n = A->n;
   return PS_OK;
 }

@@ -76,25 +76,30 @@ typedef struct ps_linsolve {
   ps_team *team;            /* threads precondition may use (not owned;
                                NULL: one; the results do not depend on it) */
   ps_linsolve_stats stats;
-  int keep_matrix;          /* 1: ps_linsolve_factor keeps a copy of the
-                               matrix it factors in `kept` (default 0) */
-  ps_csc kept;              /* that copy (owned; n = 0: none): a
+  int keep_matrix;          /* 1: ps_linsolve_factor keeps the matrix it
+                               factors in `kept` (default 0) */
+  ps_csc kept;              /* that matrix (n = 0: none): a copy of its
+                               values (x, owned) on the pattern of the
+                               matrix factored (p, i borrowed: the caller
+                               keeps that pattern alive and unchanged, as
+                               the assembly's fixed patterns are); a
                                checkpoint stores it, and factoring it
                                again gives the same factor */
+  size_t kept_cap;          /* entries allocated in kept.x */
 } ps_linsolve;
 
 /* Create / destroy. Returns PS_OK or a fatal status. */
 int ps_linsolve_create(ps_linsolve *ls, const ps_linsolve_type *type,
                        ps_ctx *ctx);
 void ps_linsolve_destroy(ps_linsolve *ls);
-/* Factor A (analysing its pattern on first use; with ls->keep_matrix a
- * copy of A into ls->kept first, PS_ERR_NOMEM when it cannot be made).
+/* Factor A (analysing its pattern on first use; with ls->keep_matrix A
+ * kept in ls->kept first, PS_ERR_NOMEM when it cannot be).
  * Statuses as ->factor. */
 int ps_linsolve_factor(ps_linsolve *ls, const ps_csc *A, ps_int *bad_col,
                        ps_ctx *ctx);
-/* ls->kept = a copy of A (ls->keep_matrix's copy, made without
- * factoring: for a factor made before keep_matrix was set). Returns
- * PS_OK or PS_ERR_NOMEM. */
+/* ls->kept = A: its values copied, its pattern borrowed (ls->kept's
+ * rule; made without factoring: for a factor made before keep_matrix was
+ * set). Returns PS_OK or PS_ERR_NOMEM. */
 int ps_linsolve_keep(ps_linsolve *ls, const ps_csc *A, ps_ctx *ctx);
 /* x = A \ b with the last factor. */
 int ps_linsolve_solve(ps_linsolve *ls, const double *b, double *x,

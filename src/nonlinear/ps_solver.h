@@ -243,8 +243,8 @@ int ps_solver_factor_matrix(const ps_solver *s, int *which, const ps_csc **A, ps
  * `which` names, make it the factor the next directions reuse and put
  * the backends' statistics back; the tangent is assembled again from the
  * restored data when a factorisation needs it. Returns PS_OK,
- * PS_ERR_INPUT (which out of range, A of the wrong order, or A no longer
- * factors: not this solver's checkpoint), or fatal. */
+ * PS_ERR_INPUT (which out of range, A not on this solver's pattern, or A
+ * no longer factors: not this solver's checkpoint), or fatal. */
 int ps_solver_state_restored(ps_solver *s, int which, const ps_csc *A, ps_ctx *ctx);
 
 /* A short sentence for an enum ps_newton_reason, for messages ("line

@@ -790,14 +790,20 @@ int ps_solver_state_restored(ps_solver *s, int which, const ps_csc *A, ps_ctx *c
     return PS_OK;
   }
   ps_linsolve *ls = linsolve_of(s, which);
-  if (!ls || !ls->type || !A || A->n != s->prob.n_free)
+  /* the pattern it was made on: the majorant's or the tangent's */
+  const ps_csc *pat = which == 2 ? &s->pd->sys_pre.A : &s->pd->sys.A;
+  int fits = ls && ls->type && A && (which != 2 || s->pd->have_majorant) && A->n == pat->n &&
+             !memcmp(A->p, pat->p, ((size_t)pat->n + 1) * sizeof *A->p) &&
+             !memcmp(A->i, pat->i, (size_t)pat->p[pat->n] * sizeof *A->i);
+  if (!fits)
     return ps_error(ctx, PS_ERR_INPUT, "the checkpoint's factor (%d, order %lld) does not fit "
-                    "this solver (%lld free dofs)", which, A ? (long long)A->n : -1LL,
-                    (long long)s->prob.n_free);
+                    "this solver (%lld free dofs, or another pattern)", which,
+                    A ? (long long)A->n : -1LL, (long long)s->prob.n_free);
+  ps_csc M = {pat->n, pat->p, pat->i, A->x}; /* the values on the solver's own pattern */
   ps_linsolve_stats st = ls->stats;
   int since = ls->n_since_factor;
   ps_int bad = -1;
-  int status = ps_linsolve_factor(ls, A, &bad, ctx);
+  int status = ps_linsolve_factor(ls, &M, &bad, ctx);
   if (status < 0) return status;
   if (status != PS_OK)
     return ps_error(ctx, PS_ERR_INPUT, "the checkpoint's factor matrix does not factor again "

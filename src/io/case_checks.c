@@ -12,7 +12,7 @@
 #include <string.h>
 /* A geometry key given for a geometry type it does not apply to (it
  * would be silently ignored): "case.yaml:7: geometry.file does not apply
- * to geometry.type disk (it is for type cloud)", for the first such key
+ * to geometry.type disk (it is for types cloud and mesh)", for the first such key
  * in the file. Keys not listed (type, dim, sizes, size_neighbours,
  * cracks) apply to every type; geometry.holes has its own check. */
 static int geometry_keys_apply(ps_loader *L) {

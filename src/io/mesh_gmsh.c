@@ -12,12 +12,15 @@
  * start programs), so only a file named *.msh whose text starts with
  * "$MeshFormat" is handed to it. Gmsh keeps its model in the library's own
  * state: each read initialises and finalises it, and its terminal output
- * is off (its last error goes into our message). */
+ * is off (its last error goes into our message). Gmsh sets the locale
+ * (setlocale(LC_ALL, "") with LC_NUMERIC "C"): the process's locale is
+ * put back when the read ends. */
 #include "config.h"
 #include "mesh_impl.h"
 
 #include <gmshc.h>
 
+#include <locale.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -253,12 +256,21 @@ static int gmsh_model(ps_mesh_raw *m, int dim, ps_ctx *ctx) {
 
 int ps_mesh_read_gmsh(ps_mesh_raw *m, const char *path, int dim, ps_ctx *ctx) {
   PS_CHECK(gmsh_check_file(path, ctx));
+  const char *now = setlocale(LC_ALL, NULL);
+  char *locale = ps_calloc(strlen(now ? now : "C") + 1, 1, ctx);
+  if (!locale) return PS_ERR_NOMEM;
+  strcpy(locale, now ? now : "C");
   int ierr = 0, status;
   gmshInitialize(0, NULL, 0, &ierr);
-  if (ierr) return ps_error(ctx, PS_ERR_INPUT, "%s: Gmsh could not start", path);
-  gmshOptionSetNumber("General.Terminal", 0, &ierr);
-  gmshOpen(path, &ierr);
-  status = ierr ? gmsh_fail(path, "read the file", ctx) : gmsh_model(m, dim, ctx);
-  gmshFinalize(&ierr);
+  if (ierr) {
+    status = ps_error(ctx, PS_ERR_INPUT, "%s: Gmsh could not start", path);
+  } else {
+    gmshOptionSetNumber("General.Terminal", 0, &ierr);
+    gmshOpen(path, &ierr);
+    status = ierr ? gmsh_fail(path, "read the file", ctx) : gmsh_model(m, dim, ctx);
+    gmshFinalize(&ierr);
+  }
+  setlocale(LC_ALL, locale);
+  free(locale);
   return status;
 }

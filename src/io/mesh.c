@@ -6,6 +6,7 @@
 #include "config.h"
 #include "mesh_impl.h"
 
+#include <dlfcn.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -62,6 +63,39 @@ const char *ps_mesh_format_missing(int format, char *msg, size_t size) {
   return msg;
 }
 
+/* ---- the readers' libraries (mesh_impl.h) ---- */
+
+int ps_mesh_library_open(void **lib, const char *soname, const char *label,
+                         const char *package, const char *path, ps_ctx *ctx) {
+  *lib = dlopen(soname, RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
+  if (*lib) return PS_OK;
+  const char *e = dlerror();
+  return ps_error(ctx, PS_ERR_INPUT,
+                  "%s: cannot load the %s library %s (%s): reinstall %s or re-run "
+                  "configure", path, label, soname, e ? e : "no reason given", package);
+}
+
+void ps_mesh_library_sym(void *lib, const char *name, void *fn, size_t size,
+                         const char **missing) {
+  void *sym = dlsym(lib, name);
+  if (!sym && !*missing) *missing = name;
+  if (size == sizeof sym) memcpy(fn, &sym, sizeof sym);
+}
+
+int ps_mesh_library_check(void **lib, const char *soname, const char *label,
+                          const char *missing, const char *path, ps_ctx *ctx) {
+  if (!missing) return PS_OK;
+  ps_mesh_library_close(lib);
+  return ps_error(ctx, PS_ERR_INPUT,
+                  "%s: the %s library %s has no %s (another version than configure "
+                  "found): re-run configure", path, label, soname, missing);
+}
+
+void ps_mesh_library_close(void **lib) {
+  if (*lib) dlclose(*lib);
+  *lib = NULL;
+}
+
 /* ---- the neutral form's helpers (mesh_impl.h) ---- */
 
 int ps_mesh_raw_nodes(ps_mesh_raw *m, ps_int n, ps_ctx *ctx) {
@@ -89,7 +123,8 @@ int ps_mesh_raw_add_elem(ps_mesh_raw *m, int kind, const ps_int *nodes, ps_int i
   }
   ps_int e = m->n_elem++;
   m->elem_kind[e] = kind;
-  for (int j = 0; j < 8; j++) m->elem_node[8 * e + j] = j < ps_elem_nodes(kind) ? nodes[j] : 0;
+  for (int j = 0; j < 8; j++)
+    m->elem_node[8 * e + j] = j < ps_elem_nodes(kind) ? nodes[j] : 0;
   m->elem_id[e] = id;
   m->elem_block[e] = block;
   return PS_OK;

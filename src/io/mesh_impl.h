@@ -62,6 +62,32 @@ int ps_mesh_group_add(ps_mesh_group *g, ps_int idx, ps_ctx *ctx);
 /* Free everything of m (safe on a zeroed one). */
 void ps_mesh_raw_free(ps_mesh_raw *m);
 
+/* A reader's library is opened when a mesh is read, not linked: libgmsh
+ * and libexoIIv2c bring 50 to 90 shared libraries (OpenCASCADE, HDF5,
+ * NetCDF, MPI) whose loading slowed every start of peristatic (0.3 s
+ * with Gmsh linked). Open the library soname (configure's PS_*_LIBRARY)
+ * into *lib, RTLD_NODELETE so that its C++ static objects and exit
+ * handlers stay valid after dlclose. PS_OK or PS_ERR_INPUT ("PATH: cannot
+ * load the LABEL library SONAME (why): reinstall PACKAGE or re-run
+ * configure"). */
+int ps_mesh_library_open(void **lib, const char *soname, const char *label,
+                         const char *package, const char *path, ps_ctx *ctx);
+
+/* The function `name` of lib into *fn (a function pointer of size
+ * bytes, read through a void * as POSIX has it); the first name not found
+ * goes to *missing. */
+void ps_mesh_library_sym(void *lib, const char *name, void *fn, size_t size,
+                         const char **missing);
+
+/* After the symbols: PS_OK when none was missing, else close *lib and
+ * refuse ("PATH: the LABEL library SONAME has no NAME (another version
+ * than configure found): re-run configure"), PS_ERR_INPUT. */
+int ps_mesh_library_check(void **lib, const char *soname, const char *label,
+                          const char *missing, const char *path, ps_ctx *ctx);
+
+/* Close a library opened by ps_mesh_library_open (NULL: nothing). */
+void ps_mesh_library_close(void **lib);
+
 /* The readers: fill the zeroed *m from path, whose top dimension must be
  * dim (errors name path). PS_OK, PS_ERR_INPUT, PS_ERR_IO, PS_ERR_NOMEM;
  * the caller frees *m in any case. Each exists only when its package was

@@ -59,6 +59,9 @@ if [ "${PS_GMSH_STATE:-yes}" = yes ]; then
   expect 3 "nothere.msh: cannot open" -- info "$T/missing.yaml"
   variant 's/dim: 2/dim: 3/; s/nu: 0.3333333333333333/nu: 0.25/' dim3.yaml
   expect 1 "plate.msh: the mesh's elements are 2D but geometry.dim is 3" -- info "$T/dim3.yaml"
+  $P info "$srcdir/data/cases/plate-gmsh.yaml" > "$T/example.out" 2>&1 &&
+    ok "the shipped data/cases/plate-gmsh.yaml reads (info)" ||
+    ko "data/cases/plate-gmsh.yaml: $(cat "$T/example.out")"
   variant 's/select: {set: left}/select: {set: left, y_max: 0.004}/' set_box.yaml
   $P info "$T/set_box.yaml" > "$T/set_box.out" 2>&1 &&
     ok "select: {set: left, y_max: ...} combines a set and a box" ||

@@ -9,7 +9,8 @@
 #     about 1e-12 of a spacing: Gmsh's transfinite nodes).
 # (f) Bad input exits 1 with the file and line: an unknown set name (the
 #     mesh's sets listed), select.set without a mesh, an extension that
-#     names no format, geometry.format on another type or unknown, the
+#     names no format, geometry.format on another type or unknown, a set
+#     name that two groups of the mesh share (dup_names.msh), the
 #     mesh's dimension against geometry.dim; a missing mesh file exits 3
 #     (input/output, as a missing cloud); a build without a reader refuses its format with
 #     "this peristatic was built without Gmsh support: install
@@ -55,6 +56,9 @@ if [ "${PS_GMSH_STATE:-yes}" = yes ]; then
   fi
   variant 's/set: left}/set: lefty}/' unknown_set.yaml
   expect 1 "unknown_set.yaml:11: loading.boundary entry 1: no set 'lefty' in .*plate.msh (its sets: bottom, right, top, left, plate)" -- info "$T/unknown_set.yaml"
+  cp "$D/dup_names.msh" "$T/"
+  variant 's/plate.msh/dup_names.msh/; s/set: left}/set: top}/' dup.yaml
+  expect 1 "dup.yaml:11: loading.boundary entry 1: 'top' names two sets of .*dup_names.msh (a physical curve and a physical surface): rename one in the mesh" -- info "$T/dup.yaml"
   variant 's/plate.msh/nothere.msh/' missing.yaml
   expect 3 "nothere.msh: cannot open" -- info "$T/missing.yaml"
   variant 's/dim: 2/dim: 3/; s/nu: 0.3333333333333333/nu: 0.25/' dim3.yaml

@@ -73,6 +73,13 @@ static int set_members(const ps_problem *pb, const ps_bc *bc, int ib,
                     cs->file, bc->line, ib + 1, bc->sel.set, cs->cloud_file,
                     sets ? ps_mesh_set_names(sets, names, sizeof names) : "none");
   }
+  for (const ps_mesh_set *t = s + 1; t < sets->set + sets->n; t++)
+    if (!strcmp(t->name, s->name))
+      return ps_error(ctx, PS_ERR_INPUT,
+                      "%s:%d: loading.boundary entry %d: '%s' names two sets of %s (a %s "
+                      "and a %s): rename one in the mesh",
+                      cs->file, bc->line, ib + 1, s->name, cs->cloud_file, s->kind,
+                      t->kind);
   memset(in_set, 0, (size_t)pb->P.n);
   for (ps_int i = 0; i < s->n; i++) in_set[s->particle[i]] = 1;
   return PS_OK;
@@ -319,7 +326,7 @@ static int estimate_sampled(ps_problem *pb, const ps_case *cs, double alpha,
  *    given as a length: then delta is that length), alpha =
  *    ps_model_lattice_reach(m) spacings, cell size d: the arms and
  *    constants of the lattice models as they were before clouds;
- *  - a point cloud or the disk: h = hm, the mean spacing (sum V / n)^(1/N)
+ *  - a point cloud, a mesh or the disk: h = hm, the mean spacing (sum V / n)^(1/N)
  *    (ps_mean_spacing: the side of the mean particle's square or cube),
  *    delta = material.horizon, or material.horizon_factor hm, alpha =
  *    ps_model_cloud_reach / hm (the reach in metres: with partial volumes

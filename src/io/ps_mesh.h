@@ -75,7 +75,8 @@ const char *ps_mesh_format_missing(int format, char *msg, size_t size);
 int ps_mesh_read(ps_particles *p, ps_mesh_sets *sets, const char *path, int format,
                  int dim, ps_ctx *ctx);
 
-/* The set called name, NULL if none. */
+/* The (first) set called name, NULL if none. Gmsh allows one name for
+ * groups of different dimensions: app/setup.c refuses such a name. */
 const ps_mesh_set *ps_mesh_set_find(const ps_mesh_sets *sets, const char *name);
 
 /* The names of the sets, ", "-separated, into buf[size] (cut with "..."

@@ -72,6 +72,7 @@ static int have(int f) {
   return 0;
 }
 
+#if defined(HAVE_GMSH) || defined(HAVE_EXODUSII) /* the helpers of the readers' checks */
 static int read_mesh(ps_particles *p, ps_mesh_sets *s, const char *path, int format,
                      int dim) {
   ps_ctx ctx;
@@ -97,7 +98,7 @@ static void expect_error(const char *path, int format, int dim, int status,
   ps_mesh_sets_free(&s);
 }
 
-static double sum_v(const ps_particles *p, int k) {
+__attribute__((unused)) static double sum_v(const ps_particles *p, int k) {
   double s = 0;
   for (ps_int a = 0; a < p->n; a++) s += p->volume[a] * (k < 0 ? 1.0 : p->x[a * p->dim + k]);
   return s;
@@ -106,7 +107,8 @@ static double sum_v(const ps_particles *p, int k) {
 /* n^dim particles at the cell centres of [0, 1]^dim, each of volume
  * n^-dim, to 1e-10 of a cell: Gmsh places a transfinite mesh's interior
  * nodes to about 1e-12 (not exactly at i/n) */
-static void check_lattice(const ps_particles *p, int n, const char *what) {
+__attribute__((unused)) static void check_lattice(const ps_particles *p, int n,
+                                                 const char *what) {
   int dim = p->dim, cells = dim == 2 ? n * n : n * n * n, bad = 0;
   char *hit = calloc((size_t)cells, 1);
   for (ps_int a = 0; a < p->n; a++) {
@@ -132,6 +134,8 @@ static const ps_mesh_set *set_of(const ps_mesh_sets *s, const char *name) {
   ps_check(m != NULL, "set '%s' found", name);
   return m;
 }
+
+#endif
 
 #ifdef HAVE_GMSH
 /* Gmsh's own view of a mesh, for independent checks: the elements of

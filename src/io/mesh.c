@@ -6,7 +6,6 @@
 #include "config.h"
 #include "mesh_impl.h"
 
-#include <dlfcn.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -63,7 +62,9 @@ const char *ps_mesh_format_missing(int format, char *msg, size_t size) {
   return msg;
 }
 
-/* ---- the readers' libraries (mesh_impl.h) ---- */
+/* ---- the readers' libraries (mesh_impl.h), when a reader is built ---- */
+#if defined(HAVE_GMSH) || defined(HAVE_EXODUSII)
+#include <dlfcn.h>
 
 int ps_mesh_library_open(void **lib, const char *soname, const char *label,
                          const char *package, const char *path, ps_ctx *ctx) {
@@ -95,6 +96,7 @@ void ps_mesh_library_close(void **lib) {
   if (*lib) dlclose(*lib);
   *lib = NULL;
 }
+#endif
 
 /* ---- the neutral form's helpers (mesh_impl.h) ---- */
 

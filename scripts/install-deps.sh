@@ -7,6 +7,14 @@ set -eu
 # gcc's libasan8/libubsan1 (with build-essential) serve make check-sanitize
 PKGS="build-essential autoconf automake libtool pkg-config \
 libsuitesparse-dev libgsl-dev libyaml-dev libopenblas-dev gnuplot-nox time"
+# Optional: the mesh readers of geometry.type mesh (configure builds each
+# reader when it finds its package, and works without them: then
+# configure --without-gmsh --without-exodus, or make check fails the mesh
+# tests). libgmsh-dev: Gmsh's C API (gmshc.h, -lgmsh); gmsh: its command
+# line, to remake the test meshes (tests/data/mesh/*.geo); libexodusii-dev:
+# Exodus II (exodusII.h, -lexoIIv2c). Together about 230 MB installed
+# (OpenCASCADE, HDF5, NetCDF, MPI come with them).
+PKGS="$PKGS libgmsh-dev gmsh libexodusii-dev"
 missing=""
 for p in $PKGS; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" \

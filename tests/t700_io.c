@@ -334,7 +334,7 @@ static void test_bad_values(void) {
            (const char *const[]){"geometry.counts asks for 2.2e+12 particles", NULL});
   bad_case("bad_key_file_disk.yaml", PS_ERR_INPUT, 5,
            (const char *const[]){"geometry.file does not apply to geometry.type disk (it is "
-                                 "for type cloud)", NULL});
+                                 "for types cloud and mesh)", NULL});
   bad_case("bad_key_counts_cloud.yaml", PS_ERR_INPUT, 5,
            (const char *const[]){"geometry.counts does not apply to geometry.type cloud", NULL});
   bad_case("bad_key_disk_box.yaml", PS_ERR_INPUT, 5,

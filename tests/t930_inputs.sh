@@ -87,7 +87,7 @@ printf 'geometry: {type: cloud, dim: 2, file: far.txt, sizes: eq44}\nloading:\n 
 expect 1 "far.txt:5: coordinates beyond 1e150 m (x, field 1 of 'x y volume \[block\]': got '-1e200')" -- info "$T/far_cloud.yaml"
 
 # keys of another geometry
-expect 1 "file_on_disk.yaml:8: geometry.file does not apply to geometry.type disk (it is for type cloud)" -- info "$D/file_on_disk.yaml"
+expect 1 "file_on_disk.yaml:8: geometry.file does not apply to geometry.type disk (it is for types cloud and mesh)" -- info "$D/file_on_disk.yaml"
 
 # values that broke a computation downstream
 expect 1 "alpha_big.yaml:3: kernel.alpha must be in \[0.001, 1000\] (got 1.0e155)" -- info "$D/alpha_big.yaml"

@@ -1,5 +1,6 @@
 #!/bin/sh
-# t960_fuzz.sh: mutated case files and point clouds (tests/fuzz/ps_fuzz.c)
+# t960_fuzz.sh: mutated case files, point clouds and Gmsh meshes (text
+# .msh files, read by Gmsh's library; tests/fuzz/ps_fuzz.c)
 # over every seed in data/cases and tests/data: each must end with exit
 # status 0..3, no signal, no sanitizer report, and `info` within its time
 # limit. PS_FUZZ_N inputs (default 300; `make fuzz` runs thousands),
@@ -12,7 +13,8 @@ rm -rf "$dir"
 mkdir -p "$dir"
 # the seeds: every shipped case and every test input
 set -- "$srcdir"/data/cases/*.yaml "$srcdir"/tests/data/*/*.yaml \
-  "$srcdir"/tests/data/*/*.yml "$srcdir"/tests/data/*/*.txt
+  "$srcdir"/tests/data/*/*.yml "$srcdir"/tests/data/*/*.txt \
+  "$srcdir"/data/cases/*.msh "$srcdir"/tests/data/*/*.msh
 out=$(./tests/fuzz/ps_fuzz -n "$n" -s "$seed" -r -d "$dir" ./peristatic "$@")
 rc=$?
 printf '%s\n' "$out"

@@ -70,7 +70,7 @@ static const char *HELP_MAIN =
     "total or deviatoric; breaks by material.delta, Eq. 118), bond (bond-based\n"
     "PD, Fallah et al. 2020; micromodulus conical or constant as Peridigm's\n"
     "PMB), state (ordinary state-based PD), threebody (Li & Hao 2023, 2D);\n"
-    "bond, state and threebody take a box, a point cloud or the disk\n"
+    "bond, state and threebody take a box, a point cloud, a mesh or the disk\n"
     "(material.horizon in m, or horizon_factor spacings) and break arms by\n"
     "material.fracture (critical stretch, G_c or micropotential; doc/fracture.md).\n"
     "Path (path.control): load (the default); arc_length, which passes limit\n"

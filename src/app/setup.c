@@ -1,5 +1,5 @@
-/* setup.c: from a case to a problem: particle cloud (disk, box or point
- * file), sizes (Eq. 115 or Eq. 44), arm network, material, and the
+/* setup.c: from a case to a problem: particle cloud (disk, box, point
+ * file or mesh), sizes (Eq. 115 or Eq. 44), arm network, material, and the
  * boundary conditions with the boundary-stress measure. */
 #include "ps_app.h"
 
@@ -23,7 +23,11 @@ void ps_problem_free(ps_problem *pb) {
   memset(pb, 0, sizeof *pb);
 }
 
-static int selected(const ps_particles *P, ps_int a, const ps_select *s) {
+/* Is particle a selected by s (in_set: a's membership of s's named set,
+ * or NULL when s names none)? */
+static int selected(const ps_particles *P, ps_int a, const ps_select *s,
+                    const unsigned char *in_set) {
+  if (in_set && !in_set[a]) return 0;
   for (int k = 0; k < P->dim; k++) {
     double x = P->x[a * P->dim + k];
     if (x < s->lo[k] || x > s->hi[k]) return 0;
@@ -60,9 +64,45 @@ static int setup_eq116(ps_problem *pb, ps_ctx *ctx) {
   return PS_OK;
 }
 
+/* The membership of the named set of selection bc->sel (a mesh's set)
+ * into in_set[n]; an unknown name is an error listing the mesh's sets. */
+static int set_members(const ps_problem *pb, const ps_bc *bc, int ib,
+                       const ps_mesh_sets *sets, unsigned char *in_set, ps_ctx *ctx) {
+  const ps_case *cs = &pb->cs;
+  const ps_mesh_set *s = sets ? ps_mesh_set_find(sets, bc->sel.set) : NULL;
+  if (!s) {
+    char names[1024];
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "%s:%d: loading.boundary entry %d: no set '%s' in %s (its sets: %s)",
+                    cs->file, bc->line, ib + 1, bc->sel.set, cs->cloud_file,
+                    sets ? ps_mesh_set_names(sets, names, sizeof names) : "none");
+  }
+  for (const ps_mesh_set *t = s + 1; t < sets->set + sets->n; t++)
+    if (!strcmp(t->name, s->name))
+      return ps_error(ctx, PS_ERR_INPUT,
+                      "%s:%d: loading.boundary entry %d: '%s' names two sets of %s (a %s "
+                      "and a %s): rename one in the mesh",
+                      cs->file, bc->line, ib + 1, s->name, cs->cloud_file, s->kind,
+                      t->kind);
+  memset(in_set, 0, (size_t)pb->P.n);
+  for (ps_int i = 0; i < s->n; i++) in_set[s->particle[i]] = 1;
+  return PS_OK;
+}
+
+/* The particles boundary entry ib selects: selected() with its named
+ * set's membership in in_set (filled here; NULL when no entry names a
+ * set). */
+static int entry_selects(const ps_problem *pb, int ib, const ps_mesh_sets *sets,
+                         unsigned char *in_set, ps_ctx *ctx) {
+  const ps_bc *bc = &pb->cs.bc[ib];
+  if (bc->sel.set[0]) PS_CHECK(set_members(pb, bc, ib, sets, in_set, ctx));
+  return PS_OK;
+}
+
 /* The named loading.boundary entries and the particles each selects
  * (pb->group_*), for their reactions in history.csv. */
-static int setup_groups(ps_problem *pb, ps_ctx *ctx) {
+static int setup_groups(ps_problem *pb, const ps_mesh_sets *sets, unsigned char *in_set,
+                        ps_ctx *ctx) {
   const ps_particles *P = &pb->P;
   const ps_case *cs = &pb->cs;
   int n = 0;
@@ -73,9 +113,11 @@ static int setup_groups(ps_problem *pb, ps_ctx *ctx) {
   if (!pb->group_bc || !pb->group_ptr) return PS_ERR_NOMEM;
   for (int ib = 0, g = 0; ib < cs->n_bc; ib++) {
     if (!cs->bc[ib].name[0]) continue;
+    const ps_select *sel = &cs->bc[ib].sel;
+    PS_CHECK(entry_selects(pb, ib, sets, in_set, ctx));
     pb->group_bc[g] = ib;
     ps_int hits = 0;
-    for (ps_int a = 0; a < P->n; a++) hits += selected(P, a, &cs->bc[ib].sel);
+    for (ps_int a = 0; a < P->n; a++) hits += selected(P, a, sel, sel->set[0] ? in_set : NULL);
     pb->group_ptr[g + 1] = pb->group_ptr[g] + hits;
     g++;
   }
@@ -84,64 +126,87 @@ static int setup_groups(ps_problem *pb, ps_ctx *ctx) {
   if (!pb->group_particle) return PS_ERR_NOMEM;
   for (int g = 0; g < n; g++) {
     ps_int j = pb->group_ptr[g];
+    const ps_select *sel = &cs->bc[pb->group_bc[g]].sel;
+    PS_CHECK(entry_selects(pb, pb->group_bc[g], sets, in_set, ctx));
     for (ps_int a = 0; a < P->n; a++)
-      if (selected(P, a, &cs->bc[pb->group_bc[g]].sel)) pb->group_particle[j++] = a;
+      if (selected(P, a, sel, sel->set[0] ? in_set : NULL)) pb->group_particle[j++] = a;
   }
   pb->n_groups = n;
   return PS_OK;
 }
 
-static int setup_boundary(ps_problem *pb, ps_ctx *ctx) {
+/* Boundary entry ib of the case on the particles it selects (in_set:
+ * room for a named set's membership, NULL when no entry names one);
+ * *measure_dir: the first measured component. */
+static int setup_bc(ps_problem *pb, int ib, const ps_mesh_sets *sets, unsigned char *in_set,
+                    int *measure_dir, ps_ctx *ctx) {
   const ps_particles *P = &pb->P;
   const ps_case *cs = &pb->cs;
-  int d = P->dim, measure_dir = -1;
-  for (int ib = 0; ib < cs->n_bc; ib++) {
-    const ps_bc *bc = &cs->bc[ib];
-    ps_int hits = 0;
-    for (ps_int a = 0; a < P->n; a++) {
-      if (!selected(P, a, &bc->sel)) continue;
-      hits++;
-      for (int k = 0; k < d; k++) {
-        if (bc->fix[k]) {
-          pb->fixed[a * d + k] = 1;
-          pb->ubar[a * d + k] = 0.0;
+  const ps_bc *bc = &cs->bc[ib];
+  int d = P->dim;
+  PS_CHECK(entry_selects(pb, ib, sets, in_set, ctx));
+  ps_int hits = 0;
+  for (ps_int a = 0; a < P->n; a++) {
+    if (!selected(P, a, &bc->sel, bc->sel.set[0] ? in_set : NULL)) continue;
+    hits++;
+    for (int k = 0; k < d; k++) {
+      if (bc->fix[k]) {
+        pb->fixed[a * d + k] = 1;
+        pb->ubar[a * d + k] = 0.0;
+      }
+      if (bc->traction_set[k] && bc->traction[k] != 0.0) {
+        if (!pb->fext) {
+          pb->fext = ps_calloc((size_t)d * P->n, sizeof *pb->fext, ctx);
+          if (!pb->fext) return PS_ERR_NOMEM;
         }
-        if (bc->traction_set[k] && bc->traction[k] != 0.0) {
-          if (!pb->fext) {
-            pb->fext = ps_calloc((size_t)d * P->n, sizeof *pb->fext, ctx);
-            if (!pb->fext) return PS_ERR_NOMEM;
-          }
-          /* body force traction / layer over the selected layer */
-          pb->fext[a * d + k] += bc->traction[k] * P->volume[a] / cs->spacing;
-        }
-        if (bc->displace_set[k]) {
-          pb->fixed[a * d + k] = 1;
-          pb->ubar[a * d + k] = ps_bc_displacement(bc, k, &P->x[a * d], d);
-          if (!isfinite(pb->ubar[a * d + k]))
-            return ps_error(ctx, PS_ERR_INPUT,
-                            "%s:%d: loading.boundary entry %d: the displacement field of "
-                            "component %c is not finite at particle %lld",
-                            cs->file, bc->line, ib + 1, 'x' + k, (long long)a);
-          if (bc->measure) { /* the direction: the sign of the constant part */
-            pb->measure[a * d + k] = bc->displace[k] >= 0 ? 1.0 : -1.0;
-            if (measure_dir < 0) measure_dir = k;
-          }
+        /* body force traction / layer over the selected layer */
+        pb->fext[a * d + k] += bc->traction[k] * P->volume[a] / cs->spacing;
+      }
+      if (bc->displace_set[k]) {
+        pb->fixed[a * d + k] = 1;
+        pb->ubar[a * d + k] = ps_bc_displacement(bc, k, &P->x[a * d], d);
+        if (!isfinite(pb->ubar[a * d + k]))
+          return ps_error(ctx, PS_ERR_INPUT,
+                          "%s:%d: loading.boundary entry %d: the displacement field of "
+                          "component %c is not finite at particle %lld",
+                          cs->file, bc->line, ib + 1, 'x' + k, (long long)a);
+        if (bc->measure) { /* the direction: the sign of the constant part */
+          pb->measure[a * d + k] = bc->displace[k] >= 0 ? 1.0 : -1.0;
+          if (*measure_dir < 0) *measure_dir = k;
         }
       }
     }
-    if (hits == 0)
-      return ps_error(ctx, PS_ERR_INPUT,
-                      "%s:%d: loading.boundary entry %d selects no particle", cs->file,
-                      bc->line, ib + 1);
-    if (bc->measure) {
-      int any = 0;
-      for (int k = 0; k < d; k++) any |= bc->displace_set[k];
-      if (!any)
-        return ps_error(ctx, PS_ERR_INPUT,
-                        "%s:%d: measure: true needs a displaced component", cs->file,
-                        bc->line);
-    }
   }
+  if (hits == 0)
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "%s:%d: loading.boundary entry %d selects no particle", cs->file,
+                    bc->line, ib + 1);
+  if (bc->measure) {
+    int any = 0;
+    for (int k = 0; k < d; k++) any |= bc->displace_set[k];
+    if (!any)
+      return ps_error(ctx, PS_ERR_INPUT,
+                      "%s:%d: measure: true needs a displaced component", cs->file,
+                      bc->line);
+  }
+  return PS_OK;
+}
+
+static int setup_boundary(ps_problem *pb, const ps_mesh_sets *sets, ps_ctx *ctx) {
+  const ps_particles *P = &pb->P;
+  const ps_case *cs = &pb->cs;
+  int d = P->dim, measure_dir = -1, status = PS_OK;
+  unsigned char *in_set = NULL;
+  for (int ib = 0; ib < cs->n_bc; ib++)
+    if (cs->bc[ib].sel.set[0] && !in_set) {
+      in_set = ps_calloc((size_t)P->n, 1, ctx);
+      if (!in_set) return PS_ERR_NOMEM;
+    }
+  for (int ib = 0; ib < cs->n_bc && status == PS_OK; ib++)
+    status = setup_bc(pb, ib, sets, in_set, &measure_dir, ctx);
+  if (status == PS_OK) status = setup_groups(pb, sets, in_set, ctx);
+  free(in_set);
+  PS_CHECK(status);
   int loaded = 0;
   for (ps_int j = 0; j < (ps_int)d * P->n; j++) {
     if (pb->fext && pb->fixed[j]) pb->fext[j] = 0.0; /* a support takes it */
@@ -152,7 +217,6 @@ static int setup_boundary(ps_problem *pb, ps_ctx *ctx) {
                     "%s: nothing loads the model: no loading.boundary entry displaces "
                     "a particle (displace: {x: ...}) or applies a traction",
                     cs->file);
-  PS_CHECK(setup_groups(pb, ctx));
   if (cs->stress_length > 0) {
     pb->measure_length = cs->stress_length;
   } else if (measure_dir >= 0) {
@@ -195,10 +259,11 @@ static int copy_given(ps_particles *p, const ps_particles *g, ps_ctx *ctx) {
 /* arms across a hole cross its inscribed polygon of this many sides */
 enum { HOLE_SIDES = 64 };
 
-/* The particles of the case (disk, box with holes, or cloud) and the
- * cracks the geometry adds (the disk's, the holes' polygons). */
+/* The particles of the case (disk, box with holes, cloud or mesh), the
+ * cracks the geometry adds (the disk's, the holes' polygons) and a
+ * mesh's named sets (*sets, zeroed for the other types). */
 static int make_particles(ps_problem *pb, const ps_case *cs, int dim, ps_crack *cracks,
-                          int *n_cracks, ps_ctx *ctx) {
+                          int *n_cracks, ps_mesh_sets *sets, ps_ctx *ctx) {
   switch (cs->geometry) {
   case PS_GEOM_DISK:
     PS_CHECK(in_case(ctx, ps_geom_disk(&pb->P, &cs->disk, ctx), cs->file));
@@ -230,6 +295,9 @@ static int make_particles(ps_problem *pb, const ps_case *cs, int dim, ps_crack *
       PS_CHECK(copy_given(&pb->P, cs->given_particles, ctx));
     else
       PS_CHECK(ps_cloud_read(&pb->P, cs->cloud_file, dim, ctx));
+    break;
+  case PS_GEOM_MESH: /* its errors name the mesh file (and element) */
+    PS_CHECK(ps_mesh_read(&pb->P, sets, cs->cloud_file, cs->mesh_format, dim, ctx));
     break;
   default:
     return ps_error(ctx, PS_ERR_INPUT, "%s: unknown geometry type", cs->file);
@@ -264,7 +332,9 @@ static ps_estimate_opts estimate_opts(const ps_case *cs, double free_fraction) {
 static int estimate_counts(const ps_case *cs, int dim, int lattice, double reach,
                            int purpose, ps_ctx *ctx) {
   double n = 1, nb;
-  if (purpose == PS_ESTIMATE_NONE || cs->geometry == PS_GEOM_CLOUD) return PS_OK;
+  if (purpose == PS_ESTIMATE_NONE || cs->geometry == PS_GEOM_CLOUD ||
+      cs->geometry == PS_GEOM_MESH)
+    return PS_OK;
   if (lattice && !(reach > 0)) return PS_OK; /* not known before the particles */
   if (cs->geometry == PS_GEOM_DISK)
     n = (double)cs->disk.n_eta * cs->disk.n_xi * cs->disk.per_zone * cs->disk.per_zone;
@@ -324,7 +394,7 @@ static int estimate_sampled(ps_problem *pb, const ps_case *cs, double alpha,
  *    given as a length: then delta is that length), alpha =
  *    ps_model_lattice_reach(m) spacings, cell size d: the arms and
  *    constants of the lattice models as they were before clouds;
- *  - a point cloud or the disk: h = hm, the mean spacing (sum V / n)^(1/N)
+ *  - a point cloud, a mesh or the disk: h = hm, the mean spacing (sum V / n)^(1/N)
  *    (ps_mean_spacing: the side of the mean particle's square or cube),
  *    delta = material.horizon, or material.horizon_factor hm, alpha =
  *    ps_model_cloud_reach / hm (the reach in metres: with partial volumes
@@ -401,7 +471,7 @@ static int horizon_neighbours_check(const ps_problem *pb, const ps_case *cs, ps_
 /* The material, the load factor's delta and the boundary conditions;
  * the horizon models' horizon delta and cell size dx (horizon_setup). */
 static int setup_loading(ps_problem *pb, const ps_case *cs, int dim, int lattice,
-                         double delta, double dx, ps_ctx *ctx) {
+                         double delta, double dx, const ps_mesh_sets *sets, ps_ctx *ctx) {
   pb->mat = cs->mat;
   if (lattice) {
     pb->mat.horizon = delta;
@@ -424,7 +494,7 @@ static int setup_loading(ps_problem *pb, const ps_case *cs, int dim, int lattice
                       cs->file);
     return setup_eq116(pb, ctx);
   }
-  return setup_boundary(pb, ctx);
+  return setup_boundary(pb, sets, ctx);
 }
 
 int ps_problem_setup(ps_problem *pb, const ps_case *cs, ps_ctx *ctx) {
@@ -461,8 +531,9 @@ int ps_problem_setup_sized(ps_problem *pb, const ps_case *cs, int purpose, int j
     goto cleanup;
   }
   int n_cracks = cs->n_cracks;
+  ps_mesh_sets sets = {0, NULL}; /* a mesh's named sets, for the supports */
   memcpy(cracks, cs->cracks, sizeof(ps_crack) * (size_t)cs->n_cracks);
-  PS_CHECK_GOTO(make_particles(pb, cs, dim, cracks, &n_cracks, ctx));
+  PS_CHECK_GOTO(make_particles(pb, cs, dim, cracks, &n_cracks, &sets, ctx));
   double alpha = cs->alpha;
   if (lattice) { /* uniform h, alpha = the reach in h */
     PS_CHECK_GOTO(horizon_setup(pb, cs, type, &alpha, &delta, &dx, ctx));
@@ -475,7 +546,7 @@ int ps_problem_setup_sized(ps_problem *pb, const ps_case *cs, int purpose, int j
   PS_CHECK_GOTO(in_case(ctx, ps_kernel_init(&pb->kernel, dim, cs->kernel_k, alpha, ctx),
                         cs->file));
   /* the supports before the network: the estimate counts the free dofs */
-  PS_CHECK_GOTO(setup_loading(pb, cs, dim, lattice, delta, dx, ctx));
+  PS_CHECK_GOTO(setup_loading(pb, cs, dim, lattice, delta, dx, &sets, ctx));
   if (lattice) PS_CHECK_GOTO(horizon_neighbours_check(pb, cs, ctx));
   PS_CHECK_GOTO(estimate_sampled(pb, cs, alpha, cracks, n_cracks, purpose, jobs, report,
                                  ctx));
@@ -484,6 +555,7 @@ int ps_problem_setup_sized(ps_problem *pb, const ps_case *cs, int purpose, int j
   pb->t_network = ps_wtime() - t0;
 cleanup:
   free(cracks);
+  ps_mesh_sets_free(&sets);
   if (status < 0) ps_problem_free(pb);
   return status;
 }

@@ -66,7 +66,10 @@ void ps_particles_free(ps_particles *p) {
 }
 
 const char *ps_particle_where(const ps_particles *p, ps_int a, char *buf, size_t len) {
-  if (p->source && p->line)
+  if (p->source && p->line && p->line_is_element)
+    snprintf(buf, len, "%s: element %lld: particle %lld", p->source,
+             (long long)p->line[a], (long long)a);
+  else if (p->source && p->line)
     snprintf(buf, len, "%s:%lld: particle %lld", p->source, (long long)p->line[a],
              (long long)a);
   else
@@ -91,6 +94,12 @@ int ps_error_coincide(ps_ctx *ctx, const ps_particles *p, ps_int a, ps_int b) {
   }
   char at[200];
   ps_particle_at(p, b, at, sizeof at);
+  if (p->source && p->line && p->line_is_element)
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "%s: particles %lld and %lld coincide (at %s): the centroids of "
+                    "elements %lld and %lld (overlapping elements?)",
+                    p->source, (long long)a, (long long)b, at, (long long)p->line[a],
+                    (long long)p->line[b]);
   if (p->source && p->line)
     return ps_error(ctx, PS_ERR_INPUT,
                     "%s:%lld: particles %lld and %lld coincide (at %s), the first at "

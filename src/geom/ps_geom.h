@@ -19,10 +19,12 @@ typedef struct ps_particles {
    * and the flag "in the boundary zone" (outermost ring of zones). */
   int *zone_xi;
   unsigned char *in_boundary_zone;
-  /* point cloud only (NULL otherwise): the file it was read from and the
-   * line of each particle in it, so that messages name file:line */
+  /* point cloud or mesh only (NULL otherwise): the file it was read from
+   * and the line of each particle in it (a mesh: the id of its element),
+   * so that messages name file:line or file: element id */
   char *source;
   ps_int *line;
+  int line_is_element; /* 1: line[a] is a mesh element's id, not a line */
 } ps_particles;
 
 /* Allocate a cloud of n particles in dim dimensions (all arrays zeroed).
@@ -32,7 +34,8 @@ int ps_particles_alloc(ps_particles *p, int dim, ps_int n, ps_ctx *ctx);
 void ps_particles_free(ps_particles *p);
 
 /* Where particle a comes from, for messages: "cloud.txt:37: particle 36"
- * for a point cloud (source and line set), else "particle 36". Writes at
+ * for a point cloud (source and line set), "plate.msh: element 37:
+ * particle 36" for a mesh (line_is_element), else "particle 36". Writes at
  * most len bytes to buf and returns buf. */
 const char *ps_particle_where(const ps_particles *p, ps_int a, char *buf, size_t len);
 

@@ -26,6 +26,7 @@ void ps_case_defaults(ps_case *cs) {
   strcpy(cs->lattice, "square");
   cs->jitter = 0.0;
   cs->seed = 1;
+  cs->mesh_format = -1;
   cs->size_rule = PS_SIZE_EQ115;
   cs->size_neighbours = 5;
   cs->n_cracks = 0;

@@ -12,11 +12,12 @@
 #include <string.h>
 /* A geometry key given for a geometry type it does not apply to (it
  * would be silently ignored): "case.yaml:7: geometry.file does not apply
- * to geometry.type disk (it is for type cloud)", for the first such key
+ * to geometry.type disk (it is for types cloud and mesh)", for the first such key
  * in the file. Keys not listed (type, dim, sizes, size_neighbours,
  * cracks) apply to every type; geometry.holes has its own check. */
 static int geometry_keys_apply(ps_loader *L) {
-  enum { D = 1 << PS_GEOM_DISK, B = 1 << PS_GEOM_BOX, C = 1 << PS_GEOM_CLOUD };
+  enum { D = 1 << PS_GEOM_DISK, B = 1 << PS_GEOM_BOX, C = 1 << PS_GEOM_CLOUD,
+         M = 1 << PS_GEOM_MESH };
   static const struct {
     const char *key;
     unsigned types;
@@ -27,9 +28,10 @@ static int geometry_keys_apply(ps_loader *L) {
               {"jitter", D | B, "types disk and box"},
               {"seed", D | B, "types disk and box"},
               {"counts", B, "type box"},      {"lattice", B, "type box"},
-              {"origin", B, "type box"},      {"file", C, "type cloud"},
+              {"origin", B, "type box"},      {"file", C | M, "types cloud and mesh"},
+              {"format", M, "type mesh"},
               {"spacing", B, "type box, and for loading tractions"}};
-  static const char *const gname[] = {"disk", "box", "cloud"};
+  static const char *const gname[] = {"disk", "box", "cloud", "mesh"};
   const ps_case *cs = L->cs;
   int traction = 0;
   for (int i = 0; i < cs->n_bc; i++)
@@ -243,6 +245,39 @@ static int fields_check(ps_loader *L) {
   return PS_OK;
 }
 
+/* geometry.type mesh: a file, its format (geometry.format, else its
+ * extension) and a reader for it in this build; select.set only with a
+ * mesh (its names are checked when the mesh is read, app/setup.c). */
+static int mesh_check(ps_loader *L) {
+  ps_case *cs = L->cs;
+  if (cs->geometry != PS_GEOM_MESH) {
+    for (int i = 0; i < cs->n_bc; i++)
+      if (cs->bc[i].sel.set[0])
+        return ps_yaml_fail(L, cs->bc[i].line,
+                            "loading.boundary entry %d: select.set names a set of a mesh: "
+                            "it needs geometry.type mesh", i + 1);
+    return PS_OK;
+  }
+  int line_file = geometry_line(L, "file", L->line_type);
+  int line_format = geometry_line(L, "format", 0);
+  if (!cs->cloud_file[0])
+    return ps_yaml_fail(L, L->line_type, "geometry.type mesh needs geometry.file");
+  if (cs->mesh_format < 0) {
+    cs->mesh_format = ps_mesh_format_of_path(cs->cloud_file);
+    if (cs->mesh_format < 0)
+      return ps_yaml_fail(L, line_file,
+                          "geometry.file %s: the extension names no mesh format (.msh: "
+                          "Gmsh; .exo, .e, .g, .gen: Exodus II): give geometry.format gmsh "
+                          "or exodus", cs->cloud_file);
+  }
+  if (!ps_mesh_format_built(cs->mesh_format)) {
+    char msg[256];
+    return ps_yaml_fail(L, line_format ? line_format : line_file, "%s",
+                        ps_mesh_format_missing(cs->mesh_format, msg, sizeof msg));
+  }
+  return PS_OK;
+}
+
 /* path.steps is load control's list of load factors: not with another
  * control, nor with the keys it replaces; its last entry is max_load. */
 static int steps_check(ps_loader *L) {
@@ -271,7 +306,7 @@ static int steps_check(ps_loader *L) {
 
 /* case_impl.h */
 int ps_case_cross_checks(ps_loader *L) {
-  static const char *const gname[] = {"disk", "box", "cloud"};
+  static const char *const gname[] = {"disk", "box", "cloud", "mesh"};
   ps_case *cs = L->cs;
   if (geometry_keys_apply(L) != PS_OK) return PS_ERR_INPUT;
   if (cs->geometry == PS_GEOM_DISK) {
@@ -295,6 +330,7 @@ int ps_case_cross_checks(ps_loader *L) {
   if (cs->dim == 2) cs->counts[2] = 1;
   if (cs->geometry == PS_GEOM_CLOUD && !cs->cloud_file[0] && !cs->given_particles)
     return ps_yaml_fail(L, L->line_type, "geometry.type cloud needs geometry.file");
+  if (mesh_check(L) != PS_OK) return PS_ERR_INPUT;
   if (cs->n_cracks > 0 && cs->dim == 3)
     return ps_yaml_fail(L, L->line_cracks,
                         "geometry.cracks are 2D only (geometry.dim is 3)");

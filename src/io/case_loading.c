@@ -13,12 +13,13 @@
 #include <string.h>
 
 static const char *const select_keys[] = {"x_min", "x_max", "y_min", "y_max",
-                                          "z_min", "z_max", "block", NULL};
+                                          "z_min", "z_max", "block", "set", NULL};
 
 static int on_select(ps_loader *L, void *arg, const char *key, const char *name,
                      yaml_node_t *v) {
   ps_select *s = arg;
   if (IS("block")) return ps_yaml_int(L, v, name, 0, INT_MAX, &s->block);
+  if (IS("set")) return ps_yaml_string(L, v, name, s->set, sizeof s->set);
   int k = key[0] - 'x'; /* x, y, z -> 0, 1, 2 */
   double *dst = !strcmp(key + 1, "_min") ? &s->lo[k] : &s->hi[k];
   return ps_yaml_real(L, v, name, -INFINITY, 0, INFINITY, 0, dst);

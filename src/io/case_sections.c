@@ -1,5 +1,5 @@
 /* case_sections.c: the sections of a case file that describe the body:
- * geometry (disk of Eq. 114, box or point cloud; cracks, holes), kernel
+ * geometry (disk of Eq. 114, box, point cloud or mesh; cracks, holes), kernel
  * (the horizon alpha and the exponent k of Eq. 112) and material (the
  * model, Table 1's constants, delta of Eq. 118). Each key's own range is
  * checked here; checks that involve several keys run in case_checks.c. */
@@ -78,11 +78,13 @@ static int get_holes(ps_loader *L, yaml_node_t *v, const char *name) {
 const char *const ps_case_geometry_keys[] = {
     "type", "dim", "c", "n_eta", "n_xi", "per_zone", "xi_min", "xi_max",
     "jitter", "seed", "counts", "spacing", "lattice", "file", "sizes",
-    "size_neighbours", "origin", "holes", "cracks", NULL};
+    "size_neighbours", "origin", "holes", "format", "cracks", NULL};
 
 int ps_case_on_geometry(ps_loader *L, void *arg, const char *key, const char *name,
                         yaml_node_t *v) {
-  static const char *const types[] = {"disk", "box", "cloud", NULL};
+  static const char *const types[] = {"disk", "box", "cloud", "mesh", NULL};
+  static const char *const formats[] = {"gmsh", "exodus", NULL};
+  _Static_assert(PS_MESH_GMSH == 0 && PS_MESH_EXODUS == 1, "formats[] in enum order");
   static const char *const lattices[] = {"square", "hex", NULL};
   static const char *const sizes[] = {"eq115", "eq44", NULL};
   ps_case *cs = L->cs;
@@ -164,6 +166,7 @@ int ps_case_on_geometry(ps_loader *L, void *arg, const char *key, const char *na
     return PS_OK;
   }
   if (IS("holes")) return get_holes(L, v, name);
+  if (IS("format")) return ps_yaml_choice(L, v, name, formats, &cs->mesh_format);
   return get_cracks(L, v, name); /* "cracks", the last allowed key */
 }
 

@@ -25,10 +25,12 @@ static void fnv(uint64_t *h, const char *s) {
 #define PS_ALGORITHM_VERSION 8
 
 /* What enters the hash, as "%.17g" text (every double exactly): the
- * algorithm version; the geometry, the size rule, cracks and holes; the
+ * algorithm version; the geometry (a cloud's or mesh's file name, not its
+ * contents; a mesh's format), the size rule, cracks and holes; the
  * kernel; the material but delta (and, for the horizon models,
  * horizon_factor and surface_correction, material.horizon when given;
- * micromodulus, partial volumes and fracture when set); the loading;
+ * micromodulus, partial volumes and fracture when set); the loading (a
+ * selection's set name when given);
  * Newton's
  * tolerance, iterations, line search and small steps; the CG settings
  * that change which solves near the plastic limit converge (cg_truncate
@@ -75,6 +77,10 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
   if (cs->origin[0] != 0 || cs->origin[1] != 0 || cs->origin[2] != 0) {
     snprintf(b, sizeof b, "origin %.17g %.17g %.17g", cs->origin[0], cs->origin[1],
              cs->origin[2]);
+    fnv(&h, b);
+  }
+  if (cs->geometry == PS_GEOM_MESH) { /* newer type: the file is hashed above */
+    snprintf(b, sizeof b, "mesh format %d", cs->mesh_format);
     fnv(&h, b);
   }
   for (int i = 0; i < cs->n_holes; i++) {
@@ -134,6 +140,10 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
                "hessian %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g", k,
                bc->about[0], bc->about[1], bc->about[2], bc->gradient_n[k], g[0], g[1], g[2],
                bc->hessian_n[k], H[0], H[1], H[2], H[3], H[4], H[5], H[6], H[7], H[8]);
+      fnv(&h, b);
+    }
+    if (bc->sel.set[0]) { /* newer key: only when given */
+      snprintf(b, sizeof b, "set %s", bc->sel.set);
       fnv(&h, b);
     }
     if (bc->traction_set[0] || bc->traction_set[1] || bc->traction_set[2]) {
@@ -234,6 +244,7 @@ void ps_case_restart_part_fingerprints(const ps_case *cs, uint64_t h[PS_RESTART_
       memcpy(d->holes, cs->holes, sizeof d->holes);
       d->seed = cs->seed;
       memcpy(d->cloud_file, cs->cloud_file, sizeof d->cloud_file);
+      d->mesh_format = cs->mesh_format;
       d->given_particles = cs->given_particles;
       d->size_rule = cs->size_rule;
       d->size_neighbours = cs->size_neighbours;

@@ -14,8 +14,9 @@
 #include "../nonlinear/ps_solver_opts.h"
 #include "../path/ps_path_opts.h"
 #include "ps_output_opts.h"
+#include "ps_mesh.h"
 
-enum ps_geometry_type { PS_GEOM_DISK = 0, PS_GEOM_BOX = 1, PS_GEOM_CLOUD = 2 };
+enum ps_geometry_type { PS_GEOM_DISK = 0, PS_GEOM_BOX = 1, PS_GEOM_CLOUD = 2, PS_GEOM_MESH = 3 };
 enum ps_size_rule { PS_SIZE_EQ115 = 0, PS_SIZE_EQ44 = 1 };
 enum ps_load_type { PS_LOAD_EQ116 = 0, PS_LOAD_BOUNDARY = 1 };
 
@@ -54,10 +55,12 @@ enum ps_load_type { PS_LOAD_EQ116 = 0, PS_LOAD_BOUNDARY = 1 };
 #define PS_MAX_MEMORY_GIB 1e6
 
 /* A particle selection: all bounds that are set must hold (inclusive);
- * block >= 0 also requires that block id. Bounds unset are +-inf. */
+ * block >= 0 also requires that block id, a set name membership of that
+ * named set of the mesh (geometry.type mesh). Bounds unset are +-inf. */
 typedef struct ps_select {
   double lo[3], hi[3]; /* x_min, y_min, z_min / x_max, y_max, z_max */
   int block;           /* -1: any */
+  char set[PS_MESH_NAME_MAX]; /* "": any */
 } ps_select;
 
 /* One boundary condition entry of `loading.boundary`. A displaced
@@ -117,7 +120,10 @@ typedef struct ps_case {
                           particles inside are removed, arms across cut */
   unsigned long seed;  /* jitter seed (box; geometry.seed also sets
                           disk.seed) */
-  char cloud_file[1024]; /* cloud: path (resolved against dir) */
+  char cloud_file[1024]; /* cloud, mesh: path (resolved against dir) */
+  int mesh_format;     /* mesh: enum ps_mesh_format (geometry.format, else
+                          from the file's extension; -1 before the cross
+                          checks settle it) */
   const ps_particles *given_particles; /* cloud: particles given by the
                           caller (the library's peristatic_set_particles;
                           borrowed, copied at set-up) instead of a file;

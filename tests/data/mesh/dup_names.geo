@@ -1,0 +1,21 @@
+// dup_names.geo: square_quad.geo with its surface also called "top", as
+// its top side: a name a case may not select. Regenerate dup_names.msh with
+//   gmsh -2 -format msh41 dup_names.geo -o dup_names.msh
+Point(1) = {0, 0, 0};
+Point(2) = {1, 0, 0};
+Point(3) = {1, 1, 0};
+Point(4) = {0, 1, 0};
+Line(1) = {1, 2};
+Line(2) = {2, 3};
+Line(3) = {3, 4};
+Line(4) = {4, 1};
+Curve Loop(1) = {1, 2, 3, 4};
+Plane Surface(1) = {1};
+Transfinite Curve{1, 2, 3, 4} = 5;
+Transfinite Surface{1};
+Recombine Surface{1};
+Physical Curve("bottom") = {1};
+Physical Curve("right") = {2};
+Physical Curve("top") = {3};
+Physical Curve("left") = {4};
+Physical Surface("top") = {1};

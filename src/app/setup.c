@@ -506,6 +506,7 @@ int ps_problem_setup_sized(ps_problem *pb, const ps_case *cs, int purpose, int j
   int status = PS_OK;
   double t0 = ps_wtime();
   ps_crack *cracks = NULL;
+  ps_mesh_sets sets = {0, NULL}; /* a mesh's named sets, for the supports */
   memset(pb, 0, sizeof *pb);
   /* the horizon models (bond, state): arms within the horizon delta (and
    * the model's reach beyond it), horizon_setup */
@@ -531,7 +532,6 @@ int ps_problem_setup_sized(ps_problem *pb, const ps_case *cs, int purpose, int j
     goto cleanup;
   }
   int n_cracks = cs->n_cracks;
-  ps_mesh_sets sets = {0, NULL}; /* a mesh's named sets, for the supports */
   memcpy(cracks, cs->cracks, sizeof(ps_crack) * (size_t)cs->n_cracks);
   PS_CHECK_GOTO(make_particles(pb, cs, dim, cracks, &n_cracks, &sets, ctx));
   double alpha = cs->alpha;

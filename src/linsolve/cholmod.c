@@ -393,7 +393,7 @@ static int make_parts(chol_state *s, int n_parts, ps_linsolve_stats *st, ps_ctx 
     for (ps_int sn = 0; sn < ns; sn++)
       if (parent[sn] < 0) cand[n_cand++] = (part_cand){w_tree[sn], sn};
     double w_top = 0.0, best = split_cands(cand, n_cand, n_parts, load, NULL);
-    while (n_exp < PS_PART_EXPANSIONS && n_cand > 0) {
+    while (n_parts > 1 && n_exp < PS_PART_EXPANSIONS && n_cand > 0) { /* one: no top */
       ps_int h = cand[0].sn; /* the heaviest (split_cands sorted them) */
       expanded[n_exp++] = h;
       w_top += w_self[h];
@@ -420,7 +420,7 @@ static int make_parts(chol_state *s, int n_parts, ps_linsolve_stats *st, ps_ctx 
     for (ps_int c = 0; c < n_cand; c++) part[cand[c].sn] = bins[c];
     for (ps_int sn = ns - 1; sn >= 0; sn--) /* parents before children */
       if (part[sn] == 255) part[sn] = part[parent[sn]];
-    st->serial_share = w_all > 0 ? w_top_best / w_all : 1.0;
+    st->serial_share = w_all > 0 && n_parts > 1 ? w_top_best / w_all : 1.0;
   }
   ps_int m = 0;
   for (int p = 0; p <= top_part; p++) {

@@ -292,6 +292,7 @@ static int make_single(chol_state *s, ps_ctx *ctx) {
  * part p >= 1 into its own z_p, added to y in the order of the parts
  * afterwards, so the sums are the same on any number of threads (and
  * depend on P). */
+
 /* the top is grown from the roots down, a heaviest subtree at a time,
  * at most this many times, and the cheapest split seen is kept */
 #define PS_PART_EXPANSIONS 256

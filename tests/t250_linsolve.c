@@ -177,6 +177,58 @@ int main(void) {
       free(xv);
     }
     ps_team_free(team);
+    /* four parts (solver.parts 4): the tree in four subtrees below a top,
+     * the product and the evaluation's forces in four shares; on a team
+     * of 4 threads the same to the bit as on one (and, the sums being in
+     * another order, near the two parts' numbers) */
+    {
+      ps_team *team4 = NULL;
+      ps_check(ps_team_create(&team4, 4, &ctx) == PS_OK && ps_team_size(team4) == 4,
+               "a team of 4 threads");
+      double *z4 = calloc((size_t)n, sizeof *z4), *z1 = calloc((size_t)n, sizeof *z1);
+      ls[0].parts = 4;
+      ps_linsolve_precondition(&ls[0], b, z1, &ctx);
+      ls[0].team = team4;
+      ps_linsolve_precondition(&ls[0], b, z4, &ctx);
+      ls[0].team = NULL;
+      ps_check(rel_diff(n, z4, z1) == 0.0 && rel_diff(n, z1, zq) <= 1e-5,
+               "the preconditioner in 4 parts: 4 threads give the 1-thread solve to the bit "
+               "(%.2e), near the 2 parts' one (%.2e)", rel_diff(n, z4, z1), rel_diff(n, z1, zq));
+      double share4 = ls[0].stats.serial_share;
+      ps_check(share4 > 0.0 && share4 < 1.0,
+               "the elimination tree splits in 4: one thread alone does %.1f%% of a solve",
+               100 * share4);
+      ls[0].parts = PS_PARTS_DEFAULT;
+      ps_check(ps_system_set_parts(&sys, 4, &ctx) == PS_OK && sys.parts == 4,
+               "the system in 4 parts");
+      double *p1 = calloc((size_t)nd, sizeof *p1), *p4 = calloc((size_t)nd, sizeof *p4),
+             *f1 = calloc((size_t)nd, sizeof *f1), *f4 = calloc((size_t)nd, sizeof *f4),
+             *xv = calloc((size_t)nd, sizeof *xv), e1, e4;
+      for (ps_int j = 0; j < nd; j++) xv[j] = sin(0.71 * j);
+      ps_system_eval(&sys, &model, &st, P.x, u, f1, &e1, PS_EVAL_OPERATOR, &ctx);
+      ps_system_apply(&sys, xv, p1);
+      sys.team = team4;
+      ps_system_eval(&sys, &model, &st, P.x, u, f4, &e4, PS_EVAL_OPERATOR, &ctx);
+      ps_system_apply(&sys, xv, p4);
+      sys.team = NULL;
+      int same = e1 == e4;
+      for (ps_int j = 0; j < nd; j++) same = same && p1[j] == p4[j] && f1[j] == f4[j];
+      ps_check(same, "the forces and the matrix-free product in 4 parts: 4 threads give the "
+                     "1-thread numbers to the bit");
+      ps_check(ps_system_set_parts(&sys, 0, &ctx) == PS_ERR_INPUT &&
+                   ps_system_set_parts(&sys, PS_PARTS_MAX + 1, &ctx) == PS_ERR_INPUT &&
+                   sys.parts == 4,
+               "parts outside 1 .. PS_PARTS_MAX refused, the system keeps its parts");
+      ps_check(ps_system_set_parts(&sys, PS_PARTS_DEFAULT, &ctx) == PS_OK, "back to 2 parts");
+      free(p1);
+      free(p4);
+      free(f1);
+      free(f4);
+      free(xv);
+      free(z1);
+      free(z4);
+      ps_team_free(team4);
+    }
     ls[0].single_after = PS_SINGLE_AFTER;
     ls[0].single_precision = 0;
   }

@@ -123,7 +123,8 @@ int peristatic_load_text(peristatic *ps, const char *yaml, const char *name);
 /* Options of the handle, overriding the case's (call after loading):
  * verbosity 0 (quiet), 1 (progress lines), 2 (Newton iterations), 3 (also
  * source locations in errors) - the case's output.verbosity otherwise;
- * threads per run (0: the CPUs; results do not depend on it); the memory
+ * threads per run (0: the CPUs; at most the case's solver.parts are used;
+ * results depend on solver.parts, not on the threads); the memory
  * limit in GiB checked before the network is built (0: the case's
  * solver.max_memory_gib, else 80% of the RAM; at most
  * PERISTATIC_MAX_MEMORY_GIB), `source` naming where it came from in

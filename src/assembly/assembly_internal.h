@@ -1,7 +1,7 @@
 /* assembly_internal.h: what the files of src/assembly share and nothing
  * outside it may use: the layout of Kfull (kpos), the d x d block of an
  * arm, a particle's rank-one family term, the split of a loop into
- * PS_PARTS parts, and the functions one file provides to another.
+ * s->parts parts, and the functions one file provides to another.
  *   pattern.c   dof map, block pattern, slot maps (symbolic, once)
  *   evaluate.c  arm lengths, tensions (the model), forces, tangent data
  *   assemble.c  the tangent's data into Kfull and the free-free A
@@ -13,23 +13,23 @@
 #include "ps_assembly.h"
 
 /* The loops over arms and particles of an evaluation and of the
- * matrix-free product run in PS_PARTS parts on the system's team: part 0
- * writes sums over arms into the caller's vector, part 1 into a vector of
- * its own (f_part, yw_part) added afterwards (ps_asm_add_second_part), so
- * the sums are formed in the same order on one thread or two. */
-_Static_assert(PS_PARTS == 2, "assembly splits its loops into a first and a second part");
+ * matrix-free product run in s->parts parts on the system's team: part 0
+ * writes sums over arms into the caller's vector, part p >= 1 into a
+ * vector of its own (f_part, yw_part: [(parts - 1) n_dof], part p's at
+ * (p - 1) n_dof), added afterwards in the order of the parts
+ * (ps_asm_add_parts), so the sums are formed in the same order on any
+ * number of threads. */
 
-/* [*lo, *hi): part `part`'s share of n items */
-static inline void ps_asm_part_range(ps_int n, int part, ps_int *lo, ps_int *hi) {
-  *lo = n * part / PS_PARTS;
-  *hi = n * (part + 1) / PS_PARTS;
+/* [*lo, *hi): part `part`'s share of n items in `parts` parts */
+static inline void ps_asm_part_range(ps_int n, int part, int parts, ps_int *lo, ps_int *hi) {
+  *lo = n * part / parts;
+  *hi = n * (part + 1) / parts;
 }
 
-/* y[n] += the second part's sums */
-static inline void ps_asm_add_second_part(double *y, const double *second, ps_int n) {
-  for (ps_int k = 0; k < n; k++) y[k] += second[k];
-}
-
+/* y[n_dof] += the sums of parts 1 .. parts - 1 in out[(parts - 1) n_dof],
+ * y_k = ((y_k + out_1,k) + out_2,k) + ... for each k: the same numbers
+ * however the dofs are shared among the team (evaluate.c) */
+void ps_asm_add_parts(const ps_system *s, double *y, const double *out);
 /* position in Kfull of entry (al, be) of block blk of column Q (the
  * layout of ps_system's Kfull) */
 static inline ps_int ps_asm_kpos(const ps_system *s, ps_int Q, ps_int blk, int al, int be) {

@@ -7,7 +7,7 @@
  * w2), the arm geometry q and T/l, the family gradients
  *   g_a = sum_{i in family a} w_{a,i} dl_i/dy
  * of the rank-one terms, the free bodies and their spring. The loops over
- * arms and particles run in PS_PARTS parts on the system's team. */
+ * arms and particles run in s->parts parts on the system's team. */
 #include "assembly_internal.h"
 
 #include <math.h>
@@ -20,8 +20,8 @@ typedef struct {
   const double *X, *u;
   double *f;
   int phase;           /* 0 geometry, 1 forces, 2 the tangent's data */
-  ps_int bad[PS_PARTS]; /* phase 0: the first arm of a part whose length
-                           is not finite, or -1 */
+  ps_int bad[PS_PARTS_MAX]; /* phase 0: the first arm of a part whose
+                               length is not finite, or -1 */
 } eval_job;
 
 /* arms [i0, i1): l, dl, q at y = X + u; the first arm whose length is not
@@ -61,13 +61,13 @@ static void arm_geometry(eval_job *j, int part, ps_int i0, ps_int i1) {
   }
 }
 
-/* f = sum over arms [i0, i1) of T (dl/dy), into j->f (part 0) or
- * s->f_part (part 1) */
+/* f = sum over arms [i0, i1) of T (dl/dy), into j->f (part 0) or part
+ * p's n_dof of s->f_part (p >= 1) */
 static void arm_forces(eval_job *j, int part, ps_int i0, ps_int i1) {
   ps_system *s = j->s;
   const ps_network *net = s->net;
   const int d = s->dim;
-  double *f = part == 0 ? j->f : s->f_part;
+  double *f = part == 0 ? j->f : s->f_part + (size_t)(part - 1) * (size_t)s->n_dof;
   memset(f, 0, (size_t)s->n_dof * sizeof *f);
   if (s->M) { /* not central: dPsi/dy_b = T q + M r (2D) */
     for (ps_int i = i0; i < i1; i++) {
@@ -112,7 +112,7 @@ static void arm_tangent(eval_job *j, ps_int i0, ps_int i1) {
 static void eval_part(void *arg, int part) {
   eval_job *j = arg;
   ps_int i0, i1;
-  ps_asm_part_range(j->s->net->n_arm, part, &i0, &i1);
+  ps_asm_part_range(j->s->net->n_arm, part, j->s->parts, &i0, &i1);
   if (j->phase == 0)
     arm_geometry(j, part, i0, i1);
   else if (j->phase == 1)
@@ -157,7 +157,7 @@ static void gradient_part(void *arg, int part) {
   eval_job *j = arg;
   ps_system *s = j->s;
   ps_int c0, c1;
-  ps_asm_part_range(s->net->n_particle, part, &c0, &c1);
+  ps_asm_part_range(s->net->n_particle, part, s->parts, &c0, &c1);
   for (ps_int c = c0; c < c1; c++)
     for (int term = 0; term < 2; term++) {
       double cc = term == 0 ? s->tan.c[c] : s->tan.c2[c];
@@ -239,6 +239,33 @@ static void force_vectors(ps_system *s) {
   }
 }
 
+typedef struct {
+  const ps_system *s;
+  double *y;
+  const double *out;
+} add_job;
+
+/* the dofs of one part of the team's share of ps_asm_add_parts: each y_k
+ * sums its parts in their order, whichever thread runs it */
+static void add_part(void *arg, int part) {
+  const add_job *j = arg;
+  const ps_system *s = j->s;
+  ps_int k0, k1;
+  ps_asm_part_range(s->n_dof, part, s->parts, &k0, &k1);
+  size_t n = (size_t)s->n_dof;
+  for (ps_int k = k0; k < k1; k++) {
+    double v = j->y[k];
+    for (int p = 1; p < s->parts; p++) v += j->out[(size_t)(p - 1) * n + (size_t)k];
+    j->y[k] = v;
+  }
+}
+
+void ps_asm_add_parts(const ps_system *s, double *y, const double *out) {
+  if (s->parts <= 1) return;
+  add_job j = {s, y, out};
+  ps_team_run(s->team, s->parts, add_part, &j);
+}
+
 int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
                    const double *X, const double *u, double *f,
                    double *energy, int want, ps_ctx *ctx) {
@@ -249,9 +276,9 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
     return ps_error(ctx, PS_ERR_INPUT,
                     "the system was evaluated with a model with arm rotations: it cannot "
                     "serve the %s model", model->type->name);
-  eval_job job = {s, st, X, u, f, 0, {-1, -1}};
-  ps_team_run(s->team, PS_PARTS, eval_part, &job);
-  for (int p = 0; p < PS_PARTS; p++)
+  eval_job job = {s, st, X, u, f, 0, {0}};
+  ps_team_run(s->team, s->parts, eval_part, &job);
+  for (int p = 0; p < s->parts; p++)
     if (job.bad[p] >= 0) {
       ps_int i = job.bad[p];
       return ps_error(ctx, PS_ERR_SOLVER, "arm %lld: particles %lld and %lld: length %g",
@@ -264,8 +291,8 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
     PS_CHECK(model->type->evaluate(model, s->dl, st, s->T, energy,
                                    want_tangent ? &s->tan : NULL, ctx));
   job.phase = 1;
-  ps_team_run(s->team, PS_PARTS, eval_part, &job);
-  ps_asm_add_second_part(f, s->f_part, s->n_dof);
+  ps_team_run(s->team, s->parts, eval_part, &job);
+  ps_asm_add_parts(s, f, s->f_part);
   if (!want_tangent) {
     if (s->M) force_vectors(s);
     return PS_OK;
@@ -274,11 +301,11 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
   /* keep the tangent's geometry, free bodies and family gradients */
   s->assembled = 0;
   job.phase = 2;
-  ps_team_run(s->team, PS_PARTS, eval_part, &job);
+  ps_team_run(s->team, s->parts, eval_part, &job);
   if (s->M) force_vectors(s);
   ps_int any_free = mark_free_bodies(s, st);
   PS_CHECK(family_storage(s, ctx));
-  ps_team_run(s->team, PS_PARTS, gradient_part, &job);
+  ps_team_run(s->team, s->parts, gradient_part, &job);
   /* the free bodies' spring: the stiffest diagonal entry of K */
   s->spring = 0.0;
   if (any_free) {

@@ -4,8 +4,8 @@
  *       (minus at a)
  *     + sum_a (c_a g_a (g_a . x) + c2_a h_a (h_a . x))  + spring x (free bodies),
  * O(arms + family members) per product instead of the two-horizon
- * matrix's nonzeros; in PS_PARTS parts on the system's team (halves of the
- * arms and of the families). Also the diagonal of K. */
+ * matrix's nonzeros; in s->parts parts on the system's team (shares of
+ * the arms and of the families). Also the diagonal of K. */
 #include "assembly_internal.h"
 
 #include <string.h>
@@ -75,7 +75,8 @@ static PS_ALWAYS_INLINE void apply_terms_dim(const ps_system *s, const double *x
   }
 }
 
-/* the product in PS_PARTS parts (part 0 into y, part 1 into yw_part) */
+/* the product in s->parts parts (part 0 into y, part p >= 1 into its
+ * n_dof of yw_part) */
 typedef struct {
   const ps_system *s;
   const double *x;
@@ -86,9 +87,9 @@ static void apply_part(void *arg, int part) {
   const apply_job *j = arg;
   const ps_system *s = j->s;
   ps_int i0, i1, c0, c1;
-  ps_asm_part_range(s->net->n_arm, part, &i0, &i1);
-  ps_asm_part_range(s->net->n_particle, part, &c0, &c1);
-  double *y = part == 0 ? j->y : s->yw_part;
+  ps_asm_part_range(s->net->n_arm, part, s->parts, &i0, &i1);
+  ps_asm_part_range(s->net->n_particle, part, s->parts, &c0, &c1);
+  double *y = part == 0 ? j->y : s->yw_part + (size_t)(part - 1) * (size_t)s->n_dof;
   if (s->dim == 2) /* constant loop bounds, unrolled */
     apply_terms_dim(s, j->x, y, i0, i1, c0, c1, 2);
   else
@@ -123,8 +124,8 @@ void ps_asm_tangent_diagonal(const ps_system *s, double *diag) {
 void ps_system_apply(const ps_system *s, const double *x, double *y) {
   int d = s->dim;
   apply_job j = {s, x, y};
-  ps_team_run(s->team, PS_PARTS, apply_part, &j);
-  ps_asm_add_second_part(y, s->yw_part, s->n_dof);
+  ps_team_run(s->team, s->parts, apply_part, &j);
+  ps_asm_add_parts(s, y, s->yw_part);
   if (s->spring > 0)
     for (ps_int a = 0; a < s->net->n_particle; a++)
       if (s->free_body[a])

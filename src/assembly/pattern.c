@@ -254,8 +254,9 @@ static int work_arrays(ps_system *s, ps_ctx *ctx) {
   ALLOC(s->free_body, net->n_particle);
   ALLOC(s->xw, s->n_dof);
   ALLOC(s->yw, s->n_dof);
-  ALLOC(s->yw_part, s->n_dof);
-  ALLOC(s->f_part, s->n_dof);
+  s->parts = PS_PARTS_DEFAULT;
+  ALLOC(s->yw_part, (PS_PARTS_DEFAULT - 1) * s->n_dof);
+  ALLOC(s->f_part, (PS_PARTS_DEFAULT - 1) * s->n_dof);
   status = ps_arm_tangent_alloc(&s->tan, net, ctx);
 cleanup:
   return status;
@@ -284,6 +285,26 @@ int ps_system_create_pattern(ps_system *s, const ps_network *net,
 cleanup:
   if (status < 0) ps_system_free(s);
   return status;
+}
+
+int ps_system_set_parts(ps_system *s, int parts, ps_ctx *ctx) {
+  if (parts < 1 || parts > PS_PARTS_MAX)
+    return ps_error(ctx, PS_ERR_INPUT, "parts must be 1 to %d (got %d)", PS_PARTS_MAX, parts);
+  if (parts == s->parts) return PS_OK;
+  /* one n_dof at least, so that no size is 0 */
+  size_t n = (size_t)(parts > 1 ? parts - 1 : 1) * (size_t)s->n_dof;
+  double *yw = ps_calloc(n, sizeof *yw, ctx), *f = ps_calloc(n, sizeof *f, ctx);
+  if (!yw || !f) {
+    free(yw);
+    free(f);
+    return PS_ERR_NOMEM;
+  }
+  free(s->yw_part);
+  free(s->f_part);
+  s->yw_part = yw;
+  s->f_part = f;
+  s->parts = parts;
+  return PS_OK;
 }
 
 void ps_system_dof_name(const ps_system *s, const double *X, ps_int dof,

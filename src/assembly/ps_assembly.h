@@ -78,8 +78,14 @@ typedef struct ps_system {
   double spring;
   int assembled;            /* Kfull and A hold that tangent */
   double *xw, *yw;          /* [n_dof] work of the matrix-free product */
-  double *yw_part;          /* [n_dof] its second part's output */
-  double *f_part;           /* [n_dof] ps_system_eval's second part's forces */
+  int parts;                /* the parts of the loops over arms and
+                               particles (ps_util.h; PS_PARTS_DEFAULT, or
+                               ps_system_set_parts): the results depend on
+                               it, not on the team */
+  double *yw_part;          /* [(parts - 1) n_dof] the product's parts
+                               1 .. parts - 1's outputs */
+  double *f_part;           /* [(parts - 1) n_dof] ps_system_eval's parts
+                               1 .. parts - 1's forces */
   ps_team *team;            /* threads for the product (not owned; NULL:
                                one; the results do not depend on it) */
   double *G[2];             /* the family gradients g_a of the tangent
@@ -129,6 +135,13 @@ void ps_system_free(ps_system *sys);
  * PS_OK, PS_ERR_NOMEM or ps_state_add's status. */
 int ps_system_state_list(ps_system *sys, ps_state_list *l, ps_ctx *ctx);
 
+/* Split the loops of evaluations and products into `parts` parts
+ * (1 .. PS_PARTS_MAX; a new system has PS_PARTS_DEFAULT), reallocating
+ * the parts' outputs. The numbers depend on the parts (the order of the
+ * sums over arms), never on the team. PS_OK, PS_ERR_INPUT (out of range)
+ * or PS_ERR_NOMEM (the system keeps its parts). */
+int ps_system_set_parts(ps_system *sys, int parts, ps_ctx *ctx);
+
 /* What ps_system_eval computes besides the forces and the energy. */
 enum ps_eval_want {
   PS_EVAL_FORCES = 0,   /* nothing else */
@@ -157,9 +170,9 @@ int ps_system_assemble(ps_system *sys, ps_ctx *ctx);
 /* y[n_dof] = K x[n_dof] with the tangent K of the last evaluation with one
  * (all dofs, the free bodies' springs included), matrix-free: arm terms
  * and rank-one family terms, O(arms + family members), without the
- * two-horizon matrix (doc/performance.md). In two parts on sys->team's
- * threads; the second part's sum goes through sys->yw_part, so two calls
- * on one system must not run at the same time. */
+ * two-horizon matrix (doc/performance.md). In sys->parts parts on
+ * sys->team's threads; the parts' sums go through sys->yw_part, so two
+ * calls on one system must not run at the same time. */
 void ps_system_apply(const ps_system *sys, const double *x, double *y);
 
 /* y[n_free] = K_ff x[n_free], matrix-free (as ps_system_apply); equals

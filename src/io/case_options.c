@@ -18,7 +18,7 @@ const char *const ps_case_solver_keys[] = {
     "linear", "tolerance", "max_iterations", "max_small_steps", "line_search",
     "reuse_factor", "cg_tolerance", "cg_forcing", "cg_forcing_max", "cg_max_iterations",
     "cg_skip_arms", "reanalyze", "majorant", "matrix_free", "cg_single_precision",
-    "cg_truncate", "max_memory_gib", NULL};
+    "cg_truncate", "max_memory_gib", "parts", NULL};
 
 int ps_case_on_solver(ps_loader *L, void *arg, const char *key, const char *name,
                       yaml_node_t *v) {
@@ -66,6 +66,7 @@ int ps_case_on_solver(ps_loader *L, void *arg, const char *key, const char *name
   if (IS("cg_max_iterations"))
     return ps_yaml_int(L, v, name, 1, INT_MAX, &o->pcg_max_iterations);
   if (IS("cg_skip_arms")) return ps_yaml_int(L, v, name, 0, INT_MAX, &o->pcg_skip_arms);
+  if (IS("parts")) return ps_yaml_int(L, v, name, 1, PS_PARTS_MAX, &o->parts);
   if (IS("max_memory_gib")) /* a limit, not a setting of the result */
     return ps_yaml_real(L, v, name, 0.0, 1, PS_MAX_MEMORY_GIB, 0, &L->cs->max_memory_gib);
   return ps_yaml_bool(L, v, name, &o->line_search);

@@ -34,7 +34,8 @@ static void fnv(uint64_t *h, const char *s) {
  * Newton's
  * tolerance, iterations, line search and small steps; the CG settings
  * that change which solves near the plastic limit converge (cg_truncate
- * off, a fixed cg_forcing); the load path (path.steps too) and its stop
+ * off, a fixed cg_forcing); solver.parts (the order of every parallel
+ * sum: round-off, which a run to fracture can carry into the path); the load path (path.steps too) and its stop
  * rules; the displacement fields of loading.boundary (but not the
  * entries' names, which only label history.csv columns).
  * Not hashed (they do not change a run's result beyond the Newton
@@ -192,6 +193,11 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
   }
   if (po->stop_tip_advance > 0) { /* newer key: only when set */
     snprintf(b, sizeof b, "tip advance %.17g", po->stop_tip_advance);
+    fnv(&h, b);
+  }
+  if (so->parts != so_default.parts) { /* newer key: only when not the
+                                          default; the order of the sums */
+    snprintf(b, sizeof b, "parts %d", so->parts);
     fnv(&h, b);
   }
   return h;

@@ -156,6 +156,7 @@ static const value_spec summary_keys[] = {
     {"line_search_cuts", V_I64, 0, S(line_search_cuts), 0},
     {"newton_handovers", V_I64, 0, S(handovers), 0},
     {"threads", V_INT, 0, S(threads), 0},
+    {"parts", V_INT, 0, S(parts), 0},
     {"preconditioner_serial_share", V_F, 3, S(serial_share), 0},
     {"case_fingerprint", V_HEX, 0, R(fingerprint), 0},
 };

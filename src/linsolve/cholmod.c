@@ -31,20 +31,24 @@ typedef struct {
                     not usable (make_single) */
   double *y; /* the permuted vector (n) */
   float *t, *u; /* one supernode's rows of it and its columns (<= n) */
-  /* the parts of the elimination tree for chol_precondition (make_parts):
-   * part_list[part_ptr[p] .. part_ptr[p + 1]) the supernodes of part p
-   * (PS_PART_LOW, PS_PART_HIGH: whole subtrees; PS_PART_TOP: the
-   * supernodes above them) in increasing order; row_top[k] = 1 when column
-   * k is in the top part */
-  ps_int *part_list, part_ptr[4];
-  unsigned char *row_top;
-  int parts_current; /* 1: made for the current analysis */
-  float *t_high, *u_high; /* the high part's t and u (n) */
-  double *z; /* the high part's updates of the top rows (n; zero between
-               solves) */
+  /* the parts of the elimination tree for chol_precondition (make_parts),
+   * n_parts subtrees below a top: part_list[part_ptr[p] .. part_ptr[p +
+   * 1]) the supernodes of part p (p < n_parts: whole subtrees; p =
+   * n_parts, the top: the supernodes above them) in increasing order;
+   * top_pos[k] = the place of column k among the n_top columns of the top
+   * part, -1 for a column below it */
+  ps_int *part_list, *part_ptr;
+  ps_int *top_pos, n_top;
+  int n_parts;
+  int parts_current; /* 1: made for the current analysis and n_parts */
+  ps_int rows_max;   /* the most rows of a supernode */
+  float *t_parts, *u_parts; /* parts 1 .. n_parts - 1's t and u
+                               (rows_max each; part 0 has t and u) */
+  double *z; /* parts 1 .. n_parts - 1's updates of the top rows (n_top
+               each, at top_pos; zero between solves) */
   double *w; /* one supernode's block while make_single inverts it */
   size_t w_size;
-  size_t n_size; /* the length of y, t, u, t_high, u_high, z */
+  size_t n_size; /* the length of y, t, u */
   int ldl;       /* 1: simplicial LDL^T (chol_create_ldl) */
 } chol_state;
 
@@ -239,20 +243,13 @@ static int make_single(chol_state *s, ps_ctx *ctx) {
     free(s->t);
     free(s->u);
     free(s->w);
-    free(s->t_high);
-    free(s->u_high);
-    free(s->z);
     s->Lf_size = s->w_size = 0;
     s->Lf = ps_calloc(L->xsize, sizeof *s->Lf, ctx);
     s->y = ps_calloc((size_t)s->n, sizeof *s->y, ctx);
     s->t = ps_calloc((size_t)s->n, sizeof *s->t, ctx); /* >= any supernode's rows */
     s->u = ps_calloc((size_t)s->n, sizeof *s->u, ctx);
-    s->t_high = ps_calloc((size_t)s->n, sizeof *s->t, ctx);
-    s->u_high = ps_calloc((size_t)s->n, sizeof *s->u, ctx);
-    s->z = ps_calloc((size_t)s->n, sizeof *s->z, ctx);
     s->w = ps_calloc(wmax, sizeof *s->w, ctx);
-    if (!s->Lf || !s->y || !s->t || !s->u || !s->w || !s->t_high || !s->u_high || !s->z)
-      return PS_ERR_NOMEM;
+    if (!s->Lf || !s->y || !s->t || !s->u || !s->w) return PS_ERR_NOMEM;
     s->Lf_size = L->xsize;
     s->w_size = wmax;
     s->n_size = (size_t)s->n;
@@ -286,19 +283,15 @@ static int make_single(chol_state *s, ps_ctx *ctx) {
 }
 
 /* The parts of the supernodal elimination tree for the preconditioner's
- * solves (two threads, ps_team): the subtrees of two disjoint sets of
- * supernodes (PS_PART_LOW, PS_PART_HIGH) have no column in common, so
- * their forward and backward solves can run at the same time; what lies
- * above them (PS_PART_TOP, with nested dissection the top separators) is
- * solved by one thread between the two. Forward, the subtrees update rows
- * of the top part too; the high part writes those into z, added to y in
- * a fixed order afterwards, so the sums are the same with one thread or
- * two. */
-enum { PS_PART_LOW = 0, PS_PART_HIGH = 1, PS_PART_TOP = 2 };
-/* the parts solved at the same time, LOW and HIGH: the run's PS_PARTS */
-#define PS_TREE_PARTS PS_PARTS
-_Static_assert(PS_TREE_PARTS == PS_PART_TOP,
-               "the tree splits into two parts below the top (LOW, HIGH)");
+ * solves (ps_linsolve.parts of them, on the team's threads): the subtrees
+ * of disjoint sets of supernodes (parts 0 .. P - 1) have no column in
+ * common, so their forward and backward solves can run at the same time;
+ * what lies above them (the top, part P; with nested dissection the top
+ * separators) is solved by one thread between them. Forward, the
+ * subtrees update rows of the top part too; part 0 writes those into y,
+ * part p >= 1 into its own z_p, added to y in the order of the parts
+ * afterwards, so the sums are the same on any number of threads (and
+ * depend on P). */
 
 /* the top is grown from the roots down, a heaviest subtree at a time,
  * at most this many times, and the cheapest split seen is kept */
@@ -315,32 +308,49 @@ static int cand_heavier(const void *p, const void *q) {
   return a->sn < b->sn ? -1 : a->sn > b->sn;
 }
 
-/* cands sorted heaviest first, each to the lighter of two bins (LPT):
- * the heavier bin's work (bins[c] = its bin when bins is not NULL) */
-static double split_cands(part_cand *cand, ps_int n, unsigned char *bins) {
+/* cands sorted heaviest first, each to the lightest of n_bins bins (the
+ * first of equally light ones; LPT): the heaviest bin's work (bins[c] =
+ * its bin when bins is not NULL; load: n_bins doubles of work space) */
+static double split_cands(part_cand *cand, ps_int n, int n_bins, double *load,
+                          unsigned char *bins) {
   qsort(cand, (size_t)n, sizeof *cand, cand_heavier);
-  double load[2] = {0.0, 0.0};
+  for (int b = 0; b < n_bins; b++) load[b] = 0.0;
   for (ps_int c = 0; c < n; c++) {
-    int b = load[1] < load[0];
+    int b = 0;
+    for (int k = 1; k < n_bins; k++)
+      if (load[k] < load[b]) b = k;
     load[b] += cand[c].w;
     if (bins) bins[c] = (unsigned char)b;
   }
-  return fmax(load[0], load[1]);
+  double most = load[0];
+  for (int b = 1; b < n_bins; b++) most = fmax(most, load[b]);
+  return most;
 }
 
-/* Makes s->part_list, part_ptr and row_top for the current analysis.
- * The work of a supernode is the entries of its block (read once each way)
- * plus its rows. Supernodes whose parent does not follow them (CHOLMOD
- * orders them so; checked) leave everything in the top part: one thread.
- * PS_OK or PS_ERR_NOMEM. */
-static int make_parts(chol_state *s, ps_linsolve_stats *st, ps_ctx *ctx) {
+/* Makes s->part_list, part_ptr, top_pos and the parts' work space for
+ * the current analysis in n_parts parts (1 .. PS_PARTS_MAX). The work of
+ * a supernode is the entries of its block (read once each way) plus its
+ * rows. Supernodes whose parent does not follow them (CHOLMOD orders them
+ * so; checked) leave everything in the top part: one thread. PS_OK or
+ * PS_ERR_NOMEM. */
+static int make_parts(chol_state *s, int n_parts, ps_linsolve_stats *st, ps_ctx *ctx) {
   const cholmod_factor *L = s->L;
   ps_int ns = (ps_int)L->nsuper, n = s->n;
   const ps_int *super = L->super, *pi = L->pi, *Ls = L->s;
+  const int top_part = n_parts; /* the top's number in part[] */
   free(s->part_list);
-  free(s->row_top);
+  free(s->part_ptr);
+  free(s->top_pos);
+  free(s->t_parts);
+  free(s->u_parts);
+  free(s->z);
+  s->t_parts = s->u_parts = NULL;
+  s->z = NULL;
+  s->parts_current = 0;
   s->part_list = ps_calloc((size_t)ns + 1, sizeof *s->part_list, ctx);
-  s->row_top = ps_calloc((size_t)n + 1, 1, ctx);
+  s->part_ptr = ps_calloc((size_t)n_parts + 2, sizeof *s->part_ptr, ctx);
+  s->top_pos = ps_calloc((size_t)n + 1, sizeof *s->top_pos, ctx);
+  double *load = ps_calloc((size_t)n_parts, sizeof *load, ctx);
   ps_int *parent = ps_calloc((size_t)ns + 1, sizeof *parent, ctx);
   ps_int *col_sn = ps_calloc((size_t)n + 1, sizeof *col_sn, ctx);
   ps_int *child = ps_calloc((size_t)ns + 1, sizeof *child, ctx); /* first child */
@@ -352,8 +362,8 @@ static int make_parts(chol_state *s, ps_linsolve_stats *st, ps_ctx *ctx) {
   unsigned char *part = ps_calloc((size_t)ns + 1, 1, ctx);
   unsigned char *bins = ps_calloc((size_t)ns + 1, 1, ctx);
   int status = PS_OK;
-  if (!s->part_list || !s->row_top || !parent || !col_sn || !child || !sibling || !expanded ||
-      !w_self || !w_tree || !cand || !part || !bins) {
+  if (!s->part_list || !s->part_ptr || !s->top_pos || !load || !parent || !col_sn || !child ||
+      !sibling || !expanded || !w_self || !w_tree || !cand || !part || !bins) {
     status = PS_ERR_NOMEM;
     goto cleanup;
   }
@@ -383,14 +393,14 @@ static int make_parts(chol_state *s, ps_linsolve_stats *st, ps_ctx *ctx) {
       }
     for (ps_int sn = 0; sn < ns; sn++)
       if (parent[sn] < 0) cand[n_cand++] = (part_cand){w_tree[sn], sn};
-    double w_top = 0.0, best = split_cands(cand, n_cand, NULL);
-    while (n_exp < PS_PART_EXPANSIONS && n_cand > 0) {
+    double w_top = 0.0, best = split_cands(cand, n_cand, n_parts, load, NULL);
+    while (n_parts > 1 && n_exp < PS_PART_EXPANSIONS && n_cand > 0) { /* one: no top */
       ps_int h = cand[0].sn; /* the heaviest (split_cands sorted them) */
       expanded[n_exp++] = h;
       w_top += w_self[h];
       cand[0] = cand[--n_cand];
       for (ps_int c = child[h]; c >= 0; c = sibling[c]) cand[n_cand++] = (part_cand){w_tree[c], c};
-      double cost = split_cands(cand, n_cand, NULL) + w_top;
+      double cost = split_cands(cand, n_cand, n_parts, load, NULL) + w_top;
       if (cost < best) {
         best = cost;
         best_exp = n_exp;
@@ -400,27 +410,42 @@ static int make_parts(chol_state *s, ps_linsolve_stats *st, ps_ctx *ctx) {
   }
   /* the best split: the first best_exp expansions are the top, the
    * subtrees below them go to the bins; without a tree, all is top */
-  for (ps_int sn = 0; sn < ns; sn++) part[sn] = tree_ok ? 255 : PS_PART_TOP;
+  for (ps_int sn = 0; sn < ns; sn++) part[sn] = tree_ok ? 255 : (unsigned char)top_part;
   if (tree_ok) {
-    for (ps_int e = 0; e < best_exp; e++) part[expanded[e]] = PS_PART_TOP;
+    for (ps_int e = 0; e < best_exp; e++) part[expanded[e]] = (unsigned char)top_part;
     n_cand = 0;
     for (ps_int sn = 0; sn < ns; sn++)
-      if (part[sn] != PS_PART_TOP && (parent[sn] < 0 || part[parent[sn]] == PS_PART_TOP))
+      if (part[sn] != top_part && (parent[sn] < 0 || part[parent[sn]] == top_part))
         cand[n_cand++] = (part_cand){w_tree[sn], sn};
-    split_cands(cand, n_cand, bins);
+    split_cands(cand, n_cand, n_parts, load, bins);
     for (ps_int c = 0; c < n_cand; c++) part[cand[c].sn] = bins[c];
     for (ps_int sn = ns - 1; sn >= 0; sn--) /* parents before children */
       if (part[sn] == 255) part[sn] = part[parent[sn]];
-    st->serial_share = w_all > 0 ? w_top_best / w_all : 1.0;
+    st->serial_share = w_all > 0 && n_parts > 1 ? w_top_best / w_all : 1.0;
   }
   ps_int m = 0;
-  for (int p = 0; p < 3; p++) {
+  for (int p = 0; p <= top_part; p++) {
     s->part_ptr[p] = m;
     for (ps_int sn = 0; sn < ns; sn++)
       if (part[sn] == p) s->part_list[m++] = sn;
   }
-  s->part_ptr[3] = m;
-  for (ps_int k = 0; k < n; k++) s->row_top[k] = part[col_sn[k]] == PS_PART_TOP;
+  s->part_ptr[top_part + 1] = m;
+  s->n_top = 0;
+  for (ps_int k = 0; k < n; k++) s->top_pos[k] = part[col_sn[k]] == top_part ? s->n_top++ : -1;
+  s->rows_max = 1;
+  for (ps_int sn = 0; sn < ns; sn++)
+    if (pi[sn + 1] - pi[sn] > s->rows_max) s->rows_max = pi[sn + 1] - pi[sn];
+  if (n_parts > 1) { /* one entry at least, so that no size is 0 */
+    size_t others = (size_t)n_parts - 1;
+    s->t_parts = ps_calloc(others * (size_t)s->rows_max, sizeof *s->t_parts, ctx);
+    s->u_parts = ps_calloc(others * (size_t)s->rows_max, sizeof *s->u_parts, ctx);
+    s->z = ps_calloc(others * (size_t)(s->n_top > 0 ? s->n_top : 1), sizeof *s->z, ctx);
+    if (!s->t_parts || !s->u_parts || !s->z) {
+      status = PS_ERR_NOMEM;
+      goto cleanup;
+    }
+  }
+  s->n_parts = n_parts;
   s->parts_current = 1;
 cleanup:
   free(parent);
@@ -433,6 +458,7 @@ cleanup:
   free(cand);
   free(part);
   free(bins);
+  free(load);
   return status;
 }
 
@@ -454,10 +480,10 @@ static float_block block_of(const chol_state *s, ps_int sn) {
 }
 
 /* Forward step of supernode sn of L y = P b: y_c = L_d^-1 y_c and
- * y_b -= L_b y_c, with the rows of the top part taken from y_top instead
- * when they are updated (the high part's z) */
+ * y_b -= L_b y_c, with the updates of the rows of the top part into
+ * z[top_pos[row]] instead when z is not NULL (parts 1 ..) */
 static void forward_supernode(const chol_state *s, ps_int sn, float *t, float *u, double *y,
-                              double *y_top) {
+                              double *z) {
   const int one = 1;
   const float f_one = 1.0f, f_zero = 0.0f;
   float_block B = block_of(s, sn);
@@ -472,10 +498,16 @@ static void forward_supernode(const chol_state *s, ps_int sn, float *t, float *u
     sgemv_("N", &nr, &nc, &f_one, B.W, &nr, u, &one, &f_zero, t, &one);
   }
   for (int i = 0; i < nc; i++) y[B.k1 + i] = t[i];
-  if (y_top == y)
+  if (!z)
     for (int i = nc; i < nr; i++) y[B.rows[i]] -= t[i];
   else
-    for (int i = nc; i < nr; i++) (s->row_top[B.rows[i]] ? y_top : y)[B.rows[i]] -= t[i];
+    for (int i = nc; i < nr; i++) {
+      ps_int r = B.rows[i], tp = s->top_pos[r];
+      if (tp >= 0)
+        z[tp] -= t[i];
+      else
+        y[r] -= t[i];
+    }
 }
 
 /* Backward step of supernode sn of L^T x = y (x in y) */
@@ -502,17 +534,18 @@ typedef struct {
   int backward;
 } solve_job;
 
-/* the forward or backward steps of the low or the high part */
+/* the forward or backward steps of one part below the top */
 static void solve_part(void *arg, int part) {
   const solve_job *j = arg;
   chol_state *s = j->s;
-  float *t = part == PS_PART_HIGH ? s->t_high : s->t;
-  float *u = part == PS_PART_HIGH ? s->u_high : s->u;
+  size_t other = part > 0 ? (size_t)(part - 1) : 0;
+  float *t = part > 0 ? s->t_parts + other * (size_t)s->rows_max : s->t;
+  float *u = part > 0 ? s->u_parts + other * (size_t)s->rows_max : s->u;
   const ps_int *list = s->part_list;
   ps_int p0 = s->part_ptr[part], p1 = s->part_ptr[part + 1];
   if (!j->backward) {
-    double *y_top = part == PS_PART_HIGH ? s->z : s->y;
-    for (ps_int k = p0; k < p1; k++) forward_supernode(s, list[k], t, u, s->y, y_top);
+    double *z = part > 0 ? s->z + other * (size_t)s->n_top : NULL;
+    for (ps_int k = p0; k < p1; k++) forward_supernode(s, list[k], t, u, s->y, z);
   } else {
     for (ps_int k = p1 - 1; k >= p0; k--) backward_supernode(s, list[k], t, u, s->y);
   }
@@ -530,13 +563,13 @@ static void solve_part(void *arg, int part) {
  * permuted vector itself is kept in double. The triangular solves of a CG
  * preconditioner are bound by memory bandwidth (L is read twice per
  * iteration), so halving the bytes read is what makes them faster. The
- * two parts of the elimination tree (make_parts) run on the team's
+ * `parts` parts of the elimination tree (make_parts) run on the team's
  * threads, the top part between them on one. The preconditioner is
  * symmetric positive definite up to float round-off (the same W forward
  * and, transposed, backward), which CG tolerates. Simplicial factors use
  * chol_solve. */
 static int chol_precondition(void *state, const double *b, double *x, ps_team *team,
-                             ps_linsolve_stats *st, ps_ctx *ctx) {
+                             int parts, ps_linsolve_stats *st, ps_ctx *ctx) {
   chol_state *s = state;
   const cholmod_factor *L = s->L;
   if (!L->is_super || s->Lf_current < 0) return chol_solve(state, b, x, st, ctx);
@@ -546,24 +579,31 @@ static int chol_precondition(void *state, const double *b, double *x, ps_team *t
     if (status < 0) return status;
     if (status > 0) return chol_solve(state, b, x, st, ctx);
   }
-  if (!s->parts_current) PS_CHECK(make_parts(s, st, ctx));
+  if (parts < 1 || parts > PS_PARTS_MAX)
+    return ps_error(ctx, PS_ERR_INPUT, "parts must be 1 to %d (got %d)", PS_PARTS_MAX, parts);
+  if (!s->parts_current || s->n_parts != parts) PS_CHECK(make_parts(s, parts, st, ctx));
   const ps_int *super = L->super, *perm = L->Perm;
   ps_int n = s->n;
   double *y = s->y, *z = s->z;
-  const ps_int *top = s->part_list + s->part_ptr[PS_PART_TOP];
-  ps_int n_top = s->part_ptr[3] - s->part_ptr[PS_PART_TOP];
+  const ps_int *top = s->part_list + s->part_ptr[parts];
+  ps_int n_top = s->part_ptr[parts + 1] - s->part_ptr[parts];
+  size_t zn = (size_t)s->n_top;
   for (ps_int k = 0; k < n; k++) y[k] = b[perm ? perm[k] : k];
   solve_job job = {s, 0};
-  ps_team_run(team, PS_TREE_PARTS, solve_part, &job); /* L y = P b below the top */
-  for (ps_int e = 0; e < n_top; e++)
+  ps_team_run(team, parts, solve_part, &job); /* L y = P b below the top */
+  for (ps_int e = 0; e < n_top && parts > 1; e++) /* y_k += z_1 + z_2 + ..., in order */
     for (ps_int k = super[top[e]]; k < super[top[e] + 1]; k++) {
-      y[k] += z[k];
-      z[k] = 0.0;
+      ps_int tp = s->top_pos[k];
+      for (int p = 1; p < parts; p++) {
+        double *zp = z + (size_t)(p - 1) * zn + (size_t)tp;
+        y[k] += *zp;
+        *zp = 0.0;
+      }
     }
-  for (ps_int e = 0; e < n_top; e++) forward_supernode(s, top[e], s->t, s->u, y, y);
+  for (ps_int e = 0; e < n_top; e++) forward_supernode(s, top[e], s->t, s->u, y, NULL);
   for (ps_int e = n_top - 1; e >= 0; e--) backward_supernode(s, top[e], s->t, s->u, y);
   job.backward = 1;
-  ps_team_run(team, PS_TREE_PARTS, solve_part, &job); /* L^T x = y below the top */
+  ps_team_run(team, parts, solve_part, &job); /* L^T x = y below the top */
   for (ps_int k = 0; k < n; k++) x[perm ? perm[k] : k] = y[k];
   st->t_solve += ps_wtime() - t0;
   st->n_solve++;
@@ -583,11 +623,12 @@ static void chol_destroy(void **state) {
   free(s->t);
   free(s->u);
   free(s->w);
-  free(s->t_high);
-  free(s->u_high);
+  free(s->t_parts);
+  free(s->u_parts);
   free(s->z);
   free(s->part_list);
-  free(s->row_top);
+  free(s->part_ptr);
+  free(s->top_pos);
   free(s);
   *state = NULL;
 }

@@ -18,6 +18,7 @@ int ps_linsolve_create(ps_linsolve *ls, const ps_linsolve_type *type,
   memset(ls, 0, sizeof *ls);
   ls->type = type;
   ls->single_after = PS_SINGLE_AFTER;
+  ls->parts = PS_PARTS_DEFAULT;
   return type->create(&ls->state, ctx);
 }
 
@@ -84,7 +85,7 @@ ps_operator ps_csc_operator(const ps_csc *A) {
 
 int ps_linsolve_precondition(ps_linsolve *M, const double *r, double *z, ps_ctx *ctx) {
   if (M->single_precision && M->type->precondition && ++M->n_since_factor > M->single_after)
-    return M->type->precondition(M->state, r, z, M->team, &M->stats, ctx);
+    return M->type->precondition(M->state, r, z, M->team, M->parts, &M->stats, ctx);
   return ps_linsolve_solve(M, r, z, ctx);
 }
 

@@ -16,7 +16,7 @@ typedef struct ps_linsolve_stats {
   double flops_factor;                 /* of the last factorisation */
   double serial_share;                 /* of the work of a preconditioner
                                           solve, the share one thread does
-                                          while the other waits (the top of
+                                          while the others wait (the top of
                                           the elimination tree; CHOLMOD,
                                           0 until the first solve) */
 } ps_linsolve_stats;
@@ -45,8 +45,10 @@ typedef struct ps_linsolve_type {
   /* x ~= A \ b with the last factor for preconditioning: a symmetric
    * positive definite approximation cheaper than solve (CHOLMOD: the
    * factor in single precision, made on the first call after a
-   * factorisation). NULL: solve is used. */
-  int (*precondition)(void *state, const double *b, double *x, ps_team *team,
+   * factorisation), in `parts` parts (1 .. PS_PARTS_MAX; the numbers
+   * depend on them) on the team's threads (they do not depend on those).
+   * NULL: solve is used. */
+  int (*precondition)(void *state, const double *b, double *x, ps_team *team, int parts,
                       ps_linsolve_stats *st, ps_ctx *ctx);
   void (*destroy)(void **state);
 } ps_linsolve_type;
@@ -75,6 +77,9 @@ typedef struct ps_linsolve {
   int n_since_factor;       /* preconditioner solves with the last factor */
   ps_team *team;            /* threads precondition may use (not owned;
                                NULL: one; the results do not depend on it) */
+  int parts;                /* the parts precondition splits its work into
+                               (PS_PARTS_DEFAULT; 1 .. PS_PARTS_MAX): the
+                               results depend on it */
   ps_linsolve_stats stats;
   int keep_matrix;          /* 1: ps_linsolve_factor keeps the matrix it
                                factors in `kept` (default 0) */

@@ -120,7 +120,10 @@ cleanup:
   return status;
 }
 
-void ps_pd_set_team(ps_pd *pd, ps_team *team) { pd->sys.team = team; }
+int ps_pd_set_team(ps_pd *pd, ps_team *team, int parts, ps_ctx *ctx) {
+  pd->sys.team = team;
+  return ps_system_set_parts(&pd->sys, parts, ctx);
+}
 
 void ps_pd_commit(ps_pd *pd) {
   ps_int na = pd->net->n_arm;

@@ -43,8 +43,10 @@ void ps_pd_free(ps_pd *pd);
 /* The problem's ps_nl_problem (data = pd). */
 ps_nl_problem ps_pd_problem(ps_pd *pd);
 
-/* threads for the matrix-free product (not owned; NULL: one) */
-void ps_pd_set_team(ps_pd *pd, ps_team *team);
+/* threads for the evaluations and the matrix-free product (not owned;
+ * NULL: one) and the parts they split their loops into
+ * (ps_system_set_parts: PS_OK, PS_ERR_INPUT, PS_ERR_NOMEM) */
+int ps_pd_set_team(ps_pd *pd, ps_team *team, int parts, ps_ctx *ctx);
 
 /* the trial arm states become the committed ones (plastic strains
  * included) / back to the committed ones */

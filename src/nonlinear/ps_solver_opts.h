@@ -81,12 +81,18 @@ typedef struct ps_solver_opts {
                              and run CG with it before factoring the
                              two-horizon tangent itself (default 1,
                              doc/performance.md) */
+  int parts;              /* [parts] the parts the per-arm loops, the CG
+                             products and the preconditioner's solves are
+                             split into (1 .. PS_PARTS_MAX, ps_util.h;
+                             default PS_PARTS_DEFAULT = 2): the most
+                             threads a run uses; the numbers depend on it
+                             (the order of the sums), not on the threads */
   int threads;            /* not a case key (the command line's -t):
                              threads of the CG products and preconditioner
                              solves (ps_team); 0 (default) as many as the
-                             CPUs this process may use, at most PS_PARTS
-                             (ps_util.h); the numbers a run gives do not
-                             depend on it */
+                             CPUs this process may use; at most `parts` are
+                             used; the numbers a run gives do not depend
+                             on it */
 } ps_solver_opts;
 
 /* The defaults above, the only place they are written down (the case

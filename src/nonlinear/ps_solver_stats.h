@@ -25,6 +25,7 @@ typedef struct ps_solver_stats {
   ps_int line_search_cuts;    /* backtracking steps of the line search */
   ps_int n_free;              /* free dofs */
   int threads;                /* threads of the run's CG */
+  int parts;                  /* the parts of its loops (solver.parts) */
   double serial_share;        /* share of a preconditioner solve on one
                                  thread alone (the majorant's factor, else
                                  the tangent's) */

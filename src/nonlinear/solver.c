@@ -30,6 +30,7 @@ void ps_solver_opts_default(ps_solver_opts *o) {
   o->matrix_free = 1;
   o->cg_single_precision = 1;
   o->cg_truncate = 1;
+  o->parts = PS_PARTS_DEFAULT;
   o->threads = 0;
 }
 
@@ -79,15 +80,17 @@ static int check_directions(const ps_network *net, const unsigned char *fixed, p
   return PS_OK;
 }
 
-/* the linear solvers and their threads; the majorant's factor when the
- * direction strategy uses one */
+/* the linear solvers and their threads, min(threads or the CPUs, parts)
+ * (more would idle); the majorant's factor when the direction strategy
+ * uses one */
 static int create_linear(ps_solver *s, ps_ctx *ctx) {
   const ps_solver_opts *opts = &s->opts;
   int threads = opts->threads > 0 ? opts->threads : ps_cpu_count();
-  PS_CHECK(ps_team_create(&s->team, threads < PS_PARTS ? threads : PS_PARTS, ctx));
-  ps_pd_set_team(s->pd, s->team);
+  PS_CHECK(ps_team_create(&s->team, threads < opts->parts ? threads : opts->parts, ctx));
+  PS_CHECK(ps_pd_set_team(s->pd, s->team, opts->parts, ctx));
   PS_CHECK(ps_linsolve_create(&s->ls, s->linear, ctx));
   s->ls.team = s->team;
+  s->ls.parts = opts->parts;
   s->ls.reanalyze = opts->reanalyze;
   /* simplicial LDL^T pays on the one-horizon pattern (arms only); on the
    * two-horizon one of family terms it was 6x slower than UMFPACK */
@@ -97,6 +100,7 @@ static int create_linear(ps_solver *s, ps_ctx *ctx) {
     PS_CHECK(ps_linsolve_create(&s->ls_pre, ps_linsolve_cholmod, ctx));
     s->ls_pre.single_precision = opts->cg_single_precision;
     s->ls_pre.team = s->team;
+    s->ls_pre.parts = opts->parts;
     /* a majorant's factor serves the CG solves of many Newton systems:
      * its single-precision copy is made from the first one */
     s->ls_pre.single_after = 0;
@@ -654,6 +658,7 @@ void ps_solver_get_stats(const ps_solver *s, ps_solver_stats *st) {
   st->line_search_cuts = s->n_line_search_cuts;
   st->n_free = s->prob.n_free;
   st->threads = ps_team_size(s->team);
+  st->parts = s->opts.parts;
   st->serial_share = s->have_majorant ? s->ls_pre.stats.serial_share : s->ls.stats.serial_share;
   st->nnz_tangent = ps_pd_nnz_tangent(s->pd);
   st->nnz_factor = s->ls.stats.nnz_factor;

@@ -221,17 +221,20 @@ typedef struct ps_csc {
 typedef struct ps_team ps_team;
 
 /* The number of parts a parallel loop of a run is split into (the
- * assembly's halves of the arms and particles, the two disjoint subtrees
- * of the preconditioner's triangular solves): fixed by the data, not by
- * the machine, so a run gives the same numbers on any number of threads.
- * More threads than parts would idle: a team has at most PS_PARTS
- * members. The loops are written for two parts (a part-0 and a part-1
- * output, a low and a high subtree) and check it at compile time. */
-#define PS_PARTS 2
+ * assembly's shares of the arms and particles, the disjoint subtrees of
+ * the preconditioner's triangular solves) is a setting of the run
+ * (solver.parts, 1 .. PS_PARTS_MAX; ps_system.parts, ps_linsolve.parts),
+ * not of the machine: every sum is formed in the order the parts fix, so
+ * a run gives the same numbers on any number of threads, and other
+ * numbers (within round-off) with another number of parts. More threads
+ * than parts would idle: the solver makes a team of at most `parts`
+ * members. PS_PARTS_DEFAULT, the parts of every run before the count
+ * became a setting, keeps their results. */
+#define PS_PARTS_DEFAULT 2
+#define PS_PARTS_MAX 64
 
-/* *team = a team of min(n_threads, PS_PARTS) members (NULL when that is
- * <= 1; fewer members if the system refuses threads). PS_OK or
- * PS_ERR_NOMEM. */
+/* *team = a team of n_threads members (NULL when n_threads <= 1; fewer
+ * members if the system refuses threads). PS_OK or PS_ERR_NOMEM. */
 int ps_team_create(ps_team **team, int n_threads, ps_ctx *ctx);
 void ps_team_free(ps_team *team);
 /* the number of members (1 for NULL) */

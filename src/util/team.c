@@ -2,9 +2,9 @@
  * run (ps_team in ps_util.h). A job is split into a fixed number of parts
  * by its caller, independent of the team's size, so that every sum is
  * formed in the same order whatever the number of threads: a run gives the
- * same numbers with 1 or 2 threads. Workers spin briefly between jobs (a CG
- * iteration starts a few jobs 1-3 ms apart), then sleep on a condition
- * variable; the caller waits for them the same way. Both yield the CPU
+ * same numbers on any number of threads. Workers spin briefly between
+ * jobs (a CG iteration starts a few jobs 1-3 ms apart), then sleep on a
+ * condition variable; the caller waits for them the same way. Both yield the CPU
  * while they spin, and sleep soon: when the other core is busy (another
  * run, make -j2), a thread that only spun would keep the one it waits for
  * from running. */
@@ -102,7 +102,6 @@ static void bump(ps_team *t) {
 
 int ps_team_create(ps_team **team, int n_threads, ps_ctx *ctx) {
   *team = NULL;
-  if (n_threads > PS_PARTS) n_threads = PS_PARTS; /* more would idle */
   if (n_threads <= 1) return PS_OK;
   ps_team *t = ps_calloc(1, sizeof *t, ctx);
   if (!t) return PS_ERR_NOMEM;

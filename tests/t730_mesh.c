@@ -223,6 +223,54 @@ static void check_against_gmsh(const ps_particles *p, const gmsh_view *g,
              what, s->name, (long long)s->n, bad_set);
 }
 
+/* The area of the hole of data/cases/plate-gmsh.msh as Gmsh meshed it:
+ * the polygon through the nodes of the physical curve "hole" (sorted by
+ * angle about their mean: the shoelace formula); -1 when not found. */
+static double gmsh_hole_area(const char *path) {
+  int ierr = 0, *dt = NULL;
+  size_t ndt = 0;
+  double area = -1;
+  gmshInitialize(0, NULL, 0, &ierr);
+  gmshOptionSetNumber("General.Terminal", 0, &ierr);
+  gmshOpen(path, &ierr);
+  gmshModelGetPhysicalGroups(&dt, &ndt, 1, &ierr);
+  for (size_t i = 0; i + 1 < ndt; i += 2) {
+    char *name = NULL;
+    gmshModelGetPhysicalName(dt[i], dt[i + 1], &name, &ierr);
+    int hole = name && !strcmp(name, "hole");
+    gmshFree(name);
+    if (!hole) continue;
+    size_t *tags = NULL, nt = 0, nc = 0;
+    double *c = NULL;
+    gmshModelMeshGetNodesForPhysicalGroup(1, dt[i + 1], &tags, &nt, &c, &nc, &ierr);
+    double cx = 0, cy = 0, *ang = calloc(nt + 1, sizeof *ang);
+    size_t *ord = calloc(nt + 1, sizeof *ord);
+    for (size_t j = 0; j < nt; j++) cx += c[3 * j] / nt, cy += c[3 * j + 1] / nt;
+    for (size_t j = 0; j < nt; j++) {
+      ang[j] = atan2(c[3 * j + 1] - cy, c[3 * j] - cx);
+      ord[j] = j;
+    }
+    for (size_t j = 1; j < nt; j++) /* insertion sort by angle */
+      for (size_t k = j; k > 0 && ang[ord[k]] < ang[ord[k - 1]]; k--) {
+        size_t t = ord[k];
+        ord[k] = ord[k - 1];
+        ord[k - 1] = t;
+      }
+    area = 0;
+    for (size_t j = 0; j < nt; j++) {
+      const double *a = &c[3 * ord[j]], *b = &c[3 * ord[(j + 1) % nt]];
+      area += 0.5 * (a[0] * b[1] - b[0] * a[1]);
+    }
+    free(ang);
+    free(ord);
+    gmshFree(tags);
+    gmshFree(c);
+  }
+  gmshFree(dt);
+  gmshFinalize(&ierr);
+  return area;
+}
+
 static void test_gmsh(void) {
   ps_particles p;
   ps_mesh_sets s;
@@ -286,6 +334,29 @@ static void test_gmsh(void) {
     gmsh_view_free(&g);
     ps_check_rel(sum_v(&p, -1), 1.0, 1e-12, "cube_tet: sum V = 1");
     for (int k = 0; k < 3; k++) ps_check_rel(sum_v(&p, k), 0.5, 1e-12, "cube_tet: sum V x_k = 1/2");
+  }
+  ps_particles_free(&p);
+  ps_mesh_sets_free(&s);
+  /* the shipped plate with a hole (data/cases/plate-gmsh.msh, 20 x 10 mm,
+   * hole of radius 2 mm): one particle per Gmsh element, and the volumes
+   * sum to the plate less the hole as meshed (a polygon of Gmsh's nodes) */
+  const char *hole_msh = PS_TEST_DATA "/../../data/cases/plate-gmsh.msh";
+  if (read_mesh(&p, &s, hole_msh, PS_MESH_GMSH, 2) == PS_OK) {
+    gmsh_view g;
+    gmsh_view_read(&g, hole_msh, 2, 1, 0.01);
+    /* quadrangles: the centroid is the area's, not the nodes' mean */
+    ps_check((size_t)p.n == g.n, "plate-gmsh.msh: %lld particles for Gmsh's %zu elements",
+             (long long)p.n, g.n);
+    gmsh_view_free(&g);
+    double hole = gmsh_hole_area(hole_msh);
+    ps_check(hole > 0.99 * 3.141592653589793 * 4e-6 && hole < 3.141592653589793 * 4e-6,
+             "plate-gmsh: the meshed hole's polygon area %.9g m^2 lies just inside pi r^2",
+             hole);
+    ps_check_rel(sum_v(&p, -1), 2e-4 - hole, 1e-12,
+                 "plate-gmsh: sum V = W H - the meshed hole's area");
+    const ps_mesh_set *hs = set_of(&s, "hole");
+    ps_check(hs && hs->n > 0, "plate-gmsh: set 'hole' holds the %lld elements along the hole",
+             hs ? (long long)hs->n : 0LL);
   }
   ps_particles_free(&p);
   ps_mesh_sets_free(&s);

@@ -72,6 +72,30 @@ for a in 191 180; do
     "$(awk -F, -v a=$a '$1 == a { print $4, $5 }' "$T/run/particles.csv")"
 done
 
+# installed into a temporary root (the library, its header and its
+# pkg-config file; DESTDIR), the example builds with the flags the
+# installed peristatic.pc gives (PKG_CONFIG_SYSROOT_DIR maps its paths into
+# the root) and runs against the installed library alone
+root="$(pwd)/$T/root"
+if make install-libLTLIBRARIES install-includeHEADERS install-pkgconfigDATA \
+     DESTDIR="$root" > "$T/install.log" 2>&1; then
+  pcdir=$(dirname "$(find "$root" -name peristatic.pc | head -1)")
+  libdir=$(dirname "$(find "$root" -name 'libperistatic.so' | head -1)")
+  flags=$(PKG_CONFIG_PATH="$pcdir" PKG_CONFIG_SYSROOT_DIR="$root" \
+          pkg-config --cflags --libs peristatic 2> "$T/pc.err")
+  if [ -f "$pcdir/peristatic.pc" ] && printf '%s' "$flags" | grep -q -- "-L$root" &&
+     $CC -std=c11 -Wall -Werror -o "$T/example_installed" \
+       "$srcdir/examples/plate_from_arrays.c" $flags 2> "$T/cc2.err" &&
+     LD_LIBRARY_PATH="$libdir" "$T/example_installed" > "$T/installed.out" &&
+     cmp -s "$T/installed.out" "$T/example.out"; then
+    ok "installed (DESTDIR): the example builds with pkg-config --cflags --libs peristatic and prints the same"
+  else
+    ko "installed library: flags '$flags' $(cat "$T/pc.err" "$T/cc2.err" 2>/dev/null)"
+  fi
+else
+  ko "make install into a temporary root: $(tail -5 "$T/install.log")"
+fi
+
 # the shared library's interface: peristatic_* only
 if [ -f .libs/libperistatic.so ]; then
   other=$(nm -D --defined-only .libs/libperistatic.so | awk '$2 ~ /[TDBR]/ { print $3 }' |

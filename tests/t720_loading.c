@@ -78,8 +78,10 @@ static double affine(int k, const double *x) {
   return C[k] + G[k][0] * (x[0] - X0[0]) + G[k][1] * (x[1] - X0[1]);
 }
 
-static void patch_test(void) {
-  char entries[2048] = "", text[4096];
+/* The patch case with u = c + g (x - x0) prescribed on a skin 8 spacings
+ * wide, into text[len]. */
+static void skin_case(char *text, size_t len, const double c[2], const double g[2][2]) {
+  char entries[2048] = "";
   const char *strips[4] = {"{x_max: 0.008}", "{x_min: 0.016}", "{y_max: 0.008}",
                            "{y_min: 0.016}"};
   for (int i = 0; i < 4; i++) {
@@ -90,9 +92,14 @@ static void patch_test(void) {
              "        x: {value: %.17g, gradient: [%.17g, %.17g]}\n"
              "        y: {value: %.17g, gradient: [%.17g, %.17g]}\n"
              "      about: [%.17g, %.17g]\n",
-             strips[i], C[0], G[0][0], G[0][1], C[1], G[1][0], G[1][1], X0[0], X0[1]);
+             strips[i], c[0], g[0][0], g[0][1], c[1], g[1][0], g[1][1], X0[0], X0[1]);
   }
-  snprintf(text, sizeof text, patch_case, entries);
+  snprintf(text, len, patch_case, entries);
+}
+
+static void patch_test(void) {
+  char text[4096];
+  skin_case(text, sizeof text, C, G);
   ps_problem pb;
   setup_text("patch", text, &pb);
   ps_ctx ctx;
@@ -135,20 +142,9 @@ static void patch_test(void) {
  * (relative to the largest displacement). */
 static double *skin_field_tensions(const char *name, const double F[2][2], double *err,
                                    ps_int *n_arm) {
-  char entries[2048] = "", text[4096];
-  const char *strips[4] = {"{x_max: 0.008}", "{x_min: 0.016}", "{y_max: 0.008}",
-                           "{y_min: 0.016}"};
-  for (int i = 0; i < 4; i++) {
-    size_t n = strlen(entries);
-    snprintf(entries + n, sizeof entries - n,
-             "    - select: %s\n"
-             "      displace:\n"
-             "        x: {value: 0, gradient: [%.17g, %.17g]}\n"
-             "        y: {value: 0, gradient: [%.17g, %.17g]}\n"
-             "      about: [%.17g, %.17g]\n",
-             strips[i], F[0][0] - 1, F[0][1], F[1][0], F[1][1] - 1, X0[0], X0[1]);
-  }
-  snprintf(text, sizeof text, patch_case, entries);
+  char text[4096];
+  const double zero[2] = {0, 0}, g[2][2] = {{F[0][0] - 1, F[0][1]}, {F[1][0], F[1][1] - 1}};
+  skin_case(text, sizeof text, zero, g);
   ps_problem pb;
   setup_text(name, text, &pb);
   ps_ctx ctx;

@@ -10,13 +10,21 @@
 #               length of the arms of the particle nearest each crack tip
 #               of the coarsest disk (6 x 12), so that at 1,800 particles
 #               an arm of the tip's mean length breaks at the same plastic
-#               strain under both rules (doc/griffith.md).
+#               strain under both rules (doc/griffith.md);
+#   toughness:  eps_p r0 > delta sqrt(r0 / L), the same L: a limit
+#               elongation ~ sqrt(r0), a fixed K for an arm that spans
+#               the crack-face opening at the tip.
+# Then the fibre notched plate (notched-plate-fibre.yaml) on 60 x 60 and
+# 120 x 120 lattices at the same delta, each rule (below).
 # One run at a time, one thread each (-t 1): the 39,200-particle runs take
-# 10-20 minutes each on a shared 2-core machine, the whole study about
-# 40 minutes. Runs already in $out (summary.txt with the case's
-# fingerprint) are reused; RESOLUTION_SIZES / RESOLUTION_RULES restrict
-# the study. Writes $out/resolution.csv (one row per run) and, with
-# gnuplot, $out/resolution.png (doc/results/resolution/resolution.gp).
+# 10-20 minutes each on a shared 2-core machine, the whole study (12 disk
+# and 6 plate runs) about an hour. Runs already in $out (summary.txt with
+# the case's fingerprint) are reused; RESOLUTION_SIZES, RESOLUTION_RULES
+# and RESOLUTION_PLATES restrict the study (an empty value: none);
+# RESOLUTION_NO_RUN=1 only collects the runs already there (a missing one
+# is left out of the tables, not failed). Writes $out/resolution.csv and
+# $out/plate.csv (one row per run) and, with gnuplot, $out/resolution.png
+# (doc/results/resolution/resolution.gp).
 # Passes when every run completes (fractured, or no fracture at
 # max_load: the 80k disk of the elongation rule reaches general yield)
 # and the elongation rule reproduces doc/griffith.md's 20k sigma_f
@@ -26,13 +34,36 @@ top=$(cd "$(dirname "$0")/../.." && pwd)
 bin=${PERISTATIC:-$top/peristatic}
 [ -x "$bin" ] || bin=./peristatic
 out=${RESOLUTION_OUT:-$top/doc/results/resolution}
-sizes=${RESOLUTION_SIZES:-"6x12 10x20 20x40 28x56"}
-rules=${RESOLUTION_RULES:-"elongation strain"}
+sizes=${RESOLUTION_SIZES-"6x12 10x20 20x40 28x56"}
+rules=${RESOLUTION_RULES-"elongation strain toughness"}
 L=3.441e-3
 export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
 mkdir -p "$out/runs" || exit 1
 pass=0
 fail=0
+# run_one DIR YAML LABEL: run YAML into DIR unless DIR holds a run of the
+# same fingerprint; 0 when DIR has a completed run, else 1 (counted as a
+# failure unless RESOLUTION_NO_RUN asked only to collect)
+run_one() {
+  fp=$("$bin" info "$2" 2>/dev/null | awk -F': ' '$1 == "case_fingerprint" {print $2}')
+  if [ -f "$1/summary.txt" ] &&
+    [ "$(awk -F': ' '$1 == "case_fingerprint" {print $2}' "$1/summary.txt")" = "$fp" ]; then
+    echo "reusing $1"
+  elif [ -n "$RESOLUTION_NO_RUN" ]; then
+    echo "not run: $3"
+    return 1
+  else
+    echo "running $3"
+    "$bin" run -q -t 1 -o "$1" "$2"
+  fi
+  if [ ! -f "$1/summary.txt" ]; then
+    echo "FAIL: $3 did not complete"
+    fail=$((fail + 1))
+    return 1
+  fi
+  echo "PASS: $3 completed"
+  pass=$((pass + 1))
+}
 csv="$out/resolution.csv"
 echo "rule,n_eta,n_xi,particles,arms,sigma_f_over_sigma_y,load_factor_at_peak,fractured,stalled,increments,newton_iterations,arms_broken,crack_tip_over_c,stop_reason" >"$csv"
 for rule in $rules; do
@@ -45,27 +76,13 @@ for rule in $rules; do
     sed -e "s/^name: .*/name: resolution-$rule-$s/" -e "s/^  n_eta: .*/  n_eta: $ne/" \
       -e "s/^  n_xi: .*/  n_xi: $nx/" -e '/^griffith:/,$d' \
       "$top/data/cases/paper-griffith.yaml" >"$yaml.tmp"
-    if [ "$rule" = strain ]; then
-      sed -e "s/^  delta_over_c: .*/&\n  break_rule: strain\n  break_length: $L/" "$yaml.tmp" >"$yaml"
+    if [ "$rule" != elongation ]; then
+      sed -e "s/^  delta_over_c: .*/&\n  break_rule: $rule\n  break_length: $L/" "$yaml.tmp" >"$yaml"
     else
       sed -e "s/^  delta_over_c: .*/&\n  break_rule: $rule/" "$yaml.tmp" >"$yaml"
     fi
     rm -f "$yaml.tmp"
-    fp=$("$bin" info "$yaml" 2>/dev/null | awk -F': ' '$1 == "case_fingerprint" {print $2}')
-    if [ -f "$dir/summary.txt" ] &&
-      [ "$(awk -F': ' '$1 == "case_fingerprint" {print $2}' "$dir/summary.txt")" = "$fp" ]; then
-      echo "reusing $dir"
-    else
-      echo "running $rule $s"
-      "$bin" run -q -t 1 -o "$dir" "$yaml"
-    fi
-    if [ ! -f "$dir/summary.txt" ]; then
-      echo "FAIL: $rule $s did not complete"
-      fail=$((fail + 1))
-      continue
-    fi
-    echo "PASS: $rule $s completed"
-    pass=$((pass + 1))
+    run_one "$dir" "$yaml" "$rule $s" || continue
     awk -F': ' -v rule="$rule" -v ne="$ne" -v nx="$nx" '
       {v[$1] = $2}
       END {printf "%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,\"%s\"\n", rule, ne, nx,
@@ -76,6 +93,45 @@ for rule in $rules; do
   done
 done
 cat "$csv"
+# the fibre notched plate (data/cases/notched-plate-fibre.yaml) on n x n
+# lattices of the same plate at the same delta (8.333e-7 m: eps_y dx at
+# n = 60), L = 8.333e-4 m (dx at n = 60, the coarsest: there every rule
+# breaks an arm one spacing long at the same plastic strain): the peak
+# reaction of the top grip, N per m of thickness. The runs stop once the
+# reaction falls below half its peak (the case follows the crack to 5%;
+# under the strain rule at 120 x 120 a quarter of the peak load stays
+# after the crack has run, and following it to max_load costs minutes
+# without changing the peak)
+plates=${RESOLUTION_PLATES-"60 120"}
+pcsv="$out/plate.csv"
+echo "rule,n,particles,arms,peak_reaction_N_per_m,load_factor_at_peak,fractured,increments,arms_broken,stop_reason" >"$pcsv"
+for rule in $rules; do
+  for n in $plates; do
+    dir="$out/runs/plate-$rule-$n"
+    yaml="$out/runs/plate-$rule-$n.yaml"
+    dx=$(awk -v n="$n" 'BEGIN {printf "%.16g", 0.05 / n}')
+    sed -e "s/^name: .*/name: plate-$rule-$n/" -e "s/^  counts: .*/  counts: [$n, $n]/" \
+      -e "s/^  spacing: .*/  spacing: $dx/" -e "s/^  stop_load_drop: .*/  stop_load_drop: 0.5/" \
+      -e '/^output:/,$d' \
+      "$top/data/cases/notched-plate-fibre.yaml" >"$yaml.tmp"
+    if [ "$rule" != elongation ]; then
+      sed -e "s/^  delta: .*/&\n  break_rule: $rule\n  break_length: 8.333333333333333e-4/" "$yaml.tmp" >"$yaml"
+    else
+      cp "$yaml.tmp" "$yaml"
+    fi
+    printf "output:\n  fields: false\n" >>"$yaml"
+    rm -f "$yaml.tmp"
+    run_one "$dir" "$yaml" "plate $rule $n" || continue
+    peak=$(awk -F, 'NR == 1 {for (k = 1; k <= NF; k++) if ($k == "reaction") c = k}
+      NR > 1 && $c + 0 > m {m = $c + 0; l = $2} END {printf "%.6g,%s", m, l}' "$dir/history.csv")
+    awk -F': ' -v rule="$rule" -v n="$n" -v peak="$peak" '
+      {v[$1] = $2}
+      END {printf "%s,%s,%s,%s,%s,%s,%s,%s,\"%s\"\n", rule, n, v["particles"], v["arms"], peak,
+             v["fractured"], v["increments"], v["arms_broken"], v["stop_reason"]}' \
+      "$dir/summary.txt" >>"$pcsv"
+  done
+done
+[ -n "$plates" ] && cat "$pcsv"
 # doc/griffith.md's 20k elongation run (algorithm version 8)
 sf=$(awk -F, '$1 == "elongation" && $2 == 20 {print $6}' "$csv")
 if [ -n "$sf" ]; then

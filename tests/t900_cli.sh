@@ -35,6 +35,21 @@ else
   ko "yield_rule: deviatoric run"
 fi
 
+# material.break_rule toughness on the 1,800-particle disk of the
+# resolution study (doc/griffith.md, doc/results/resolution/): the case of
+# paper-griffith.yaml at 6 x 12 zones, L = 3.441 mm. The rule changes
+# which arms break: sigma_f = 1.0398 sigma_y (Eq. 118 as printed: 1.1126)
+sed -e 's/^  n_eta: .*/  n_eta: 6/' -e 's/^  n_xi: .*/  n_xi: 12/' -e '/^griffith:/,$d' \
+  -e 's/^  delta_over_c: .*/&\n  break_rule: toughness\n  break_length: 3.441e-3/' \
+  "$srcdir/data/cases/paper-griffith.yaml" > "$T/toughness.yaml"
+if $P run -q -t 1 -o "$T/tough" "$T/toughness.yaml" &&
+   awk -F': ' '$1 == "sigma_failure_over_sigma_y" { s = $2 } $1 == "fractured" { f = $2 }
+               END { exit !(f == "yes" && s > 1.0397 && s < 1.0399) }' "$T/tough/summary.txt"; then
+  ok "break_rule: toughness on the 1,800-particle disk fractures at 1.0398 sigma_y"
+else
+  ko "break_rule: toughness on the 1,800-particle disk: $(grep -E 'sigma_failure_over|fractured' "$T/tough/summary.txt" 2>/dev/null | tr '\n' ' ')"
+fi
+
 # a traction: the bond-based strip carries the applied stress (mean of
 # the Eq. 24 stress over a column in the middle = p = 1 MPa, to 1e-4)
 if $P run -q -o "$T/tr" "$D/traction_box.yaml" &&

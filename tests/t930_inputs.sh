@@ -143,6 +143,21 @@ sed 's/  fracture: {critical_stretch: 1.0e-3}/  delta: 1.0e-6/' "$N" > "$T/bond_
 expect 1 "bond_delta.yaml:30: material.delta is the fibre model's breaking limit (Eq. 118): the bond model breaks arms by material.fracture" -- info "$T/bond_delta.yaml"
 sed 's/  micromodulus: constant/  micromodulus: flat/' "$N" > "$T/micro_bad.yaml"
 expect 1 "micro_bad.yaml:27: material.micromodulus must be one of" -- info "$T/micro_bad.yaml"
+# material.break_rule and break_length (issue 19): the fibre model's only,
+# break_length with (and only with) the strain rule; the fibre notched plate
+F="$srcdir/data/cases/notched-plate-fibre.yaml"
+sed 's/  fracture: {critical_stretch: 1.0e-3}/&\n  break_rule: strain/' "$N" > "$T/bond_break.yaml"
+expect 1 "bond_break.yaml:31: material.break_rule and break_length are the fibre model's (how Eq. 118 measures an arm against delta): the bond model breaks arms by material.fracture" -- info "$T/bond_break.yaml"
+sed 's/^  delta: .*/&\n  break_rule: strain/' "$F" > "$T/strain_no_length.yaml"
+expect 1 "strain_no_length.yaml:36: material.break_rule strain needs material.break_length L (m)" -- info "$T/strain_no_length.yaml"
+sed 's/^  delta: .*/&\n  break_length: 1e-3/' "$F" > "$T/length_alone.yaml"
+expect 1 "length_alone.yaml:36: material.break_length goes with break_rule strain or toughness" -- info "$T/length_alone.yaml"
+sed 's/^  delta: .*/&\n  break_rule: energy/' "$F" > "$T/break_bad.yaml"
+expect 1 "break_bad.yaml:36: material.break_rule must be one of" -- info "$T/break_bad.yaml"
+sed 's/^  delta: .*/&\n  break_rule: toughness/' "$F" > "$T/toughness_no_length.yaml"
+expect 1 "toughness_no_length.yaml:36: material.break_rule toughness needs material.break_length L (m): an arm breaks at the plastic elongation delta sqrt(r0 / L)" -- info "$T/toughness_no_length.yaml"
+sed 's/^  delta: .*/&\n  break_rule: strain\n  break_length: -1e-3/' "$F" > "$T/length_negative.yaml"
+expect 1 "length_negative.yaml:37: material.break_length must be > 0" -- info "$T/length_negative.yaml"
 
 # softening arms and dissipation control (issue 20)
 sed 's/{critical_stretch: 1.0e-3}/{critical_stretch: 1.0e-3, softening_ratio: 1}/' "$N" > "$T/soft_one.yaml"

@@ -178,6 +178,22 @@ static int model_keys_check(ps_loader *L) {
     return ps_yaml_fail(L, L->line_partial_volumes,
                         "material.partial_volumes is for the bond, state and threebody models (%s)",
                         model);
+  if (!fibre && (L->line_break_rule || L->line_break_length))
+    return ps_yaml_fail(L, L->line_break_rule ? L->line_break_rule : L->line_break_length,
+                        "material.break_rule and break_length are the fibre model's (how Eq. "
+                        "118 measures an arm against delta): the %s model breaks arms by "
+                        "material.fracture", cs->model);
+  if (fibre && cs->mat.break_rule != PS_BREAK_ELONGATION && !L->line_break_length)
+    return ps_yaml_fail(L, L->line_break_rule,
+                        "material.break_rule %s needs material.break_length L (m): an arm "
+                        "breaks at the plastic %s",
+                        cs->mat.break_rule == PS_BREAK_STRAIN ? "strain" : "toughness",
+                        cs->mat.break_rule == PS_BREAK_STRAIN ? "strain delta / L"
+                                                              : "elongation delta sqrt(r0 / L)");
+  if (fibre && L->line_break_length && cs->mat.break_rule == PS_BREAK_ELONGATION)
+    return ps_yaml_fail(L, L->line_break_length,
+                        "material.break_length goes with break_rule strain or toughness (the "
+                        "elongation rule measures each arm by its own length)");
   if (fibre && L->line_horizon)
     return ps_yaml_fail(L, L->line_horizon,
                         "material.horizon is for the bond, state and threebody models: the fibre "

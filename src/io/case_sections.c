@@ -193,7 +193,8 @@ static const char *const known_models[] = {"fibre", "bond", "state", "threebody"
 const char *const ps_case_material_keys[] = {
     "model", "E", "nu", "plane", "yield_strain", "plastic", "delta",
     "delta_over_c", "rho", "yield_rule", "horizon_factor", "surface_correction",
-    "micromodulus", "partial_volumes", "fracture", "horizon", NULL};
+    "micromodulus", "partial_volumes", "fracture", "horizon", "break_rule",
+    "break_length", NULL};
 
 /* material.fracture (bond, state and threebody models): one of
  * critical_stretch (s0), fracture_energy (G_c, J/m^2, with criterion
@@ -342,6 +343,22 @@ int ps_case_on_material(ps_loader *L, void *arg, const char *key, const char *na
     if (ps_yaml_walk_map(L, v, name, fracture_keys, on_fracture, NULL)) return PS_ERR_INPUT;
     return fracture_check(L, name);
   }
+  if (IS("break_rule")) { /* fibre: how Eq. 118 measures an arm (ps_break_rule) */
+    static const char *const breaks[] = {"elongation", "strain", "toughness", NULL};
+    L->line_break_rule = line_of(v);
+    if (ps_yaml_choice(L, v, name, breaks, &i)) return PS_ERR_INPUT;
+    m->break_rule = i == 0 ? PS_BREAK_ELONGATION : i == 1 ? PS_BREAK_STRAIN : PS_BREAK_TOUGHNESS;
+    return PS_OK;
+  }
+  if (IS("break_length")) { /* L of break_rule strain and toughness */
+    L->line_break_length = line_of(v);
+    return ps_yaml_pos_in(L, v, name, 1e-150, PS_MAX_COORD,
+                          "a length in m, the same for every arm (break_rule strain: an arm "
+                          "breaks at the plastic strain delta / L; toughness: at the plastic "
+                          "elongation delta sqrt(r0 / L))",
+                          &m->break_length);
+  }
+  L->line_yield_rule = line_of(v);
   if (ps_yaml_choice(L, v, name, rules, &i)) return PS_ERR_INPUT; /* yield_rule */
   m->yield_rule = i == 0 ? PS_YIELD_TOTAL : PS_YIELD_DEVIATORIC;
   return PS_OK;

@@ -29,7 +29,8 @@ static void fnv(uint64_t *h, const char *s) {
  * contents; a mesh's format), the size rule, cracks and holes; the
  * kernel; the material but delta (and, for the horizon models,
  * horizon_factor and surface_correction, material.horizon when given;
- * micromodulus, partial volumes and fracture when set); the loading (a
+ * micromodulus, partial volumes and fracture when set; the fibre model's
+ * break_rule and break_length when the rule is not elongation); the loading (a
  * selection's set name when given);
  * Newton's
  * tolerance, iterations, line search and small steps; the CG settings
@@ -100,6 +101,10 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
     fnv(&h, "moduli correction 1");
   if (type && type->lattice && m->horizon > 0) { /* newer key: only when set */
     snprintf(b, sizeof b, "horizon %.17g", m->horizon);
+    fnv(&h, b);
+  }
+  if (m->break_rule != PS_BREAK_ELONGATION) { /* newer key: only when not the default */
+    snprintf(b, sizeof b, "break rule %d length %.17g", m->break_rule, m->break_length);
     fnv(&h, b);
   }
   if (m->micromodulus != PS_MICRO_CONICAL || m->full_volumes) {

@@ -34,6 +34,18 @@ enum ps_yield_rule {
                               (MODEL-NOTES; fibre.c) */
 };
 
+/* How the fibre model's Eq. 118 measures an arm against delta. */
+enum ps_break_rule {
+  PS_BREAK_ELONGATION = 0, /* eps_p r0 > delta: Eq. 118 as printed, the
+                              arm's own plastic elongation (the default) */
+  PS_BREAK_STRAIN = 1,     /* eps_p > delta / L, L = break_length fixed
+                              for every arm: a critical plastic strain */
+  PS_BREAK_TOUGHNESS = 2   /* eps_p r0 > delta sqrt(r0 / L): the limit
+                              elongation grows as sqrt(r0), the scaling
+                              of the crack-face opening an arm of length
+                              r0 spans at the tip (K sqrt(r0)) */
+};
+
 /* Material parameters (SI). */
 typedef struct ps_material {
   double E;            /* Young's modulus, Pa (> 0) */
@@ -46,6 +58,9 @@ typedef struct ps_material {
   double rho;          /* density, kg/m^3; uniform, so it drops out of the
                           forces; gives the masses in particles.csv */
   int yield_rule;      /* enum ps_yield_rule */
+  int break_rule;      /* enum ps_break_rule (fibre) */
+  double break_length; /* L, m (> 0) for PS_BREAK_STRAIN and
+                          PS_BREAK_TOUGHNESS; 0 otherwise */
   /* the horizon models (bond, state, threebody; type->lattice): */
   double horizon;      /* delta, m: arms r <= horizon carry force (Eq. 7).
                           In a case: material.horizon when given (> 0),

@@ -95,3 +95,28 @@ double tc_dist_to_box_face(const double *x, const double *lo, const double *hi,
   }
   return d;
 }
+
+ps_solver *tc_problem_solver(ps_problem *pb) {
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  ps_solver *s = NULL;
+  ps_solver_opts o = pb->cs.solver;
+  o.threads = 1;
+  if (ps_solver_create(&s, &pb->P, &pb->net, ps_model_type_find(pb->cs.model), &pb->mat,
+                       pb->fixed, pb->ubar, &o, &ctx))
+    die("solver", &ctx);
+  if (pb->fext) ps_solver_set_forces(s, pb->fext);
+  return s;
+}
+
+ps_path_problem tc_path_problem(ps_problem *pb, const char *name) {
+  ps_path_problem pp = {.P = &pb->P,
+                        .net = &pb->net,
+                        .model = ps_model_type_find(pb->cs.model),
+                        .mat = &pb->mat,
+                        .measure = pb->measure,
+                        .measure_length = pb->measure_length,
+                        .c = pb->c,
+                        .name = name};
+  return pp;
+}

@@ -39,6 +39,12 @@ void tc_eval(tc_evaluator *ev, const ps_particles *P, const double *u);
 void tc_evaluator_free(tc_evaluator *ev);
 
 /* Distance from x to the nearest face of the box [lo, hi] (dim axes). */
+/* A solver of problem pb with its case's solver options on one thread
+ * and its forces (exits on failure). */
+ps_solver *tc_problem_solver(ps_problem *pb);
+/* The path layer's view of problem pb, its runs named `name`. */
+ps_path_problem tc_path_problem(ps_problem *pb, const char *name);
+
 double tc_dist_to_box_face(const double *x, const double *lo, const double *hi,
                            int dim);
 

@@ -91,31 +91,6 @@ static void plate_text(char *buf, size_t len, const char *material, const char *
            material, path);
 }
 
-static ps_solver *make_solver(ps_problem *pb) {
-  ps_ctx ctx;
-  ps_ctx_init(&ctx);
-  ps_solver *s = NULL;
-  ps_solver_opts o = pb->cs.solver;
-  o.threads = 1;
-  if (ps_solver_create(&s, &pb->P, &pb->net, ps_model_type_find(pb->cs.model), &pb->mat,
-                       pb->fixed, pb->ubar, &o, &ctx))
-    die_ctx("solver", &ctx);
-  if (pb->fext) ps_solver_set_forces(s, pb->fext);
-  return s;
-}
-
-static ps_path_problem path_problem(ps_problem *pb) {
-  ps_path_problem pp = {.P = &pb->P,
-                        .net = &pb->net,
-                        .model = ps_model_type_find(pb->cs.model),
-                        .mat = &pb->mat,
-                        .measure = pb->measure,
-                        .measure_length = pb->measure_length,
-                        .c = pb->c,
-                        .name = "t420"};
-  return pp;
-}
-
 static double norm_diff(ps_int n, const double *a, const double *b, double *nb) {
   double d = 0, s = 0;
   for (ps_int j = 0; j < n; j++) {
@@ -265,8 +240,8 @@ static void same_points(const char *what, const char *path, const char *text) {
   ps_ctx_init(&ctx);
   ps_problem pb;
   setup_text(&pb, path, text);
-  ps_solver *a = make_solver(&pb), *b = make_solver(&pb);
-  ps_path_problem pp = path_problem(&pb);
+  ps_solver *a = tc_problem_solver(&pb), *b = tc_problem_solver(&pb);
+  ps_path_problem pp = tc_path_problem(&pb, "t420");
   ps_path p;
   if (ps_path_init(&p, a, &pp, &pb.cs.path, ps_step_control_arc_length, &ctx))
     die_ctx("path", &ctx);
@@ -308,10 +283,10 @@ static void load_maximum(void) {
   plate_text(text, sizeof text, mat, "  load_step: 0.02\n  max_load: 3.0\n");
   ps_problem pb;
   setup_text(&pb, "t420_tmp_max.yaml", text);
-  ps_path_problem pp = path_problem(&pb);
+  ps_path_problem pp = tc_path_problem(&pb, "t420");
 
   /* load control: stalls at the limit load */
-  ps_solver *s = make_solver(&pb);
+  ps_solver *s = tc_problem_solver(&pb);
   ps_path p;
   if (ps_path_init(&p, s, &pp, &pb.cs.path, ps_step_control_load, &ctx)) die_ctx("path", &ctx);
   while (ps_path_test(&p) == PS_PATH_CONTINUE)
@@ -325,7 +300,7 @@ static void load_maximum(void) {
   ps_solver_free(s);
 
   /* arc-length: through the maximum and down the descending branch */
-  s = make_solver(&pb);
+  s = tc_problem_solver(&pb);
   ps_path_opts o = pb.cs.path;
   o.control = PS_CONTROL_ARC_LENGTH;
   if (ps_path_init(&p, s, &pp, &o, ps_step_control_arc_length, &ctx)) die_ctx("path", &ctx);
@@ -385,8 +360,8 @@ static void plane_strain_knee(void) {
              "  max_increments: 400\n");
   ps_problem pb;
   setup_text(&pb, "t420_tmp_knee.yaml", text);
-  ps_path_problem pp = path_problem(&pb);
-  ps_solver *s = make_solver(&pb), *b = make_solver(&pb);
+  ps_path_problem pp = tc_path_problem(&pb, "t420");
+  ps_solver *s = tc_problem_solver(&pb), *b = tc_problem_solver(&pb);
   ps_path p;
   if (ps_path_init(&p, s, &pp, &pb.cs.path, ps_step_control_arc_length, &ctx))
     die_ctx("path", &ctx);

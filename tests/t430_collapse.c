@@ -132,31 +132,6 @@ static void setup_strip(ps_problem *pb, const char *plane, const char *rule,
   remove("t430_tmp.yaml");
 }
 
-static ps_solver *make_solver(ps_problem *pb) {
-  ps_ctx ctx;
-  ps_ctx_init(&ctx);
-  ps_solver *s = NULL;
-  ps_solver_opts o = pb->cs.solver;
-  o.threads = 1;
-  if (ps_solver_create(&s, &pb->P, &pb->net, ps_model_type_find(pb->cs.model), &pb->mat,
-                       pb->fixed, pb->ubar, &o, &ctx))
-    die_ctx("solver", &ctx);
-  if (pb->fext) ps_solver_set_forces(s, pb->fext);
-  return s;
-}
-
-static ps_path_problem path_problem(ps_problem *pb) {
-  ps_path_problem pp = {.P = &pb->P,
-                        .net = &pb->net,
-                        .model = ps_model_type_find(pb->cs.model),
-                        .mat = &pb->mat,
-                        .measure = pb->measure,
-                        .measure_length = pb->measure_length,
-                        .c = pb->c,
-                        .name = "t430"};
-  return pp;
-}
-
 /* ---- the continuum ---- */
 
 /* <|cos 2 theta|> over the circle by quadrature (2/pi in closed form) */
@@ -293,8 +268,8 @@ static void run(ps_problem *pb, const ps_step_control_type *ctl, double strain_e
                 history *H) {
   ps_ctx ctx;
   ps_ctx_init(&ctx);
-  ps_path_problem pp = path_problem(pb);
-  ps_solver *s = make_solver(pb);
+  ps_path_problem pp = tc_path_problem(pb, "t430");
+  ps_solver *s = tc_problem_solver(pb);
   ps_path p;
   double *sig = malloc(4 * (size_t)pb->P.n * sizeof *sig);
   if (!sig) abort();

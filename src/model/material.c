@@ -117,6 +117,7 @@ int ps_arm_state_list(ps_arm_state *st, const char *prefix, ps_state_list *l, ps
 }
 
 int ps_arm_tangent_alloc(ps_arm_tangent *t, const ps_network *net, ps_ctx *ctx) {
+  memset(t, 0, sizeof *t); /* the rotation arrays (Dr) are the model's to add */
   t->D = ps_calloc((size_t)net->n_arm, sizeof *t->D, ctx);
   t->c = ps_calloc((size_t)net->n_particle, sizeof *t->c, ctx);
   t->w = ps_calloc((size_t)(2 * net->n_arm), sizeof *t->w, ctx);

@@ -13,17 +13,6 @@
 static const char ps_magic[8] = {'P', 'S', 'C', 'H', 'K', 'P', 'T', '\n'};
 #define PS_BYTE_ORDER 0x01020304u
 
-/* FNV-1a, 64 bit */
-static void hash(uint64_t *h, const void *data, size_t n) {
-  const unsigned char *c = data;
-  uint64_t v = *h;
-  for (size_t k = 0; k < n; k++) {
-    v ^= c[k];
-    v *= 1099511628211ULL;
-  }
-  *h = v;
-}
-#define PS_HASH_START 1469598103934665603ULL
 
 /* ---- writing ---- */
 
@@ -35,7 +24,7 @@ typedef struct writer {
 
 static void put(writer *w, const void *data, size_t n) {
   if (!n || w->bad) return;
-  hash(&w->h, data, n);
+  ps_fnv1a(&w->h, data, n);
   if (fwrite(data, 1, n, w->f) != n) w->bad = 1;
 }
 static void put_u32(writer *w, uint32_t v) { put(w, &v, sizeof v); }
@@ -92,26 +81,21 @@ static void sync_dir(const char *dir) {
 
 int ps_checkpoint_write(const char *dir, const ps_checkpoint_head *head, int which,
                         const ps_csc *A, const ps_state_list *l, ps_ctx *ctx) {
-  char path[1200], tmp[1220];
+  char path[1200];
   snprintf(path, sizeof path, "%s/%s", dir, PS_CHECKPOINT_FILE);
-  snprintf(tmp, sizeof tmp, "%s.tmp", path);
-  writer w = {fopen(tmp, "wb"), PS_HASH_START, 0};
-  if (!w.f) return ps_error(ctx, PS_ERR_IO, "%s: cannot open for writing: %s", tmp, strerror(errno));
+  ps_outfile o;
+  PS_CHECK(ps_outfile_open(&o, path, ctx));
+  writer w = {o.f, PS_FNV_START, 0};
   put_body(&w, head, which, A, l);
   uint64_t h = w.h;
-  if (!w.bad && fwrite(&h, sizeof h, 1, w.f) != 1) w.bad = 1;
-  if (fflush(w.f) != 0 || fsync(fileno(w.f)) != 0) w.bad = 1;
-  int e = errno;
-  if (fclose(w.f) != 0) w.bad = 1;
-  if (w.bad) {
-    unlink(tmp);
-    return ps_error(ctx, PS_ERR_IO, "%s: write failed: %s", tmp, strerror(e));
+  /* the file's bytes on disk before the rename makes it the checkpoint */
+  if (w.bad || fwrite(&h, sizeof h, 1, o.f) != 1 || fflush(o.f) != 0 ||
+      fsync(fileno(o.f)) != 0) {
+    int e = errno;
+    ps_outfile_abort(&o);
+    return ps_error(ctx, PS_ERR_IO, "%s: write failed: %s", o.tmp, strerror(e));
   }
-  if (rename(tmp, path) != 0) {
-    e = errno;
-    unlink(tmp);
-    return ps_error(ctx, PS_ERR_IO, "%s: cannot rename from %s: %s", path, tmp, strerror(e));
-  }
+  PS_CHECK(ps_outfile_commit(&o, ctx));
   sync_dir(dir);
   return PS_OK;
 }
@@ -236,8 +220,8 @@ int ps_checkpoint_read(const char *path, ps_checkpoint *ck, ps_ctx *ctx) {
     status = corrupt(ck, "it ends in its header", ctx);
     goto fail;
   }
-  uint64_t h = PS_HASH_START, stored;
-  hash(&h, ck->data, ck->size - sizeof stored);
+  uint64_t h = PS_FNV_START, stored;
+  ps_fnv1a(&h, ck->data, ck->size - sizeof stored);
   memcpy(&stored, ck->data + ck->size - sizeof stored, sizeof stored);
   if (h != stored) {
     status = corrupt(ck, "its hash does not match its contents", ctx);

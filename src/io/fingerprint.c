@@ -11,12 +11,7 @@
 #include <string.h>
 
 /* FNV-1a over the bytes of a formatted description */
-static void fnv(uint64_t *h, const char *s) {
-  for (; *s; s++) {
-    *h ^= (unsigned char)*s;
-    *h *= 1099511628211ULL;
-  }
-}
+static void fnv(uint64_t *h, const char *s) { ps_fnv1a(h, s, strlen(s)); }
 
 /* Bumped when a change of the code changes what a run computes (beyond
  * the Newton tolerance), so that `griffith --resume` does not reuse runs
@@ -49,7 +44,7 @@ static void fnv(uint64_t *h, const char *s) {
  * only when set or not at their default, so that the fingerprints of
  * cases without them stay as they were. */
 uint64_t ps_case_fingerprint(const ps_case *cs) {
-  uint64_t h = 1469598103934665603ULL;
+  uint64_t h = PS_FNV_START;
   char b[1600];
   snprintf(b, sizeof b, "peristatic algorithm %d", PS_ALGORITHM_VERSION);
   fnv(&h, b);

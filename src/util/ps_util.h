@@ -104,6 +104,11 @@ int ps_outfile_open(ps_outfile *o, const char *path, ps_ctx *ctx);
 int ps_outfile_commit(ps_outfile *o, ps_ctx *ctx);
 void ps_outfile_abort(ps_outfile *o);
 
+/* FNV-1a (64 bit): *h takes the n bytes of data in turn; a hash starts at
+ * PS_FNV_START. The case fingerprint and the checkpoint's checksum. */
+#define PS_FNV_START 1469598103934665603ULL
+void ps_fnv1a(uint64_t *h, const void *data, size_t n);
+
 /* A layer's state for a checkpoint (src/io/checkpoint.c): a list of named
  * items, each the address and size in bytes of an array or scalar the
  * layer owns. A layer lists its items (e.g. ps_solver_state_list); the

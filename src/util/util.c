@@ -128,6 +128,16 @@ void ps_outfile_abort(ps_outfile *o) {
   unlink(o->tmp);
 }
 
+void ps_fnv1a(uint64_t *h, const void *data, size_t n) {
+  const unsigned char *c = data;
+  uint64_t v = *h;
+  for (size_t k = 0; k < n; k++) {
+    v ^= c[k];
+    v *= 1099511628211ULL;
+  }
+  *h = v;
+}
+
 int ps_state_add(ps_state_list *l, const char *name, void *data, size_t bytes, ps_ctx *ctx) {
   if (strlen(name) >= PS_STATE_NAME)
     return ps_error(ctx, PS_ERR_INTERNAL, "state item name '%s' too long", name);

@@ -15,6 +15,15 @@ libsuitesparse-dev libgsl-dev libyaml-dev libopenblas-dev gnuplot-nox time"
 # Exodus II (exodusII.h, -lexoIIv2c). Together about 230 MB installed
 # (OpenCASCADE, HDF5, NetCDF, MPI come with them).
 PKGS="$PKGS libgmsh-dev gmsh libexodusii-dev"
+# --with-petsc: also the PETSc backend (configure --with-petsc;
+# solver.linear: petsc): Debian's PETSc 3.18 with MPI (Open MPI), MUMPS,
+# hypre and ML, and mpiexec for the tests (openmpi-bin).
+if [ "${1:-}" = "--with-petsc" ]; then
+  PKGS="$PKGS petsc-dev openmpi-bin"
+elif [ -n "${1:-}" ]; then
+  echo "install-deps: unknown option '$1' (the only one: --with-petsc)" >&2
+  exit 1
+fi
 missing=""
 for p in $PKGS; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" \

@@ -39,6 +39,7 @@ struct peristatic {
   double fit[3];         /* the sweep's slope, intercept, R^2 */
   int n_fractured;
   char restart[1100];    /* peristatic_set_restart's folder, "" for none */
+  char petsc[1024];      /* peristatic_set_petsc_options, "" for none */
 };
 
 #ifdef HAVE_OPENBLAS_SET_NUM_THREADS
@@ -92,6 +93,42 @@ void peristatic_init_process(void) {
 }
 
 void peristatic_install_signal_handlers(void) { ps_signals_install(); }
+
+int peristatic_parallel_init(peristatic *ps) { return ps_parallel_init(ps->ctx); }
+int peristatic_parallel_launched(void) { return ps_parallel_launched(); }
+int peristatic_parallel_rank(void) { return ps_parallel_rank(); }
+int peristatic_parallel_size(void) { return ps_parallel_size(); }
+void peristatic_parallel_finalize(void) { ps_parallel_finalize(); }
+
+int peristatic_set_petsc_options(peristatic *ps, const char *options) {
+  if (!options) options = "";
+  if (strlen(options) >= sizeof ps->petsc || (options[0] && options[0] != '-'))
+    return ps_error(ps->ctx, PS_ERR_INPUT, "PETSc options must start with '-' and be at most "
+                    "%zu characters (got \"%.40s%s\")", sizeof ps->petsc - 1, options,
+                    strlen(options) > 40 ? "..." : "");
+  snprintf(ps->petsc, sizeof ps->petsc, "%s", options);
+  return PERISTATIC_OK;
+}
+
+/* the problem's PETSc options: the case's, then the handle's. PS_OK or
+ * PS_ERR_INPUT (too long together) */
+static int apply_petsc_options(peristatic *ps) {
+  char *o = ps->pb->cs.solver.petsc_options;
+  const char *c = ps->cs->solver.petsc_options;
+  size_t cap = sizeof ps->pb->cs.solver.petsc_options;
+  int w = snprintf(o, cap, "%s%s%s", c, c[0] && ps->petsc[0] ? " " : "", ps->petsc);
+  if (w < 0 || (size_t)w >= cap)
+    return ps_error(ps->ctx, PS_ERR_INPUT, "solver.petsc_options and the command line's PETSc "
+                    "options are together longer than %zu characters", cap - 1);
+  return PS_OK;
+}
+
+/* On ranks other than 0 of an MPI run: no outputs, no progress lines */
+static const char *rank_output(peristatic *ps, const char *out_dir) {
+  if (ps_parallel_rank() == 0) return out_dir;
+  ps->ctx->verbosity = 0;
+  return NULL;
+}
 
 int peristatic_exit_status(int status) {
   switch (status) {
@@ -306,6 +343,8 @@ int peristatic_run(peristatic *ps, const char *out_dir) {
   ps->pb->threads = ps->threads;
   ps->pb->checkpoint = 1;
   ps->pb->restart = ps->restart[0] ? ps->restart : NULL;
+  PS_CHECK(apply_petsc_options(ps));
+  out_dir = rank_output(ps, out_dir);
   int status = ps_run_keep(ps->pb, ps->pb->mat.delta, out_dir, &ps->res, &ps->solver, ps->ctx);
   if (status >= 0) {
     ps->ran = 1;
@@ -324,6 +363,9 @@ int peristatic_griffith(peristatic *ps, const char *out_dir, int resume, int job
   ps_ctx *ctx = ps->ctx;
   if (!ps->cs) return usage(ps, "peristatic_griffith: no case loaded");
   if (!out_dir) return usage(ps, "peristatic_griffith: a sweep needs an output folder");
+  if (ps_parallel_size() > 1)
+    return ps_error(ctx, PS_ERR_INPUT, "griffith runs in one process: its runs are shared "
+                    "among processes by -j, not by MPI (run it without mpiexec)");
   if (jobs < 1) jobs = 1;
   /* the runs a sweep holds at once: at most one per delta */
   int held = ps->cs->sweep.n > 0 && ps->cs->sweep.n < jobs ? ps->cs->sweep.n : jobs;
@@ -334,6 +376,7 @@ int peristatic_griffith(peristatic *ps, const char *out_dir, int resume, int job
   ps->pb->threads = ps->threads;
   ps->pb->checkpoint = 0; /* a sweep's runs write no checkpoints */
   ps->pb->restart = NULL;
+  PS_CHECK(apply_petsc_options(ps));
   int status = ps_griffith_jobs(ps->pb, out_dir, resume, jobs, &ps->fit[0], &ps->fit[1],
                                 &ps->fit[2], &ps->n_fractured, ps->ctx);
   if (status >= 0) {

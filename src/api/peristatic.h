@@ -84,6 +84,32 @@ const char *peristatic_error(const peristatic *ps);
  * ENVIRONMENT). Process-wide. */
 void peristatic_init_process(void);
 
+/* MPI and the PETSc backend (solver.linear: petsc; a library built with
+ * configure --with-petsc). A program started by mpiexec calls
+ * peristatic_parallel_init before its first run and
+ * peristatic_parallel_finalize before it exits; then every rank runs the
+ * same case, the linear algebra is shared among the ranks, and only rank
+ * 0 writes outputs and progress lines (the other ranks' runs write
+ * nothing). A serial run with solver.linear: petsc starts PETSc itself;
+ * finalize is still needed then. Process-wide.
+ * peristatic_parallel_init returns PERISTATIC_OK, or
+ * PERISTATIC_ERR_INPUT (built without PETSc) or PERISTATIC_ERR_SOLVER
+ * with the handle's message. The others cannot fail: launched is 1 when
+ * an MPI launcher started this process (its environment says so); rank
+ * and size are 0 and 1 before init and without PETSc; finalize does
+ * nothing unless PETSc was started. */
+int peristatic_parallel_init(peristatic *ps);
+int peristatic_parallel_launched(void);
+int peristatic_parallel_rank(void);
+int peristatic_parallel_size(void);
+void peristatic_parallel_finalize(void);
+
+/* PETSc options for the runs of this handle, after the case's
+ * solver.petsc_options (these win where both set one), e.g. "-ksp_type
+ * cg -pc_type gamg" (NULL or "": none). Returns PERISTATIC_OK or
+ * PERISTATIC_ERR_INPUT (longer than 1023 characters, or not options). */
+int peristatic_set_petsc_options(peristatic *ps, const char *options);
+
 /* Install SIGINT/SIGTERM handlers that make a run end after the increment
  * under way (status PERISTATIC_ERR_INTERRUPTED, outputs in
  * OUT_DIR.partial). Process-wide; optional. */

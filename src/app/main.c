@@ -231,7 +231,42 @@ typedef struct cli {
   int resume, jobs, threads;    /* --resume, -j N, -t N (0: the CPUs) */
   const char *restart;          /* run --restart DIR (NULL: none) */
   double max_memory;            /* --max-memory GIB; 0: the case's */
+  char petsc[1024];             /* PETSc options (-ksp_type cg ...), "" */
 } cli;
+
+/* 1 when a is a PETSc option: one dash, a lower-case letter, and an
+ * underscore in the name (-ksp_type, -pc_gamg_threshold, -log_view) */
+static int petsc_option(const char *a) {
+  return a[0] == '-' && a[1] >= 'a' && a[1] <= 'z' && strchr(a, '_') != NULL;
+}
+
+/* 1 when argument v can be a PETSc option's value: not an option, not
+ * the case file (.yaml/.yml) */
+static int petsc_value(const char *v) {
+  size_t n = strlen(v);
+  if (v[0] == '-' && !(v[1] >= '0' && v[1] <= '9') && v[1] != '.') return 0;
+  return !(n >= 5 && !strcmp(v + n - 5, ".yaml")) && !(n >= 4 && !strcmp(v + n - 4, ".yml"));
+}
+
+/* append PETSc option argv[*i] (and its value) to c->petsc. 0 or 1 (a
+ * message: too long) */
+static int add_petsc_option(int argc, char **argv, int *i, cli *c) {
+  size_t n = strlen(c->petsc);
+  int w = snprintf(c->petsc + n, sizeof c->petsc - n, "%s%s", n ? " " : "", argv[*i]);
+  if (*i + 1 < argc && petsc_value(argv[*i + 1])) {
+    ++*i;
+    if (w >= 0 && (size_t)w < sizeof c->petsc - n) {
+      n += (size_t)w;
+      w = snprintf(c->petsc + n, sizeof c->petsc - n, " %s", argv[*i]);
+    }
+  }
+  if (w < 0 || (size_t)w >= sizeof c->petsc - n) {
+    fprintf(stderr, "peristatic: the PETSc options are too long (at most %zu characters)\n",
+            sizeof c->petsc - 1);
+    return 1;
+  }
+  return 0;
+}
 
 /* Read the options and arguments into *c. Returns -1 to go on, else the
  * exit status (after --help or --version, or a message on stderr). */
@@ -269,6 +304,8 @@ static int parse_options(int argc, char **argv, cli *c) {
     } else if (!strcmp(a, "--version")) {
       puts("peristatic " PACKAGE_VERSION);
       return 0;
+    } else if (petsc_option(a)) {
+      if (add_petsc_option(argc, argv, &i, c)) return 1;
     } else if (a[0] == '-') {
       fprintf(stderr, "peristatic: unknown option '%s' (see peristatic --help)\n", a);
       return 1;
@@ -315,7 +352,8 @@ static int check_command(const cli *c) {
 
 /* the message of a fatal status on stderr; its exit status */
 static int fail(int status, const peristatic *ps) {
-  fprintf(stderr, "peristatic: %s\n", peristatic_error(ps));
+  /* every rank of an MPI run meets the same error: rank 0 says it */
+  if (peristatic_parallel_rank() == 0) fprintf(stderr, "peristatic: %s\n", peristatic_error(ps));
   return peristatic_exit_status(status);
 }
 
@@ -328,6 +366,8 @@ static int command(peristatic *ps, const cli *c) {
   if (status == PERISTATIC_OK && c->max_memory > 0)
     status = peristatic_set_max_memory(ps, c->max_memory, "--max-memory");
   if (status == PERISTATIC_OK) status = peristatic_set_threads(ps, c->threads);
+  if (status == PERISTATIC_OK && c->petsc[0])
+    status = peristatic_set_petsc_options(ps, c->petsc);
   if (status == PERISTATIC_OK && c->restart) status = peristatic_set_restart(ps, c->restart);
   char outdir[1100];
   if (status == PERISTATIC_OK) status = peristatic_output_dir(ps, c->out, outdir, sizeof outdir);
@@ -354,8 +394,13 @@ int main(int argc, char **argv) {
     fputs("peristatic: out of memory\n", stderr);
     return 2;
   }
-  int status = command(ps, &c);
+  /* under mpiexec, or with PETSc options, MPI starts now (a serial run
+   * with solver.linear: petsc starts it when it creates the solver) */
+  int status = PERISTATIC_OK;
+  if (peristatic_parallel_launched() || c.petsc[0]) status = peristatic_parallel_init(ps);
+  if (status == PERISTATIC_OK) status = command(ps, &c);
   code = status < 0 ? fail(status, ps) : 0;
   peristatic_free(ps);
+  peristatic_parallel_finalize();
   return code;
 }

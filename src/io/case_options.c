@@ -4,6 +4,8 @@
  * max_memory_gib), path (the load increments and the stop rules:
  * cs->path), output (folder, VTK, J-integral tips and rings: cs->output) and
  * griffith (the sweep's list of delta/c: cs->sweep). */
+#include <config.h>
+
 #include "case_impl.h"
 
 #include <limits.h>
@@ -18,18 +20,33 @@ const char *const ps_case_solver_keys[] = {
     "linear", "tolerance", "max_iterations", "max_small_steps", "line_search",
     "reuse_factor", "cg_tolerance", "cg_forcing", "cg_forcing_max", "cg_max_iterations",
     "cg_skip_arms", "reanalyze", "majorant", "matrix_free", "cg_single_precision",
-    "cg_truncate", "max_memory_gib", "parts", NULL};
+    "cg_truncate", "max_memory_gib", "parts", "petsc_options", NULL};
 
 int ps_case_on_solver(ps_loader *L, void *arg, const char *key, const char *name,
                       yaml_node_t *v) {
   static const char *const linear[] = {"cholmod", "cholmod-simplicial", "umfpack",
-                                       NULL};
+                                       "petsc", NULL};
   ps_solver_opts *o = &L->cs->solver;
   (void)arg;
   if (IS("linear")) {
     int i;
     if (ps_yaml_choice(L, v, name, linear, &i)) return PS_ERR_INPUT;
+#ifndef HAVE_PETSC
+    if (!strcmp(linear[i], "petsc"))
+      return ps_yaml_fail(L, line_of(v), "%s: petsc needs a peristatic configured --with-petsc "
+                          "(scripts/install-deps.sh --with-petsc installs PETSc and MPI); this "
+                          "one has cholmod, cholmod-simplicial and umfpack", name);
+#endif
     snprintf(o->linear, sizeof o->linear, "%s", linear[i]);
+    return PS_OK;
+  }
+  if (IS("petsc_options")) {
+    if (v->type != YAML_SCALAR_NODE || strlen(sval(v)) >= sizeof o->petsc_options ||
+        (sval(v)[0] && sval(v)[0] != '-'))
+      return ps_yaml_fail(L, line_of(v), "%s must be PETSc options in one string, such as "
+                          "\"-ksp_type cg -pc_type gamg\" (at most %zu characters)", name,
+                          sizeof o->petsc_options - 1);
+    snprintf(o->petsc_options, sizeof o->petsc_options, "%s", sval(v));
     return PS_OK;
   }
   if (IS("tolerance")) return ps_yaml_real(L, v, name, 0.0, 1, 1.0, 1, &o->tolerance);

@@ -223,6 +223,11 @@ uint64_t ps_case_restart_fingerprint(const ps_case *cs) {
   fnv(&h, b);
   snprintf(b, sizeof b, "path rounds %d", cs->path.max_break_rounds);
   fnv(&h, b);
+  if (!strcmp(so->linear, "petsc")) { /* (the other backends have no options) */
+    char o[sizeof so->petsc_options + 16];
+    snprintf(o, sizeof o, "petsc %s", so->petsc_options);
+    fnv(&h, o);
+  }
   return h;
 }
 

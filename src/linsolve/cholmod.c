@@ -65,11 +65,15 @@ static int create(void **state, int supernodal, ps_ctx *ctx) {
   return PS_OK;
 }
 
-static int chol_create(void **state, ps_ctx *ctx) { return create(state, 1, ctx); }
+static int chol_create(void **state, const struct ps_linsolve *ls, ps_ctx *ctx) {
+  (void)ls;
+  return create(state, 1, ctx);
+}
 /* simplicial LDL^T without pivoting, for symmetric indefinite tangents
  * (softening or perfectly plastic arms past a peak): negative pivots are
  * taken, a zero or tiny one is reported singular */
-static int chol_create_ldl(void **state, ps_ctx *ctx) {
+static int chol_create_ldl(void **state, const struct ps_linsolve *ls, ps_ctx *ctx) {
+  (void)ls;
   PS_CHECK(create(state, 0, ctx));
   chol_state *s = *state;
   s->c.final_ll = 0;
@@ -77,7 +81,8 @@ static int chol_create_ldl(void **state, ps_ctx *ctx) {
   s->ldl = 1;
   return PS_OK;
 }
-static int chol_create_simplicial(void **state, ps_ctx *ctx) {
+static int chol_create_simplicial(void **state, const struct ps_linsolve *ls, ps_ctx *ctx) {
+  (void)ls;
   return create(state, 0, ctx);
 }
 
@@ -635,13 +640,13 @@ static void chol_destroy(void **state) {
 
 static const ps_linsolve_type chol_type = {"cholmod",   chol_create, chol_analyze,
                                            chol_factor, chol_solve,  chol_precondition,
-                                           chol_destroy};
+                                           chol_destroy, 0};
 const ps_linsolve_type *const ps_linsolve_cholmod = &chol_type;
 /* simplicial LL^T (for comparison: much slower on the two-horizon tangent) */
 static const ps_linsolve_type chol_simp_type = {
     "cholmod-simplicial", chol_create_simplicial, chol_analyze, chol_factor, chol_solve,
-    NULL, chol_destroy};
+    NULL, chol_destroy, 0};
 const ps_linsolve_type *const ps_linsolve_cholmod_simplicial = &chol_simp_type;
 static const ps_linsolve_type chol_ldl_type = {
-    "cholmod-ldl", chol_create_ldl, chol_analyze, chol_factor, chol_solve, NULL, chol_destroy};
+    "cholmod-ldl", chol_create_ldl, chol_analyze, chol_factor, chol_solve, NULL, chol_destroy, 0};
 const ps_linsolve_type *const ps_linsolve_cholmod_ldl = &chol_ldl_type;

@@ -7,7 +7,7 @@
 
 const ps_linsolve_type *ps_linsolve_type_find(const char *name) {
   const ps_linsolve_type *const all[] = {ps_linsolve_cholmod, ps_linsolve_umfpack,
-                                         ps_linsolve_cholmod_simplicial};
+                                         ps_linsolve_cholmod_simplicial, ps_linsolve_petsc};
   for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
     if (strcmp(all[i]->name, name) == 0) return all[i];
   return NULL;
@@ -19,7 +19,7 @@ int ps_linsolve_create(ps_linsolve *ls, const ps_linsolve_type *type,
   ls->type = type;
   ls->single_after = PS_SINGLE_AFTER;
   ls->parts = PS_PARTS_DEFAULT;
-  return type->create(&ls->state, ctx);
+  return type->create(&ls->state, ls, ctx);
 }
 
 void ps_linsolve_destroy(ps_linsolve *ls) {
@@ -60,6 +60,54 @@ int ps_linsolve_solve(ps_linsolve *ls, const double *b, double *x,
   return ls->type->solve(ls->state, b, x, &ls->stats, ctx);
 }
 
+int ps_csc_expand(const ps_csc *A, ps_int c0, ps_int c1, ps_int **Ap_out, ps_int **Ai_out,
+                  ps_int **map_out, ps_ctx *ctx) {
+  ps_int n = A->n, m = c1 - c0;
+  ps_int *Ap = ps_calloc((size_t)m + 1, sizeof *Ap, ctx), *cnt = ps_calloc((size_t)m + 1, sizeof *cnt, ctx);
+  ps_int *Ai = NULL, *map = NULL;
+  if (!Ap || !cnt) goto nomem;
+  /* column counts: upper entries of the columns + the transposes of
+   * entries (i, j), i < j, whose row i is one of the columns */
+  for (ps_int j = 0; j < n; j++)
+    for (ps_int k = A->p[j]; k < A->p[j + 1]; k++) {
+      ps_int i = A->i[k];
+      if (j >= c0 && j < c1) Ap[j - c0 + 1]++;
+      if (i != j && i >= c0 && i < c1) Ap[i - c0 + 1]++;
+    }
+  for (ps_int c = 0; c < m; c++) Ap[c + 1] += Ap[c];
+  Ai = ps_calloc((size_t)Ap[m] + 1, sizeof *Ai, ctx);
+  map = ps_calloc((size_t)Ap[m] + 1, sizeof *map, ctx);
+  if (!Ai || !map) goto nomem;
+  for (ps_int c = 0; c < m; c++) cnt[c] = Ap[c];
+  /* column j: its own upper entries (rows <= j, sorted) first, then the
+   * transposes of row j's entries in later columns r > j (rows r, in
+   * increasing order): rows stay sorted */
+  for (ps_int j = c0; j < c1; j++)
+    for (ps_int k = A->p[j]; k < A->p[j + 1]; k++) {
+      Ai[cnt[j - c0]] = A->i[k];
+      map[cnt[j - c0]++] = k;
+    }
+  for (ps_int r = 0; r < n; r++)
+    for (ps_int k = A->p[r]; k < A->p[r + 1]; k++) {
+      ps_int i = A->i[k];
+      if (i == r || i < c0 || i >= c1) continue;
+      /* entry (i, r), i < r; its transpose (r, i) goes into column i */
+      Ai[cnt[i - c0]] = r;
+      map[cnt[i - c0]++] = k;
+    }
+  free(cnt);
+  *Ap_out = Ap;
+  *Ai_out = Ai;
+  *map_out = map;
+  return PS_OK;
+nomem:
+  free(Ap);
+  free(cnt);
+  free(Ai);
+  free(map);
+  return PS_ERR_NOMEM;
+}
+
 void ps_csc_symv(const ps_csc *A, const double *x, double *y) {
   memset(y, 0, (size_t)A->n * sizeof *y);
   for (ps_int j = 0; j < A->n; j++) {
@@ -84,7 +132,9 @@ ps_operator ps_csc_operator(const ps_csc *A) {
 }
 
 int ps_linsolve_precondition(ps_linsolve *M, const double *r, double *z, ps_ctx *ctx) {
-  if (M->single_precision && M->type->precondition && ++M->n_since_factor > M->single_after)
+  if (M->type->precondition &&
+      (M->type->precondition_always ||
+       (M->single_precision && ++M->n_since_factor > M->single_after)))
     return M->type->precondition(M->state, r, z, M->team, M->parts, &M->stats, ctx);
   return ps_linsolve_solve(M, r, z, ctx);
 }

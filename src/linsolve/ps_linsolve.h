@@ -1,9 +1,10 @@
-/* ps_linsolve.h: sparse direct solvers behind one table of operations.
+/* ps_linsolve.h: sparse linear solvers behind one table of operations.
  * Analyse once per pattern, factor per matrix, solve per right-hand side.
  * Backends: "cholmod" (supernodal LL^T, the default: the tangent is
- * symmetric and, in tension-driven runs, positive definite) and "umfpack"
- * (unsymmetric LU with pivoting, for indefinite tangents). A PETSc backend
- * would be one more file with one more table. */
+ * symmetric and, in tension-driven runs, positive definite), "umfpack"
+ * (unsymmetric LU with pivoting, for indefinite tangents) and, when built
+ * with it, "petsc" (a KSP and PC of PETSc's chosen by its options, the
+ * matrix distributed by rows over the MPI ranks: petsc.c). */
 #ifndef PS_LINSOLVE_H
 #define PS_LINSOLVE_H
 
@@ -26,9 +27,12 @@ typedef struct ps_linsolve_stats {
  * CHOLMOD's single-precision copy is not worth it for fewer) */
 #define PS_SINGLE_AFTER 16
 
+struct ps_linsolve;
 typedef struct ps_linsolve_type {
   const char *name;
-  int (*create)(void **state, ps_ctx *ctx);
+  /* *state for the solver object ls (its address stays fixed; a backend
+   * may keep it to read ls's settings when it analyses) */
+  int (*create)(void **state, const struct ps_linsolve *ls, ps_ctx *ctx);
   /* symbolic analysis of A's pattern (upper triangle CSC). PS_OK or fatal */
   int (*analyze)(void *state, const ps_csc *A, ps_linsolve_stats *st,
                  ps_ctx *ctx);
@@ -51,6 +55,10 @@ typedef struct ps_linsolve_type {
   int (*precondition)(void *state, const double *b, double *x, ps_team *team, int parts,
                       ps_linsolve_stats *st, ps_ctx *ctx);
   void (*destroy)(void **state);
+  int precondition_always; /* 1: CG's preconditioner is always
+                              precondition, never solve (PETSc: one
+                              application of its PC, where solve is a
+                              whole KSP solve) */
 } ps_linsolve_type;
 
 extern const ps_linsolve_type *const ps_linsolve_cholmod;
@@ -59,6 +67,31 @@ extern const ps_linsolve_type *const ps_linsolve_cholmod_simplicial;
 /* simplicial LDL^T without pivoting, for symmetric indefinite matrices
  * (PS_SINGULAR on a zero or tiny pivot) */
 extern const ps_linsolve_type *const ps_linsolve_cholmod_ldl;
+/* PETSc (petsc.c): "factor" sets the matrix's rows of this rank and sets
+ * up the KSP's preconditioner (a factorisation for -pc_type cholesky/lu,
+ * MUMPS by default; an AMG hierarchy for gamg/hypre); "solve" is
+ * KSPSolve, "precondition" one application of that preconditioner. b and
+ * x are whole vectors on every rank (the same on each). In a build
+ * without PETSc its create returns PS_ERR_INPUT saying so. */
+extern const ps_linsolve_type *const ps_linsolve_petsc;
+
+/* The MPI process layer of the PETSc backend (petsc.c). MPI and PETSc
+ * are process-wide, so these are too; without PETSc the process is rank
+ * 0 of 1. */
+/* 1 when this build has the PETSc backend */
+int ps_parallel_available(void);
+/* 1 when an MPI launcher (mpiexec) started this process (its environment) */
+int ps_parallel_launched(void);
+/* Initialise PETSc and MPI once (later calls: PS_OK at once). PS_OK,
+ * PS_ERR_SOLVER, or PS_ERR_INPUT in a build without PETSc. */
+int ps_parallel_init(ps_ctx *ctx);
+/* this process's rank and the number of ranks (0 and 1 before init) */
+int ps_parallel_rank(void);
+int ps_parallel_size(void);
+/* 1 when flag is the same on every rank (collective), else 0 */
+int ps_parallel_all_agree(int flag);
+/* PetscFinalize (and MPI's) if init ran; no-op otherwise */
+void ps_parallel_finalize(void);
 
 /* Look a backend up by name; NULL if unknown. */
 const ps_linsolve_type *ps_linsolve_type_find(const char *name);
@@ -83,6 +116,16 @@ typedef struct ps_linsolve {
   ps_linsolve_stats stats;
   int keep_matrix;          /* 1: ps_linsolve_factor keeps the matrix it
                                factors in `kept` (default 0) */
+  int dim;                  /* the rigid-body modes of the unknowns, for
+                               backends that build a multigrid (PETSc's
+                               near-null space): unknown k is component
+                               dof_of_free[k] % dim of particle
+                               dof_of_free[k] / dim, at x[dim * particle]
+                               (borrowed; dim 0: not given) */
+  const ps_int *dof_of_free;
+  const double *x;
+  const char *options;      /* PETSc options for the backend ("-ksp_type
+                               cg -pc_type gamg"; borrowed; NULL: none) */
   ps_csc kept;              /* that matrix (n = 0: none): a copy of its
                                values (x, owned) on the pattern of the
                                matrix factored (p, i borrowed: the caller
@@ -109,10 +152,20 @@ int ps_linsolve_keep(ps_linsolve *ls, const ps_csc *A, ps_ctx *ctx);
 /* x = A \ b with the last factor. */
 int ps_linsolve_solve(ps_linsolve *ls, const double *b, double *x,
                       ps_ctx *ctx);
-/* x ~= A \ b for CG: the backend's precondition when ls->single_precision
- * and ls->single_after solves with the last factor were made, else
- * ps_linsolve_solve. Statuses as ->solve. */
+/* x ~= A \ b for CG: the backend's precondition when it says
+ * precondition_always, or when ls->single_precision and ls->single_after
+ * solves with the last factor were made; else ps_linsolve_solve.
+ * Statuses as ->solve. */
 int ps_linsolve_precondition(ps_linsolve *ls, const double *b, double *x, ps_ctx *ctx);
+
+/* Columns c0 .. c1-1 of the full symmetric matrix whose upper triangle
+ * is the CSC matrix A (rows sorted in each column): *Ap[c1 - c0 + 1],
+ * *Ai (rows, sorted in each column) and *map (for each entry, the index
+ * of its value in A->x), all allocated here; for a symmetric matrix
+ * column j is also row j. Returns PS_OK or PS_ERR_NOMEM (nothing
+ * allocated). */
+int ps_csc_expand(const ps_csc *A, ps_int c0, ps_int c1, ps_int **Ap, ps_int **Ai,
+                  ps_int **map, ps_ctx *ctx);
 
 /* y = A x for a symmetric A stored as one triangle (upper or lower). */
 void ps_csc_symv(const ps_csc *A, const double *x, double *y);

@@ -16,7 +16,8 @@ typedef struct {
   double control[UMFPACK_CONTROL], info[UMFPACK_INFO];
 } umf_state;
 
-static int umf_create(void **state, ps_ctx *ctx) {
+static int umf_create(void **state, const struct ps_linsolve *ls, ps_ctx *ctx) {
+  (void)ls;
   umf_state *s = ps_calloc(1, sizeof *s, ctx);
   if (!s) return PS_ERR_NOMEM;
   umfpack_dl_defaults(s->control);
@@ -49,42 +50,11 @@ static int umf_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st,
   umf_state *s = state;
   double t = ps_wtime();
   umf_free_arrays(s);
-  ps_int n = A->n, nz = A->p[n], *cnt = NULL;
+  ps_int n = A->n;
   s->n = n;
-  s->Ap = ps_calloc((size_t)n + 1, sizeof *s->Ap, ctx);
-  cnt = ps_calloc((size_t)n + 1, sizeof *cnt, ctx);
-  if (!s->Ap || !cnt) goto nomem;
-  /* column counts of the full matrix: upper entries + their transposes */
-  for (ps_int j = 0; j < n; j++)
-    for (ps_int k = A->p[j]; k < A->p[j + 1]; k++) {
-      s->Ap[j + 1]++;
-      if (A->i[k] != j) s->Ap[A->i[k] + 1]++;
-    }
-  for (ps_int j = 0; j < n; j++) s->Ap[j + 1] += s->Ap[j];
+  PS_CHECK(ps_csc_expand(A, 0, n, &s->Ap, &s->Ai, &s->map, ctx));
   ps_int nf = s->Ap[n];
-  s->Ai = ps_calloc((size_t)nf, sizeof *s->Ai, ctx);
-  s->map = ps_calloc((size_t)nf, sizeof *s->map, ctx);
-  s->Ax = ps_calloc((size_t)nf, sizeof *s->Ax, ctx);
-  if (!s->Ai || !s->map || !s->Ax) goto nomem;
-  for (ps_int j = 0; j < n; j++) cnt[j] = s->Ap[j];
-  /* column j: its own upper entries (rows <= j, sorted) first, then the
-   * transposes of row j's entries in later columns r > j (rows r, in
-   * increasing order): rows stay sorted */
-  for (ps_int j = 0; j < n; j++)
-    for (ps_int k = A->p[j]; k < A->p[j + 1]; k++) {
-      s->Ai[cnt[j]] = A->i[k];
-      s->map[cnt[j]++] = k;
-    }
-  for (ps_int r = 0; r < n; r++)
-    for (ps_int k = A->p[r]; k < A->p[r + 1]; k++) {
-      ps_int i = A->i[k];
-      if (i == r) continue;
-      /* entry (i, r), i < r; its transpose (r, i) goes into column i */
-      s->Ai[cnt[i]] = r;
-      s->map[cnt[i]++] = k;
-    }
-  free(cnt);
-  (void)nz;
+  if (!(s->Ax = ps_calloc((size_t)nf + 1, sizeof *s->Ax, ctx))) return PS_ERR_NOMEM;
   for (ps_int k = 0; k < nf; k++) s->Ax[k] = 1.0;
   int rc = umfpack_dl_symbolic(n, n, s->Ap, s->Ai, s->Ax, &s->symbolic,
                                s->control, s->info);
@@ -93,9 +63,6 @@ static int umf_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st,
   st->t_analyze += ps_wtime() - t;
   st->n_analyze++;
   return PS_OK;
-nomem:
-  free(cnt);
-  return PS_ERR_NOMEM;
 }
 
 static int umf_factor(void *state, const ps_csc *A, ps_int *bad_col,
@@ -141,5 +108,5 @@ static void umf_destroy(void **state) {
 }
 
 static const ps_linsolve_type umf_type = {"umfpack", umf_create, umf_analyze,
-                                          umf_factor, umf_solve, NULL, umf_destroy};
+                                          umf_factor, umf_solve, NULL, umf_destroy, 0};
 const ps_linsolve_type *const ps_linsolve_umfpack = &umf_type;

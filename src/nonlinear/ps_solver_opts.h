@@ -21,8 +21,12 @@ typedef struct ps_solver_opts {
   char linear[32];        /* [linear] the backend by name, resolved by
                              ps_linsolve_type_find when the solver is
                              created: "cholmod" (default, supernodal),
-                             "cholmod-simplicial", "umfpack"; UMFPACK is
+                             "cholmod-simplicial", "umfpack", "petsc" (a
+                             build configured --with-petsc); UMFPACK is
                              the fallback where K is not positive definite */
+  char petsc_options[1024]; /* [petsc_options] PETSc options of the petsc
+                             backend ("-ksp_type cg -pc_type gamg"), then
+                             those of the command line (which win) */
   int reuse_factor;       /* [reuse_factor] 1 (default): solve each Newton
                              system by CG preconditioned with the last
                              factor, and refactor only when CG does not

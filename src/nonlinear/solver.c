@@ -80,15 +80,25 @@ static int check_directions(const ps_network *net, const unsigned char *fixed, p
   return PS_OK;
 }
 
+/* what a backend may use beyond the matrix: the unknowns' rigid-body
+ * modes and the PETSc options */
+static void set_backend_data(ps_linsolve *ls, const ps_solver *s, const ps_particles *P) {
+  ls->dim = P->dim;
+  ls->x = P->x;
+  ls->dof_of_free = s->prob.dof_of_free;
+  ls->options = s->opts.petsc_options;
+}
+
 /* the linear solvers and their threads, min(threads or the CPUs, parts)
  * (more would idle); the majorant's factor when the direction strategy
  * uses one */
-static int create_linear(ps_solver *s, ps_ctx *ctx) {
+static int create_linear(ps_solver *s, const ps_particles *P, ps_ctx *ctx) {
   const ps_solver_opts *opts = &s->opts;
   int threads = opts->threads > 0 ? opts->threads : ps_cpu_count();
   PS_CHECK(ps_team_create(&s->team, threads < opts->parts ? threads : opts->parts, ctx));
   PS_CHECK(ps_pd_set_team(s->pd, s->team, opts->parts, ctx));
   PS_CHECK(ps_linsolve_create(&s->ls, s->linear, ctx));
+  set_backend_data(&s->ls, s, P);
   s->ls.team = s->team;
   s->ls.parts = opts->parts;
   s->ls.reanalyze = opts->reanalyze;
@@ -97,7 +107,13 @@ static int create_linear(ps_solver *s, ps_ctx *ctx) {
   s->ldl_ok = !s->pd->model.type->family_coupling;
   s->ls.single_precision = opts->cg_single_precision;
   if (s->prob.has_majorant) {
-    PS_CHECK(ps_linsolve_create(&s->ls_pre, ps_linsolve_cholmod, ctx));
+    /* CHOLMOD's single-precision factor, or PETSc's PC where the run
+     * asked for PETSc */
+    PS_CHECK(ps_linsolve_create(&s->ls_pre,
+                                s->linear == ps_linsolve_petsc ? ps_linsolve_petsc
+                                                               : ps_linsolve_cholmod,
+                                ctx));
+    set_backend_data(&s->ls_pre, s, P);
     s->ls_pre.single_precision = opts->cg_single_precision;
     s->ls_pre.team = s->team;
     s->ls_pre.parts = opts->parts;
@@ -142,7 +158,7 @@ int ps_solver_create(ps_solver **out, const ps_particles *P,
   if (!linear)
     return ps_error(ctx, PS_ERR_INPUT,
                     "unknown linear solver '%s' (solver.linear: cholmod, "
-                    "cholmod-simplicial or umfpack)",
+                    "cholmod-simplicial, umfpack or petsc)",
                     opts->linear);
   if ((status = check_directions(net, fixed, ctx)) != PS_OK) return status;
   ps_solver *s = ps_calloc(1, sizeof *s, ctx);
@@ -156,7 +172,7 @@ int ps_solver_create(ps_solver **out, const ps_particles *P,
                              opts->majorant && opts->reuse_factor,
                              opts->reuse_factor && opts->matrix_free, ctx));
   s->prob = ps_pd_problem(s->pd);
-  if ((status = create_linear(s, ctx)) < 0) goto cleanup; /* traced */
+  if ((status = create_linear(s, P, ctx)) < 0) goto cleanup; /* traced */
   if ((status = ps_nl_alloc_work(s, ctx)) != PS_OK) goto cleanup;
   for (ps_int j = 0; j < s->prob.n_dof; j++) s->ubar[j] = fixed[j] ? ubar[j] : 0.0;
   /* support check: the tangent at rest must be nonsingular */

@@ -21,10 +21,10 @@
 #     and the peak stress as printed, displacements within 1e-8, on -n 2;
 # (d) a case of 2 unknowns on 3 ranks (a rank with no row of the matrix):
 #     the CHOLMOD displacements within 1e-8;
-# (e) an iterative solve (CG + GAMG with the rigid-body near-null space,
-#     options on the command line) on the edge crack, 2 ranks: J within
-#     1e-6 (the KSP's relative tolerance 1e-10 and Newton's 1e-8 bound the
-#     difference, not round-off);
+# (e) iterative solves on the edge crack, 2 ranks, options on the command
+#     line: CG + GAMG with the rigid-body near-null space, and CG + block
+#     Jacobi ICC on the symmetric (sbaij) storage: J within 1e-6 (Newton's
+#     tolerance 1e-8 and CG's bound the difference, not round-off);
 # (f) an unknown -pc_type is a clear error (exit 2, PETSc's words) and
 #     leaves no output folder; solver.petsc_options that are not options
 #     are refused naming the file and line (exit 1).
@@ -144,6 +144,12 @@ if run edge-chol 0 "$C/edge-crack-bond.yaml"; then
   # (e) iterative: CG + GAMG, options from the command line
   if run edge-gamg 2 "$T/edge.yaml" -ksp_type cg -pc_type gamg; then
     j_ok edge-gamg edge-chol 1e-6
+  fi
+  # the symmetric storage (upper triangle) with block-Jacobi incomplete
+  # Cholesky
+  if run edge-sbaij 2 "$T/edge.yaml" -mat_type sbaij -ksp_type cg -pc_type bjacobi \
+    -sub_pc_type icc; then
+    j_ok edge-sbaij edge-chol 1e-6
   fi
 fi
 

@@ -40,6 +40,7 @@ struct peristatic {
   int n_fractured;
   char restart[1100];    /* peristatic_set_restart's folder, "" for none */
   char petsc[1024];      /* peristatic_set_petsc_options, "" for none */
+  char case_petsc[1024]; /* the loaded case's own solver.petsc_options */
 };
 
 #ifdef HAVE_OPENBLAS_SET_NUM_THREADS
@@ -107,15 +108,16 @@ int peristatic_set_petsc_options(peristatic *ps, const char *options) {
                     "%zu characters (got \"%.40s%s\")", sizeof ps->petsc - 1, options,
                     strlen(options) > 40 ? "..." : "");
   snprintf(ps->petsc, sizeof ps->petsc, "%s", options);
+  drop_problem(ps); /* the set-up's estimate depends on them */
   return PERISTATIC_OK;
 }
 
-/* the problem's PETSc options: the case's, then the handle's. PS_OK or
+/* the case's PETSc options: its own, then the handle's. PS_OK or
  * PS_ERR_INPUT (too long together) */
 static int apply_petsc_options(peristatic *ps) {
-  char *o = ps->pb->cs.solver.petsc_options;
-  const char *c = ps->cs->solver.petsc_options;
-  size_t cap = sizeof ps->pb->cs.solver.petsc_options;
+  char *o = ps->cs->solver.petsc_options;
+  const char *c = ps->case_petsc;
+  size_t cap = sizeof ps->cs->solver.petsc_options;
   int w = snprintf(o, cap, "%s%s%s", c, c[0] && ps->petsc[0] ? " " : "", ps->petsc);
   if (w < 0 || (size_t)w >= cap)
     return ps_error(ps->ctx, PS_ERR_INPUT, "solver.petsc_options and the command line's PETSc "
@@ -201,6 +203,7 @@ static int load(peristatic *ps, const char *path, const char *text) {
   if (ps->cs) ps_case_free(ps->cs);
   free(ps->cs);
   ps->cs = cs;
+  snprintf(ps->case_petsc, sizeof ps->case_petsc, "%s", cs->solver.petsc_options);
   ps->ctx->verbosity = ps->verbosity >= 0 ? ps->verbosity : cs->output.verbosity;
   return PERISTATIC_OK;
 }
@@ -272,6 +275,8 @@ int peristatic_setup(peristatic *ps, int purpose, int jobs, FILE *report) {
   if (!ps->cs) return usage(ps, "peristatic_setup: no case loaded");
   drop_problem(ps);
   ps_case *cs = ps->cs;
+  ps_ctx *ctx = ps->ctx;
+  PS_CHECK(apply_petsc_options(ps));
   if (ps->max_memory > 0) {
     cs->max_memory_gib = ps->max_memory;
     cs->max_memory_key = ps->max_memory_source;
@@ -343,7 +348,6 @@ int peristatic_run(peristatic *ps, const char *out_dir) {
   ps->pb->threads = ps->threads;
   ps->pb->checkpoint = 1;
   ps->pb->restart = ps->restart[0] ? ps->restart : NULL;
-  PS_CHECK(apply_petsc_options(ps));
   out_dir = rank_output(ps, out_dir);
   int status = ps_run_keep(ps->pb, ps->pb->mat.delta, out_dir, &ps->res, &ps->solver, ps->ctx);
   if (status >= 0) {
@@ -376,7 +380,6 @@ int peristatic_griffith(peristatic *ps, const char *out_dir, int resume, int job
   ps->pb->threads = ps->threads;
   ps->pb->checkpoint = 0; /* a sweep's runs write no checkpoints */
   ps->pb->restart = NULL;
-  PS_CHECK(apply_petsc_options(ps));
   int status = ps_griffith_jobs(ps->pb, out_dir, resume, jobs, &ps->fit[0], &ps->fit[1],
                                 &ps->fit[2], &ps->n_fractured, ps->ctx);
   if (status >= 0) {

@@ -98,7 +98,8 @@ static const char *HELP_MAIN =
     "ended the run (its partial output is in DIR.partial).\n";
 
 static const char *HELP_RUN =
-    "peristatic run [-o DIR] [-q|-v] [-t N] [--max-memory GIB] [--restart DIR] CASE.yaml\n"
+    "peristatic run [-o DIR] [-q|-v] [-t N] [--max-memory GIB] [--restart DIR]\n"
+    "               [PETSc options] CASE.yaml\n"
     "\n"
     "Solves the case to equilibrium at each increment of the load factor with\n"
     "Newton's method (consistent tangent, CHOLMOD, energy line search), commits\n"
@@ -124,7 +125,14 @@ static const char *HELP_RUN =
     "(path.max_increments may be raised): history.csv keeps the rows up to the\n"
     "checkpoint, and the results are those of an uninterrupted run to the last\n"
     "bit. A checkpoint of another case, another version or a damaged one is\n"
-    "refused (exit 1), the folder left as it is.\n";
+    "refused (exit 1), the folder left as it is.\n"
+    "\n"
+    "PETSc (a build configured --with-petsc): with solver.linear: petsc the\n"
+    "Newton systems go to a PETSc KSP and PC chosen by PETSc options, from\n"
+    "solver.petsc_options and the command line (-ksp_type cg -pc_type gamg;\n"
+    "default MUMPS Cholesky); mpiexec -n P peristatic run CASE.yaml shares the\n"
+    "matrix and its solve among P ranks, rank 0 writing the results\n"
+    "(doc/parallel.md).\n";
 
 static const char *HELP_GRIFFITH =
     "peristatic griffith [-o DIR] [-q|-v] [--resume] [-j N] [-t N] [--max-memory GIB]\n"

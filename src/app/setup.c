@@ -314,6 +314,8 @@ static ps_estimate_opts estimate_opts(const ps_case *cs, double free_fraction) {
                cs->mat.plastic;
   o.single_precision = cs->solver.cg_single_precision;
   o.lu = !strcmp(cs->solver.linear, "umfpack");
+  o.iterative = !strcmp(cs->solver.linear, "petsc") &&
+                !ps_petsc_options_factor(cs->solver.petsc_options);
   o.free_fraction = free_fraction;
   /* per arm: a critical stretch when arms break by a criterion (8); the
    * three-body model's rotations, moments and their gradients (64) */

@@ -101,6 +101,8 @@ typedef struct {
   double *vals;          /* one row's values */
   ps_int max_row;        /* the longest row */
   int direct;            /* the PC is a factorisation by MUMPS */
+  PetscReal rtol;        /* the KSP's tolerance from the options (default
+                            1e-10), for solves without ls->rtol */
   int have_pc;           /* the PC was set up */
 } petsc_state;
 
@@ -150,55 +152,79 @@ static void pt_free_objects(petsc_state *s) {
 }
 
 /* the near-null space of elasticity on the unknowns: the translations
- * and rotations of the particles restricted to the free dofs,
- * orthonormalised (Gram-Schmidt twice) as PETSc requires */
+ * and rotations of the particles (about the mean position of the free
+ * dofs) restricted to
+ * the free dofs, orthonormalised (modified Gram-Schmidt, twice) as PETSc
+ * requires; a mode that the supports leave no part of (its norm falls
+ * below 1e-10 of its own) is dropped */
 static int rigid_modes(petsc_state *s, const ps_linsolve *ls, ps_ctx *ctx) {
-  int d = ls->dim, nm = d == 2 ? 3 : 6, k = 0;
+  int d = ls->dim, nm = d == 2 ? 3 : 6, kept = 0;
+  double c[3] = {0, 0, 0};
+  ps_int np = 0;
+  for (PetscInt r = 0; r < s->n; r++, np++) { /* the mean position of the free dofs */
+    const double *x = ls->x + (size_t)d * (ls->dof_of_free[r] / d);
+    for (int k = 0; k < d; k++) c[k] += x[k];
+  }
+  for (int k = 0; k < d; k++) c[k] /= np > 0 ? (double)np : 1.0;
   Vec v[6];
-  for (int m = 0; m < nm; m++) {
-    PT(VecDuplicate(s->x, &v[m]), "VecDuplicate");
+  int status = PS_OK;
+  for (int m = 0; m < nm && status == PS_OK; m++) {
     PetscScalar *a;
-    PT(VecGetArray(v[m], &a), "VecGetArray");
+    PetscReal n0 = 0.0, norm = 0.0;
+    PetscErrorCode ierr = VecDuplicate(s->x, &v[kept]);
+    if (!ierr) ierr = VecGetArray(v[kept], &a);
+    if (ierr) {
+      status = petsc_failed(ierr, "VecDuplicate", ctx);
+      break;
+    }
     for (PetscInt r = s->rstart; r < s->rend; r++) {
-      ps_int dof = ls->dof_of_free[r], p = dof / d;
-      int c = (int)(dof % d);
-      const double *x = ls->x + (size_t)d * p;
+      ps_int dof = ls->dof_of_free[r];
+      int k = (int)(dof % d);
+      const double *x = ls->x + (size_t)d * (dof / d);
       double val;
-      if (m < d) val = c == m ? 1.0 : 0.0;
-      else if (d == 2) val = c == 0 ? -x[1] : x[0]; /* e_z x r */
-      else {
-        int ax = m - 3; /* rotation about axis ax: (e_ax x r)_c */
-        int i1 = (ax + 1) % 3, i2 = (ax + 2) % 3;
-        val = c == i1 ? -x[i2] : c == i2 ? x[i1] : 0.0;
+      if (m < d) val = k == m ? 1.0 : 0.0;
+      else if (d == 2) val = k == 0 ? -(x[1] - c[1]) : x[0] - c[0]; /* e_z x r */
+      else { /* rotation about axis ax: (e_ax x r)_k */
+        int ax = m - 3, i1 = (ax + 1) % 3, i2 = (ax + 2) % 3;
+        val = k == i1 ? -(x[i2] - c[i2]) : k == i2 ? x[i1] - c[i1] : 0.0;
       }
       a[r - s->rstart] = val;
     }
-    PT(VecRestoreArray(v[m], &a), "VecRestoreArray");
-  }
-  for (int pass = 0; pass < 2; pass++)
-    for (int m = 0; m < nm; m++) {
-      for (int j = 0; j < m; j++) {
+    ierr = VecRestoreArray(v[kept], &a);
+    if (!ierr) ierr = VecNorm(v[kept], NORM_2, &n0);
+    for (int pass = 0; pass < 2 && !ierr; pass++)
+      for (int j = 0; j < kept && !ierr; j++) {
         PetscScalar dot;
-        PT(VecDot(v[m], v[j], &dot), "VecDot");
-        PT(VecAXPY(v[m], -dot, v[j]), "VecAXPY");
+        ierr = VecDot(v[kept], v[j], &dot);
+        if (!ierr) ierr = VecAXPY(v[kept], -dot, v[j]);
       }
-      PetscReal norm;
-      PT(VecNormalize(v[m], &norm), "VecNormalize");
+    if (!ierr) ierr = VecNorm(v[kept], NORM_2, &norm);
+    if (!ierr && norm > 1e-10 * n0) ierr = VecScale(v[kept], 1.0 / norm);
+    if (ierr) {
+      VecDestroy(&v[kept]);
+      status = petsc_failed(ierr, "the rigid-body modes", ctx);
+    } else if (norm > 1e-10 * n0) {
+      kept++;
+    } else {
+      VecDestroy(&v[kept]);
     }
-  MatNullSpace ns;
-  PetscErrorCode ierr = MatNullSpaceCreate(PETSC_COMM_WORLD, PETSC_FALSE, nm, v, &ns);
-  for (k = 0; k < nm; k++) VecDestroy(&v[k]);
-  if (ierr) return petsc_failed(ierr, "MatNullSpaceCreate", ctx);
-  ierr = MatSetNearNullSpace(s->A, ns);
-  MatNullSpaceDestroy(&ns);
-  if (ierr) return petsc_failed(ierr, "MatSetNearNullSpace", ctx);
-  return PS_OK;
+  }
+  if (status == PS_OK && kept > 0) {
+    MatNullSpace ns;
+    PetscErrorCode ierr = MatNullSpaceCreate(PETSC_COMM_WORLD, PETSC_FALSE, kept, v, &ns);
+    if (!ierr) {
+      ierr = MatSetNearNullSpace(s->A, ns);
+      MatNullSpaceDestroy(&ns);
+    }
+    if (ierr) status = petsc_failed(ierr, "MatSetNearNullSpace", ctx);
+  }
+  for (int k = 0; k < kept; k++) VecDestroy(&v[k]);
+  return status;
 }
 
 /* the KSP and PC from the options: preonly + MUMPS Cholesky unless the
  * options say otherwise; an iterative KSP's default tolerance 1e-10 */
-static int make_ksp(petsc_state *s, const char *options, ps_ctx *ctx) {
-  if (options && options[0]) PT(PetscOptionsInsertString(NULL, options), "PetscOptionsInsertString");
+static int make_ksp(petsc_state *s, ps_ctx *ctx) {
   PT(KSPCreate(PETSC_COMM_WORLD, &s->ksp), "KSPCreate");
   PT(KSPSetType(s->ksp, KSPPREONLY), "KSPSetType");
   PC pc;
@@ -207,6 +233,7 @@ static int make_ksp(petsc_state *s, const char *options, ps_ctx *ctx) {
   PT(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
   PT(KSPSetTolerances(s->ksp, 1e-10, 1e-300, PETSC_DEFAULT, 10000), "KSPSetTolerances");
   PT(KSPSetFromOptions(s->ksp), "KSPSetFromOptions (check the PETSc options)");
+  PT(KSPGetTolerances(s->ksp, &s->rtol, NULL, NULL, NULL), "KSPGetTolerances");
   return PS_OK;
 }
 
@@ -226,8 +253,31 @@ static int pt_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st, ps_ct
   MPI_Scan(&local, &end, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD);
   s->rstart = end - local;
   s->rend = end;
+  if (ls->options && ls->options[0])
+    PT(PetscOptionsInsertString(NULL, ls->options), "PetscOptionsInsertString");
+  PT(MatCreate(PETSC_COMM_WORLD, &s->A), "MatCreate");
+  PT(MatSetSizes(s->A, local, local, s->n, s->n), "MatSetSizes");
+  PT(MatSetType(s->A, MATAIJ), "MatSetType");
+  PT(MatSetFromOptions(s->A), "MatSetFromOptions (check -mat_type)");
+  PetscBool sbaij = PETSC_FALSE;
+  PT(PetscObjectTypeCompareAny((PetscObject)s->A, &sbaij, MATSBAIJ, MATSEQSBAIJ, MATMPISBAIJ, ""),
+     "PetscObjectTypeCompareAny");
   PS_CHECK(ps_csc_expand(A, s->rstart, s->rend, &s->Ap, &s->Ai, &s->map, ctx));
   ps_int m = s->rend - s->rstart;
+  if (sbaij) { /* symmetric storage: each row's entries on and right of
+                  the diagonal only (a suffix of the sorted row) */
+    ps_int w = 0;
+    for (ps_int r = 0; r < m; r++) {
+      ps_int k = s->Ap[r];
+      while (k < s->Ap[r + 1] && s->Ai[k] < s->rstart + r) k++;
+      s->Ap[r] = w;
+      for (; k < s->Ap[r + 1]; k++, w++) {
+        s->Ai[w] = s->Ai[k];
+        s->map[w] = s->map[k];
+      }
+    }
+    s->Ap[m] = w; /* (row r's old end, Ap[r + 1], was read before it moved) */
+  }
   PetscInt *ia = ps_calloc((size_t)m + 1, sizeof *ia, ctx);
   PetscInt *ja = ps_calloc((size_t)s->Ap[m] + 1, sizeof *ja, ctx);
   s->max_row = 0;
@@ -239,25 +289,27 @@ static int pt_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st, ps_ct
   if (ia && ja && s->cols && s->vals) {
     for (ps_int r = 0; r <= m; r++) ia[r] = (PetscInt)s->Ap[r];
     for (ps_int k = 0; k < s->Ap[m]; k++) ja[k] = (PetscInt)s->Ai[k];
-    ierr = MatCreate(PETSC_COMM_WORLD, &s->A);
-    if (!ierr) ierr = MatSetSizes(s->A, local, local, s->n, s->n);
-    if (!ierr) ierr = MatSetType(s->A, MATAIJ);
-    /* the one of the two that is not this matrix's type does nothing */
-    if (!ierr) ierr = MatSeqAIJSetPreallocationCSR(s->A, ia, ja, NULL);
-    if (!ierr) ierr = MatMPIAIJSetPreallocationCSR(s->A, ia, ja, NULL);
+    /* the preallocation of the matrix's type; the others do nothing */
+    if (sbaij) {
+      ierr = MatSeqSBAIJSetPreallocationCSR(s->A, 1, ia, ja, NULL);
+      if (!ierr) ierr = MatMPISBAIJSetPreallocationCSR(s->A, 1, ia, ja, NULL);
+    } else {
+      ierr = MatSeqAIJSetPreallocationCSR(s->A, ia, ja, NULL);
+      if (!ierr) ierr = MatMPIAIJSetPreallocationCSR(s->A, ia, ja, NULL);
+    }
   }
   int nomem = !ia || !ja || !s->cols || !s->vals;
   free(ia);
   free(ja);
   if (nomem) return PS_ERR_NOMEM;
-  if (ierr) return petsc_failed(ierr, "matrix creation", ctx);
+  if (ierr) return petsc_failed(ierr, "matrix preallocation", ctx);
   PT(MatSetOption(s->A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE), "MatSetOption");
   PT(MatSetOption(s->A, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption");
   PT(MatSetOption(s->A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE), "MatSetOption");
   PT(MatCreateVecs(s->A, &s->x, &s->b), "MatCreateVecs");
   PT(VecScatterCreateToAll(s->x, &s->to_all, &s->x_all), "VecScatterCreateToAll");
   if (ls->dim >= 2 && ls->dof_of_free && ls->x) PS_CHECK(rigid_modes(s, ls, ctx));
-  PS_CHECK(make_ksp(s, ls->options, ctx));
+  PS_CHECK(make_ksp(s, ctx));
   PC pc;
   PT(KSPGetPC(s->ksp, &pc), "KSPGetPC");
   PetscBool chol = PETSC_FALSE, lu = PETSC_FALSE;
@@ -348,6 +400,9 @@ static int pt_solve(void *state, const double *b, double *x, ps_linsolve_stats *
   double t = ps_wtime();
   if (!s->have_pc) return ps_error(ctx, PS_ERR_INTERNAL, "PETSc solve without a set-up");
   PS_CHECK(scatter(s, b, ctx));
+  double rtol = s->ls->rtol > 0 ? s->ls->rtol : s->rtol;
+  PT(KSPSetTolerances(s->ksp, rtol, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT),
+     "KSPSetTolerances");
   PT(KSPSolve(s->ksp, s->b, s->x), "KSPSolve");
   KSPConvergedReason why;
   PT(KSPGetConvergedReason(s->ksp, &why), "KSPGetConvergedReason");
@@ -412,6 +467,17 @@ static void pt_destroy(void **state) { *state = NULL; }
 #define pt_solve NULL
 #define pt_precondition NULL
 #endif
+
+int ps_petsc_options_factor(const char *options) {
+  const char *p = options, *pc = NULL;
+  while (p && (p = strstr(p, "-pc_type")) != NULL) {
+    p += strlen("-pc_type");
+    if (*p == ' ' || *p == '\t') pc = p;
+  }
+  if (!pc) return 1;
+  while (*pc == ' ' || *pc == '\t') pc++;
+  return !strncmp(pc, "cholesky", 8) || !strncmp(pc, "lu", 2);
+}
 
 static const ps_linsolve_type pt_type = {"petsc", pt_create, pt_analyze, pt_factor, pt_solve,
                                          pt_precondition, pt_destroy, 1};

@@ -93,6 +93,12 @@ int ps_parallel_all_agree(int flag);
 /* PetscFinalize (and MPI's) if init ran; no-op otherwise */
 void ps_parallel_finalize(void);
 
+/* 1 when PETSc options select a factorisation as the PC (the last
+ * -pc_type is cholesky or lu, or none is given: the backend's default
+ * MUMPS Cholesky), 0 for an iterative one (gamg, hypre, icc, bjacobi,
+ * ...). Reads the string only; in every build. */
+int ps_petsc_options_factor(const char *options);
+
 /* Look a backend up by name; NULL if unknown. */
 const ps_linsolve_type *ps_linsolve_type_find(const char *name);
 
@@ -124,6 +130,9 @@ typedef struct ps_linsolve {
                                (borrowed; dim 0: not given) */
   const ps_int *dof_of_free;
   const double *x;
+  double rtol;              /* the relative residual at which an
+                               iterative backend's solve may stop (0:
+                               its default; direct backends ignore it) */
   const char *options;      /* PETSc options for the backend ("-ksp_type
                                cg -pc_type gamg"; borrowed; NULL: none) */
   ps_csc kept;              /* that matrix (n = 0: none): a copy of its

@@ -116,7 +116,7 @@ static void finish(ps_estimate *e, const ps_estimate_opts *o) {
   e->dofs = d * n;
   e->free_dofs = ff * e->dofs;
   e->tangent_nnz = upper_nnz(d, n, e->pairs, ff);
-  e->factor_nnz = factor_nnz(d, e->free_dofs, e->tangent_nnz, o->lu);
+  e->factor_nnz = o->iterative ? 0 : factor_nnz(d, e->free_dofs, e->tangent_nnz, o->lu);
   e->majorant_nnz = e->majorant_factor_nnz = 0;
   if (o->majorant) {
     e->majorant_nnz = upper_nnz(d, n, n + 2 * arms, ff);
@@ -141,6 +141,10 @@ static void finish(ps_estimate *e, const ps_estimate_opts *o) {
   if (o->majorant)
     solver += pattern_bytes(d, n, arms, n + 2 * arms, e->majorant_nnz, 0, ff, 0) +
               e->majorant_factor_nnz * (8 + (o->single_precision ? 4 : 0));
+  /* PETSc's AIJ copy of the whole matrix (2 nnz x 12 bytes), this rank's
+   * row maps (2 nnz x 16) and a PC of about the matrix's size (AMG
+   * hierarchy, incomplete factor: 2 nnz x 12) */
+  if (o->iterative) solver += e->tangent_nnz * (24.0 + 32.0 + 24.0);
   e->mem_solver = solver;
   double info = pattern_bytes(d, n, arms, e->pairs, e->tangent_nnz, sq, ff, 1);
   e->mem_build = PS_EST_BASE_INFO + e->mem_particles + fmax(e->mem_network, net + info);

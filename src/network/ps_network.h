@@ -92,6 +92,9 @@ typedef struct ps_estimate_opts {
   double arm_bytes;     /* per-arm bytes the model adds to the common arm
                            states (critical stretches, the three-body
                            model's rotations and moments) */
+  int iterative;        /* solver.linear petsc with an iterative PC: no
+                           factor; PETSc's copy of the whole matrix,
+                           its row maps and a PC about its size */
 } ps_estimate_opts;
 
 /* Sizes and memory of a case before it is built. Counts are doubles: an

@@ -254,7 +254,12 @@ int ps_nl_direction(ps_solver *s, ps_ctx *ctx) {
   }
   int status = ps_nl_factor_tangent(s, ctx);
   if (status != PS_OK) return status;
-  return ps_linsolve_solve((ps_linsolve *)s->ls_last, s->rhs, s->du, ctx);
+  /* an iterative backend solves as far as CG would (the forcing term) */
+  ps_linsolve *ls = (ps_linsolve *)s->ls_last;
+  ls->rtol = s->cg_rtol;
+  status = ps_linsolve_solve(ls, s->rhs, s->du, ctx);
+  ls->rtol = 0.0;
+  return status;
 }
 
 int ps_nl_shifted_direction(ps_solver *s, ps_ctx *ctx) {

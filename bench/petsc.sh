@@ -18,7 +18,7 @@
 #   box3d-63-bond bond model, 63^3 = 250,047 particles (elastic)
 set -eu
 top=$(cd "$(dirname "$0")/.." && pwd)
-bin="$top/peristatic"
+bin=${PERISTATIC:-$top/peristatic}
 out="$top/bench"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -94,32 +94,13 @@ output: {vtk_every: 0}
 EOC
   echo "$work/$1.yaml"
 }
-box3d() { # NAME n model-lines
-  cat > "$work/$1.yaml" <<EOC
-name: $1
-geometry: {type: box, dim: 3, counts: [$2, $2, $2], spacing: 1.0e-3, lattice: square}
-$3
-loading:
-  type: boundary
-  boundary:
-    - select: {x_max: 0.0015}
-      fix: [x, y, z]
-    - select: {x_min: $(awk -v n="$2" 'BEGIN {printf "%.4f", (n - 1.5) * 1e-3}')}
-      displace: {x: 1.0e-6}
-      measure: true
-solver: {cg_forcing: adaptive}
-path: {load_step: 1.0, max_load: 1.0}
-output: {fields: false}
-EOC
-  echo "$work/$1.yaml"
-}
+. "$top/bench/box3d.sh"
 
 bench_case "$(disk disk-intact 20 40 false 0.05 0.001)" disk-intact
 bench_case "$(disk disk-yielded 20 40 true 0.9 0.001)" disk-yielded
 bench_case "$(disk disk-cracked 6 12 true 3.0 0.001)" disk-cracked
 if [ "${PETSC_BENCH_LARGE:-0}" = 1 ]; then
-  bench_case "$(box3d box3d-37 37 'kernel: {alpha: 3.5}
-material: {E: 210.0e9, nu: 0.3, yield_strain: 0.002, plastic: false}')" box3d-37
+  bench_case "$(box3d box3d-37 37)" box3d-37
   bench_case "$(box3d box3d-63-bond 63 'material: {model: bond, E: 210.0e9, nu: 0.25, horizon_factor: 2.015}')" \
     box3d-63-bond 1
 fi

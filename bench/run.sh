@@ -107,31 +107,12 @@ done
 REANALYZE=true run_case disk-mid-elastic-reanalyze "$1" "$2" elastic cholmod false 1
 # a 3D box (elastic solve, uniaxial grips): the two-horizon stencil in 3D
 # is ~8x denser than in 2D, so alpha = 3.5 and 20^3 particles here
-box3d() {
-  f="$work/box3d-$1.yaml"
-  cat > "$f" <<EOC
-name: box3d-$1
-geometry: {type: box, dim: 3, counts: [$1, $1, $1], spacing: 1.0e-3, lattice: square}
-kernel: {alpha: 3.5}
-material: {E: 210.0e9, nu: 0.3, yield_strain: 0.002, plastic: false}
-loading:
-  type: boundary
-  boundary:
-    - select: {x_max: 0.0015}
-      fix: [x, y, z]
-    - select: {x_min: $(awk -v n="$1" 'BEGIN {printf "%.4f", (n - 1.5) * 1e-3}')}
-      displace: {x: 1.0e-6}
-      measure: true
-path: {load_step: 1.0, max_load: 1.0}
-output: {fields: false}
-EOC
-  echo "$f"
-}
+. "$top/bench/box3d.sh"
 for n3 in $box3d_sizes; do
-  run_file "$(box3d "$n3")" "box3d-$n3" elastic cholmod true "$reps"
+  run_file "$(box3d "box3d-$n3" "$n3")" "box3d-$n3" elastic cholmod true "$reps"
 done
 # the issue's 3D box of 50k particles (37^3 = 50,653; ~70 s, 6.7 GB)
-[ "${BENCH_LARGE:-0}" = 1 ] && run_file "$(box3d 37)" box3d-37 elastic cholmod true 1
+[ "${BENCH_LARGE:-0}" = 1 ] && run_file "$(box3d box3d-37 37)" box3d-37 elastic cholmod true 1
 
 # the plate with a hole with the bond model: its one-horizon pattern
 [ "${BENCH_QUICK:-0}" = 1 ] || run_file "$top/data/cases/plate-hole-bond.yaml" plate-hole-bond elastic cholmod true "$reps"

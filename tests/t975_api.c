@@ -46,6 +46,14 @@ int main(void) {
            peristatic_error(ps));
   s = peristatic_get_displacements(ps, u);
   ps_check(s == PERISTATIC_ERR_USAGE, "displacements before a run: usage error (%d)", s);
+  /* MPI: none started, so rank 0 of 1; PETSc options are checked */
+  ps_check(peristatic_parallel_rank() == 0 && peristatic_parallel_size() == 1,
+           "rank 0 of 1 before (and without) peristatic_parallel_init");
+  s = peristatic_set_petsc_options(ps, "ksp_type cg");
+  ps_check(s == PERISTATIC_ERR_INPUT && has(peristatic_error(ps), "must start with '-'"),
+           "PETSc options without a dash refused (%d, %s)", s, peristatic_error(ps));
+  s = peristatic_set_petsc_options(ps, NULL);
+  ps_check(s == PERISTATIC_OK, "no PETSc options accepted (%d)", s);
   ps_check(peristatic_exit_status(PERISTATIC_ERR_USAGE) == 1 &&
                peristatic_exit_status(PERISTATIC_ERR_IO) == 3 &&
                peristatic_exit_status(PERISTATIC_ERR_SOLVER) == 2,

@@ -19,7 +19,9 @@
  * message from peristatic_error. Units are SI throughout (m, Pa, N; in 2D
  * forces and energies per metre of thickness). The library keeps no global
  * state except the flag set by the signal handlers that
- * peristatic_install_signal_handlers installs. Handles are not shared
+ * peristatic_install_signal_handlers installs (and, in a build with
+ * PETSc, MPI's and PETSc's own, once peristatic_parallel_init or a run
+ * with solver.linear: petsc starts them). Handles are not shared
  * between threads; distinct handles may be used from distinct threads.
  *
  * Interface version PERISTATIC_API_VERSION; the shared library's soname

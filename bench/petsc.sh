@@ -56,11 +56,11 @@ run_one() {
     rm -rf "$work/out"
     if [ "$3" = cholmod ]; then
       set -- "$1" "$2" "$3" "$4" "$5"
-      "$bin" run -q -t 1 -o "$work/out" "$1" > /dev/null 2> "$work/err" || true
+      "$bin" run -q -t 1 -o "$work/out" "$1" < /dev/null > /dev/null 2> "$work/err" || true
     else
       sed 's/^solver: {/solver: {linear: petsc, /' "$1" > "$work/petsc.yaml"
       # shellcheck disable=SC2086
-      "$MPIEXEC" -n "$5" "$bin" run -q -t 1 -o "$work/out" $4 "$work/petsc.yaml" > /dev/null 2> "$work/err" || true
+      "$MPIEXEC" -n "$5" "$bin" run -q -t 1 -o "$work/out" $4 "$work/petsc.yaml" < /dev/null > /dev/null 2> "$work/err" || true
     fi
     s="$work/out/summary.txt"
     if [ ! -f "$s" ]; then

@@ -19,7 +19,7 @@
 #     relative of CHOLMOD's, on -n 3;
 # (c) tension-block-3d (fibre model in 3D, to fracture): the broken arms
 #     and the peak stress as printed, displacements within 1e-8, on -n 2;
-# (d) a case of 2 unknowns on 3 ranks (a rank with no row of the matrix):
+# (d) two particles on 3 ranks (a rank with no particle and no row):
 #     the CHOLMOD displacements within 1e-8;
 # (e) iterative solves on the edge crack, 2 ranks, options on the command
 #     line: CG + GAMG with the rigid-body near-null space, and CG + block
@@ -161,15 +161,16 @@ if run block-chol 0 "$C/tension-block-3d.yaml" && run block-n2 2 "$T/block.yaml"
   u_ok block-n2 block-chol 1e-8
 fi
 
-# (d) 2 unknowns on 3 ranks: a 2 x 2 bond square, left column held, the
-# right one pulled in x; its 2 free dofs (the right column's y) leave
-# rank 2 with no row
+# (d) a rank with no row: two particles (a 2 x 1 bond strip, the left one
+# held, the right one held in y and pulled by a traction in x: 1 free dof,
+# its x) make a system of 4 dofs in blocks of 2, one particle each for
+# ranks 0 and 1, none for rank 2
 cat > "$T/tiny.yaml" <<'EOF'
 name: t990-tiny
 geometry:
   type: box
   dim: 2
-  counts: [2, 2]
+  counts: [2, 1]
   spacing: 1.0e-3
 material:
   model: bond
@@ -182,8 +183,9 @@ loading:
   boundary:
     - select: {x_max: 0.0005}
       fix: [x, y]
-    - select: {x_min: 0.0015}
-      displace: {x: 1.0e-6}
+    - select: {x_min: 0.0005}
+      fix: [y]
+      traction: {x: 1.0e6}
 path:
   load_step: 0.5
   max_load: 1.0
@@ -193,7 +195,7 @@ EOF
 with_petsc "$T/tiny.yaml" "$T/tiny-petsc.yaml" ""
 if run tiny-chol 0 "$T/tiny.yaml" && run tiny-n3 3 "$T/tiny-petsc.yaml"; then
   nf=$(val "$T/tiny-n3/summary.txt" free_dofs)
-  if [ "$nf" = 2 ]; then ok "tiny: 2 free dofs on 3 ranks"; else ko "tiny: free_dofs $nf, want 2"; fi
+  if [ "$nf" = 1 ]; then ok "tiny: 1 free dof, 2 particles on 3 ranks"; else ko "tiny: free_dofs $nf, want 1"; fi
   u_ok tiny-n3 tiny-chol 1e-8
 fi
 

@@ -95,7 +95,17 @@ void peristatic_init_process(void) {
 
 void peristatic_install_signal_handlers(void) { ps_signals_install(); }
 
-int peristatic_parallel_init(peristatic *ps) { return ps_parallel_init(ps->ctx); }
+int peristatic_parallel_init(peristatic *ps) {
+  /* the case's and the handle's PETSc options (-log_view must be there
+   * when PETSc starts) */
+  const char *o = ps->petsc;
+  char both[2100];
+  if (ps->cs) {
+    snprintf(both, sizeof both, "%s %s", ps->case_petsc, ps->petsc);
+    o = both;
+  }
+  return ps_parallel_init(o, ps->ctx);
+}
 int peristatic_parallel_launched(void) { return ps_parallel_launched(); }
 int peristatic_parallel_rank(void) { return ps_parallel_rank(); }
 int peristatic_parallel_size(void) { return ps_parallel_size(); }

@@ -405,7 +405,10 @@ int main(int argc, char **argv) {
   /* under mpiexec, or with PETSc options, MPI starts now (a serial run
    * with solver.linear: petsc starts it when it creates the solver) */
   int status = PERISTATIC_OK;
-  if (peristatic_parallel_launched() || c.petsc[0]) status = peristatic_parallel_init(ps);
+  if (peristatic_parallel_launched() || c.petsc[0]) {
+    status = peristatic_set_petsc_options(ps, c.petsc);
+    if (status == PERISTATIC_OK) status = peristatic_parallel_init(ps);
+  }
   if (status == PERISTATIC_OK) status = command(ps, &c);
   code = status < 0 ? fail(status, ps) : 0;
   peristatic_free(ps);

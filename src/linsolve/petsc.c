@@ -43,13 +43,21 @@ int ps_parallel_launched(void) {
   return 0;
 }
 
-int ps_parallel_init(ps_ctx *ctx) {
+int ps_parallel_init(const char *options, ps_ctx *ctx) {
   PetscBool up = PETSC_FALSE;
   PetscInitialized(&up);
   if (up) return PS_OK;
-  /* peristatic reports PETSc's errors itself (petsc_failed) */
-  if (PetscInitializeNoArguments() != 0)
+  /* options given to PetscInitialize as arguments, so that those read
+   * only there (-log_view, -malloc_debug) take effect */
+  char buf[1024], *argv[130], **args = argv;
+  int argc = 0;
+  snprintf(buf, sizeof buf, "%s", options ? options : "");
+  argv[argc++] = "peristatic";
+  for (char *t = strtok(buf, " \t"); t && argc < 128; t = strtok(NULL, " \t")) argv[argc++] = t;
+  argv[argc] = NULL;
+  if (PetscInitialize(&argc, &args, NULL, NULL) != 0)
     return ps_error(ctx, PS_ERR_SOLVER, "PETSc (and MPI) could not be initialised");
+  /* peristatic reports PETSc's errors itself (petsc_failed) */
   PetscPushErrorHandler(PetscReturnErrorHandler, NULL);
   return PS_OK;
 }
@@ -94,9 +102,14 @@ typedef struct {
   KSP ksp;
   Vec b, x, x_all;      /* b, x: this rank's rows; x_all: all rows */
   VecScatter to_all;
-  PetscInt n, rstart, rend;
-  ps_int *Ap, *Ai, *map; /* this rank's rows of the full matrix (global
-                            columns) and where each value is in A->x */
+  PetscInt N, rstart, rend; /* the system's order (all dofs: full_rows),
+                            this rank's rows */
+  ps_int n_free;         /* A's order */
+  int d;                 /* the block size: dim, or 1 */
+  ps_int *row_free;      /* this rank's row r: its free index, or -1 */
+  ps_int *Ap, *Ai, *map; /* this rank's rows of the whole system (dofs as
+                            columns) and where each value is in A->x (-1:
+                            a prescribed dof's diagonal, 1) */
   PetscInt *cols;        /* one row's columns as PetscInt */
   double *vals;          /* one row's values */
   ps_int max_row;        /* the longest row */
@@ -125,7 +138,7 @@ static int petsc_failed(PetscErrorCode ierr, const char *what, ps_ctx *ctx) {
   } while (0)
 
 static int pt_create(void **state, const ps_linsolve *ls, ps_ctx *ctx) {
-  PS_CHECK(ps_parallel_init(ctx));
+  PS_CHECK(ps_parallel_init(ls->options, ctx));
   petsc_state *s = ps_calloc(1, sizeof *s, ctx);
   if (!s) return PS_ERR_NOMEM;
   s->ls = ls;
@@ -143,83 +156,14 @@ static void pt_free_objects(petsc_state *s) {
   free(s->Ap);
   free(s->Ai);
   free(s->map);
+  free(s->row_free);
+  s->row_free = NULL;
   free(s->cols);
   free(s->vals);
   s->Ap = s->Ai = s->map = NULL;
   s->cols = NULL;
   s->vals = NULL;
   s->have_pc = 0;
-}
-
-/* the near-null space of elasticity on the unknowns: the translations
- * and rotations of the particles (about the mean position of the free
- * dofs) restricted to
- * the free dofs, orthonormalised (modified Gram-Schmidt, twice) as PETSc
- * requires; a mode that the supports leave no part of (its norm falls
- * below 1e-10 of its own) is dropped */
-static int rigid_modes(petsc_state *s, const ps_linsolve *ls, ps_ctx *ctx) {
-  int d = ls->dim, nm = d == 2 ? 3 : 6, kept = 0;
-  double c[3] = {0, 0, 0};
-  ps_int np = 0;
-  for (PetscInt r = 0; r < s->n; r++, np++) { /* the mean position of the free dofs */
-    const double *x = ls->x + (size_t)d * (ls->dof_of_free[r] / d);
-    for (int k = 0; k < d; k++) c[k] += x[k];
-  }
-  for (int k = 0; k < d; k++) c[k] /= np > 0 ? (double)np : 1.0;
-  Vec v[6];
-  int status = PS_OK;
-  for (int m = 0; m < nm && status == PS_OK; m++) {
-    PetscScalar *a;
-    PetscReal n0 = 0.0, norm = 0.0;
-    PetscErrorCode ierr = VecDuplicate(s->x, &v[kept]);
-    if (!ierr) ierr = VecGetArray(v[kept], &a);
-    if (ierr) {
-      status = petsc_failed(ierr, "VecDuplicate", ctx);
-      break;
-    }
-    for (PetscInt r = s->rstart; r < s->rend; r++) {
-      ps_int dof = ls->dof_of_free[r];
-      int k = (int)(dof % d);
-      const double *x = ls->x + (size_t)d * (dof / d);
-      double val;
-      if (m < d) val = k == m ? 1.0 : 0.0;
-      else if (d == 2) val = k == 0 ? -(x[1] - c[1]) : x[0] - c[0]; /* e_z x r */
-      else { /* rotation about axis ax: (e_ax x r)_k */
-        int ax = m - 3, i1 = (ax + 1) % 3, i2 = (ax + 2) % 3;
-        val = k == i1 ? -(x[i2] - c[i2]) : k == i2 ? x[i1] - c[i1] : 0.0;
-      }
-      a[r - s->rstart] = val;
-    }
-    ierr = VecRestoreArray(v[kept], &a);
-    if (!ierr) ierr = VecNorm(v[kept], NORM_2, &n0);
-    for (int pass = 0; pass < 2 && !ierr; pass++)
-      for (int j = 0; j < kept && !ierr; j++) {
-        PetscScalar dot;
-        ierr = VecDot(v[kept], v[j], &dot);
-        if (!ierr) ierr = VecAXPY(v[kept], -dot, v[j]);
-      }
-    if (!ierr) ierr = VecNorm(v[kept], NORM_2, &norm);
-    if (!ierr && norm > 1e-10 * n0) ierr = VecScale(v[kept], 1.0 / norm);
-    if (ierr) {
-      VecDestroy(&v[kept]);
-      status = petsc_failed(ierr, "the rigid-body modes", ctx);
-    } else if (norm > 1e-10 * n0) {
-      kept++;
-    } else {
-      VecDestroy(&v[kept]);
-    }
-  }
-  if (status == PS_OK && kept > 0) {
-    MatNullSpace ns;
-    PetscErrorCode ierr = MatNullSpaceCreate(PETSC_COMM_WORLD, PETSC_FALSE, kept, v, &ns);
-    if (!ierr) {
-      ierr = MatSetNearNullSpace(s->A, ns);
-      MatNullSpaceDestroy(&ns);
-    }
-    if (ierr) status = petsc_failed(ierr, "MatSetNearNullSpace", ctx);
-  }
-  for (int k = 0; k < kept; k++) VecDestroy(&v[k]);
-  return status;
 }
 
 /* the KSP and PC from the options: preonly + MUMPS Cholesky unless the
@@ -237,32 +181,113 @@ static int make_ksp(petsc_state *s, ps_ctx *ctx) {
   return PS_OK;
 }
 
+/* the first free index whose dof is >= g */
+static ps_int free_from(const petsc_state *s, ps_int g) {
+  if (!s->ls->dof_of_free) return g < s->n_free ? g : s->n_free;
+  ps_int lo = 0, hi = s->n_free;
+  while (lo < hi) {
+    ps_int mid = lo + (hi - lo) / 2;
+    if (s->ls->dof_of_free[mid] < g) lo = mid + 1;
+    else hi = mid;
+  }
+  return lo;
+}
+
+/* this rank's rows of the whole system over all dofs: a free dof's row is
+ * its row of A (ps_csc_expand) with the columns as dofs; a prescribed
+ * dof's row is its diagonal alone (map -1: the value 1). Rows are split
+ * in whole particles (blocks of dim dofs). */
+static int full_rows(petsc_state *s, const ps_csc *A, ps_ctx *ctx) {
+  const ps_int *dof = s->ls->dof_of_free;
+  ps_int k0 = free_from(s, s->rstart), k1 = free_from(s, s->rend), *fAp, *fAi, *fmap;
+  PS_CHECK(ps_csc_expand(A, k0, k1, &fAp, &fAi, &fmap, ctx));
+  ps_int m = s->rend - s->rstart, nz = fAp[k1 - k0] + (m - (k1 - k0));
+  s->Ap = ps_calloc((size_t)m + 1, sizeof *s->Ap, ctx);
+  s->Ai = ps_calloc((size_t)nz + 1, sizeof *s->Ai, ctx);
+  s->map = ps_calloc((size_t)nz + 1, sizeof *s->map, ctx);
+  s->row_free = ps_calloc((size_t)m + 1, sizeof *s->row_free, ctx);
+  if (s->Ap && s->Ai && s->map && s->row_free) {
+    ps_int w = 0, k = k0;
+    for (ps_int r = 0; r < m; r++) {
+      ps_int g = s->rstart + r;
+      s->Ap[r] = w;
+      s->row_free[r] = -1;
+      if (k < k1 && (dof ? dof[k] : k) == g) {
+        s->row_free[r] = k;
+        for (ps_int e = fAp[k - k0]; e < fAp[k - k0 + 1]; e++, w++) {
+          s->Ai[w] = dof ? dof[fAi[e]] : fAi[e];
+          s->map[w] = fmap[e];
+        }
+        k++;
+      } else {
+        s->Ai[w] = g;
+        s->map[w++] = -1;
+      }
+    }
+    s->Ap[m] = w;
+  }
+  free(fAp);
+  free(fAi);
+  free(fmap);
+  return s->Ap && s->Ai && s->map && s->row_free ? PS_OK : PS_ERR_NOMEM;
+}
+
+/* the near-null space of elasticity: PETSc's rigid-body modes of the
+ * particles' positions (all dofs, blocks of dim) */
+static int rigid_modes(petsc_state *s, ps_ctx *ctx) {
+  const ps_linsolve *ls = s->ls;
+  Vec xyz;
+  PT(VecCreateMPI(PETSC_COMM_WORLD, s->rend - s->rstart, s->N, &xyz), "VecCreateMPI");
+  PetscErrorCode ierr = VecSetBlockSize(xyz, ls->dim);
+  PetscScalar *a = NULL;
+  if (!ierr) ierr = VecGetArray(xyz, &a);
+  if (!ierr) {
+    /* dof g is component g % dim of particle g / dim: its coordinate is x[g] */
+    memcpy(a, ls->x + s->rstart, (size_t)(s->rend - s->rstart) * sizeof *a);
+    ierr = VecRestoreArray(xyz, &a);
+  }
+  MatNullSpace ns = NULL;
+  if (!ierr) ierr = MatNullSpaceCreateRigidBody(xyz, &ns);
+  if (!ierr) ierr = MatSetNearNullSpace(s->A, ns);
+  if (ns) MatNullSpaceDestroy(&ns);
+  VecDestroy(&xyz);
+  if (ierr) return petsc_failed(ierr, "the rigid-body modes (MatNullSpaceCreateRigidBody)", ctx);
+  return PS_OK;
+}
+
 /* the pattern: this rank's rows, the matrix, the vectors and the KSP */
 static int pt_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st, ps_ctx *ctx) {
   petsc_state *s = state;
   const ps_linsolve *ls = s->ls;
   double t = ps_wtime();
   pt_free_objects(s);
-  if (A->n > (ps_int)PETSC_MAX_INT || A->p[A->n] > (ps_int)PETSC_MAX_INT / 2)
+  /* the system over all dofs when the solver object says what they are
+   * (blocks of dim for GAMG and the rigid-body modes), else over A's */
+  int blocks = ls->dim >= 1 && ls->dof_of_free && ls->x && ls->n_dof >= A->n;
+  s->d = blocks ? ls->dim : 1;
+  s->n_free = A->n;
+  ps_int N = blocks ? ls->n_dof : A->n;
+  if (N > (ps_int)PETSC_MAX_INT || A->p[A->n] > (ps_int)PETSC_MAX_INT / 2)
     return ps_error(ctx, PS_ERR_INPUT, "the system (%lld unknowns, %lld stored entries) is too "
-                    "large for this PETSc's %d-bit indices", (long long)A->n,
+                    "large for this PETSc's %d-bit indices", (long long)N,
                     (long long)A->p[A->n], (int)(8 * sizeof(PetscInt)));
-  s->n = (PetscInt)A->n;
+  s->N = (PetscInt)N;
   PetscInt local = PETSC_DECIDE, end = 0;
-  PT(PetscSplitOwnership(PETSC_COMM_WORLD, &local, &s->n), "PetscSplitOwnership");
+  PT(PetscSplitOwnershipBlock(PETSC_COMM_WORLD, s->d, &local, &s->N), "PetscSplitOwnershipBlock");
   MPI_Scan(&local, &end, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD);
   s->rstart = end - local;
   s->rend = end;
   if (ls->options && ls->options[0])
     PT(PetscOptionsInsertString(NULL, ls->options), "PetscOptionsInsertString");
   PT(MatCreate(PETSC_COMM_WORLD, &s->A), "MatCreate");
-  PT(MatSetSizes(s->A, local, local, s->n, s->n), "MatSetSizes");
+  PT(MatSetSizes(s->A, local, local, s->N, s->N), "MatSetSizes");
   PT(MatSetType(s->A, MATAIJ), "MatSetType");
   PT(MatSetFromOptions(s->A), "MatSetFromOptions (check -mat_type)");
   PetscBool sbaij = PETSC_FALSE;
   PT(PetscObjectTypeCompareAny((PetscObject)s->A, &sbaij, MATSBAIJ, MATSEQSBAIJ, MATMPISBAIJ, ""),
      "PetscObjectTypeCompareAny");
-  PS_CHECK(ps_csc_expand(A, s->rstart, s->rend, &s->Ap, &s->Ai, &s->map, ctx));
+  if (!sbaij && s->d > 1) PT(MatSetBlockSize(s->A, s->d), "MatSetBlockSize");
+  PS_CHECK(full_rows(s, A, ctx));
   ps_int m = s->rend - s->rstart;
   if (sbaij) { /* symmetric storage: each row's entries on and right of
                   the diagonal only (a suffix of the sorted row) */
@@ -308,7 +333,7 @@ static int pt_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st, ps_ct
   PT(MatSetOption(s->A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE), "MatSetOption");
   PT(MatCreateVecs(s->A, &s->x, &s->b), "MatCreateVecs");
   PT(VecScatterCreateToAll(s->x, &s->to_all, &s->x_all), "VecScatterCreateToAll");
-  if (ls->dim >= 2 && ls->dof_of_free && ls->x) PS_CHECK(rigid_modes(s, ls, ctx));
+  if (blocks && s->d >= 2) PS_CHECK(rigid_modes(s, ctx));
   PS_CHECK(make_ksp(s, ctx));
   PC pc;
   PT(KSPGetPC(s->ksp, &pc), "KSPGetPC");
@@ -334,7 +359,7 @@ static int pt_factor(void *state, const ps_csc *A, ps_int *bad_col, ps_linsolve_
     PetscInt row = s->rstart + (PetscInt)r, len = (PetscInt)(s->Ap[r + 1] - s->Ap[r]);
     for (ps_int k = s->Ap[r], q = 0; k < s->Ap[r + 1]; k++, q++) {
       s->cols[q] = (PetscInt)s->Ai[k];
-      s->vals[q] = A->x[s->map[k]];
+      s->vals[q] = s->map[k] >= 0 ? A->x[s->map[k]] : 1.0;
     }
     PT(MatSetValues(s->A, 1, &row, len, s->cols, s->vals, INSERT_VALUES), "MatSetValues");
   }
@@ -374,22 +399,25 @@ static int pt_factor(void *state, const ps_csc *A, ps_int *bad_col, ps_linsolve_
   return PS_OK;
 }
 
-/* x (all rows, every rank) from the vector s->x of this rank's rows */
+/* x (every free dof, on every rank) from the vector s->x of this rank's
+ * rows */
 static int gather(petsc_state *s, double *x, ps_ctx *ctx) {
   PT(VecScatterBegin(s->to_all, s->x, s->x_all, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
   PT(VecScatterEnd(s->to_all, s->x, s->x_all, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
   const PetscScalar *a;
+  const ps_int *dof = s->N != s->n_free || s->d > 1 ? s->ls->dof_of_free : NULL;
   PT(VecGetArrayRead(s->x_all, &a), "VecGetArrayRead");
-  memcpy(x, a, (size_t)s->n * sizeof *x);
+  for (ps_int k = 0; k < s->n_free; k++) x[k] = a[dof ? dof[k] : k];
   PT(VecRestoreArrayRead(s->x_all, &a), "VecRestoreArrayRead");
   return PS_OK;
 }
 
-/* s->b = this rank's rows of b */
+/* s->b = this rank's rows of b (0 at prescribed dofs) */
 static int scatter(petsc_state *s, const double *b, ps_ctx *ctx) {
   PetscScalar *a;
   PT(VecGetArray(s->b, &a), "VecGetArray");
-  memcpy(a, b + s->rstart, (size_t)(s->rend - s->rstart) * sizeof *a);
+  for (ps_int r = 0; r < s->rend - s->rstart; r++)
+    a[r] = s->row_free[r] >= 0 ? b[s->row_free[r]] : 0.0;
   PT(VecRestoreArray(s->b, &a), "VecRestoreArray");
   return PS_OK;
 }
@@ -448,7 +476,7 @@ static void pt_destroy(void **state) {
 
 int ps_parallel_available(void) { return 0; }
 int ps_parallel_launched(void) { return 0; }
-int ps_parallel_init(ps_ctx *ctx) {
+int ps_parallel_init(const char *options, ps_ctx *ctx) {
   return ps_error(ctx, PS_ERR_INPUT, "this peristatic was built without PETSc: configure "
                   "--with-petsc (scripts/install-deps.sh --with-petsc installs petsc-dev)");
 }
@@ -459,7 +487,7 @@ void ps_parallel_finalize(void) {}
 
 static int pt_create(void **state, const ps_linsolve *ls, ps_ctx *ctx) {
   *state = NULL;
-  return ps_parallel_init(ctx);
+  return ps_parallel_init(ls->options, ctx);
 }
 static void pt_destroy(void **state) { *state = NULL; }
 #define pt_analyze NULL

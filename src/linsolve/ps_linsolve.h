@@ -82,9 +82,11 @@ extern const ps_linsolve_type *const ps_linsolve_petsc;
 int ps_parallel_available(void);
 /* 1 when an MPI launcher (mpiexec) started this process (its environment) */
 int ps_parallel_launched(void);
-/* Initialise PETSc and MPI once (later calls: PS_OK at once). PS_OK,
- * PS_ERR_SOLVER, or PS_ERR_INPUT in a build without PETSc. */
-int ps_parallel_init(ps_ctx *ctx);
+/* Initialise PETSc and MPI once, with PETSc options (NULL: none) as if
+ * given on PetscInitialize's command line (later calls: PS_OK at once,
+ * the options left to the backend). PS_OK, PS_ERR_SOLVER, or
+ * PS_ERR_INPUT in a build without PETSc. */
+int ps_parallel_init(const char *options, ps_ctx *ctx);
 /* this process's rank and the number of ranks (0 and 1 before init) */
 int ps_parallel_rank(void);
 int ps_parallel_size(void);
@@ -127,9 +129,12 @@ typedef struct ps_linsolve {
                                near-null space): unknown k is component
                                dof_of_free[k] % dim of particle
                                dof_of_free[k] / dim, at x[dim * particle]
-                               (borrowed; dim 0: not given) */
+                               (increasing; borrowed; dim 0: not given).
+                               PETSc solves over all n_dof dofs, the
+                               prescribed ones as rows of the identity */
   const ps_int *dof_of_free;
   const double *x;
+  ps_int n_dof;             /* all dofs (dim x particles), 0: not given */
   double rtol;              /* the relative residual at which an
                                iterative backend's solve may stop (0:
                                its default; direct backends ignore it) */

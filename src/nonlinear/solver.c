@@ -86,6 +86,7 @@ static void set_backend_data(ps_linsolve *ls, const ps_solver *s, const ps_parti
   ls->dim = P->dim;
   ls->x = P->x;
   ls->dof_of_free = s->prob.dof_of_free;
+  ls->n_dof = s->prob.n_dof;
   ls->options = s->opts.petsc_options;
 }
 

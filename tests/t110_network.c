@@ -256,9 +256,9 @@ static void test_network_crack(ps_ctx *ctx) {
   ps_kernel K;
   if (ps_kernel_init(&K, 2, 2, 5.1, ctx)) tg_die("ps_kernel_init", ctx);
   /* an interior, slightly slanted crack across the middle */
-  ps_crack cr[2] = {{{8.3 * d, 15.1 * d, 0}, {31.7 * d, 14.9 * d, 0}},
+  ps_crack cr[2] = {{.p0 = {8.3 * d, 15.1 * d, 0}, .p1 = {31.7 * d, 14.9 * d, 0}},
                     /* an edge crack entering from outside the bottom edge */
-                    {{20.2 * d, -1.0 * d, 0}, {20.4 * d, 7.3 * d, 0}}};
+                    {.p0 = {20.2 * d, -1.0 * d, 0}, .p1 = {20.4 * d, 7.3 * d, 0}}};
   ps_network net;
   if (ps_network_build(&net, &P, &K, cr, 1, ctx)) tg_die("ps_network_build", ctx);
   compare_network(&net, &P, &K, cr, 1, "network 2D box, crack across the middle");
@@ -318,7 +318,7 @@ static void test_crack_tip(ps_ctx *ctx) {
   ps_kernel K;
   if (ps_kernel_init(&K, 2, 2, 3.5, ctx)) tg_die("ps_kernel_init", ctx);
   /* particles at ((i + 1/2) d, (j + 1/2) d); the tip at the corner (6d, 5d) */
-  ps_crack cr = {{-1.0 * d, 5.0 * d, 0}, {6.0 * d, 5.0 * d, 0}};
+  ps_crack cr = {.p0 = {-1.0 * d, 5.0 * d, 0}, .p1 = {6.0 * d, 5.0 * d, 0}};
   ps_network ref;
   if (ps_network_build(&ref, &P, &K, &cr, 1, ctx)) tg_die("ps_network_build", ctx);
   int same = 1;
@@ -444,7 +444,7 @@ static void disk_network(const ps_disk_params *dp, ps_int *n_arm, double *ratio,
   if (ps_geom_sizes_eq115(&P, 5, ctx)) tg_die("ps_geom_sizes_eq115", ctx);
   ps_kernel K;
   if (ps_kernel_init(&K, 2, 2, 5.1, ctx)) tg_die("ps_kernel_init", ctx);
-  ps_crack cr = {{-dp->c, 0, 0}, {dp->c, 0, 0}};
+  ps_crack cr = {.p0 = {-dp->c, 0, 0}, .p1 = {dp->c, 0, 0}};
   ps_network net;
   double t0 = ps_wtime();
   if (ps_network_build(&net, &P, &K, &cr, 1, ctx)) tg_die("ps_network_build", ctx);

@@ -40,47 +40,19 @@
 #include "common.h"
 #include "geomnet.h"
 
-typedef struct {
-  ps_int a, b;
-} pr;
-
-static int cmp_pr(const void *u, const void *v) {
-  const pr *p = u, *q = v;
-  if (p->a != q->a) return p->a < q->a ? -1 : 1;
-  if (p->b != q->b) return p->b < q->b ? -1 : 1;
-  return 0;
-}
-
-/* a predicate "does the arm x-y cross the test's crack?" */
-typedef int (*cut_fn)(const void *arg, const double *x, const double *y);
-
 /* The network's arms against the brute-force list {a < b : r < alpha
  * max(h_a, h_b), not cut by `cut`}: the same set? *n_cut: pairs the
  * brute force cut. */
-static int same_arms(const ps_network *net, const ps_particles *P, double alpha, cut_fn cut,
+static int same_arms(const ps_network *net, const ps_particles *P, double alpha, tg_cut_fn cut,
                      const void *arg, ps_int *n_cut) {
-  ps_int cap = 1024, nb = 0;
-  pr *ref = malloc((size_t)cap * sizeof *ref);
-  *n_cut = 0;
-  for (ps_int a = 0; a < P->n; a++)
-    for (ps_int b = a + 1; b < P->n; b++) {
-      const double *x = &P->x[3 * a], *y = &P->x[3 * b];
-      double r = sqrt(tg_d2(x, y, 3)), hm = fmax(P->h[a], P->h[b]);
-      if (!(r < alpha * hm)) continue;
-      if (cut && cut(arg, x, y)) {
-        ++*n_cut;
-        continue;
-      }
-      if (nb == cap) ref = realloc(ref, (size_t)(cap *= 2) * sizeof *ref);
-      ref[nb].a = a;
-      ref[nb++].b = b;
-    }
-  pr *got = malloc((size_t)(net->n_arm + 1) * sizeof *got);
+  ps_int nb;
+  tg_pair *ref = tg_brute_arms(P, alpha, cut, arg, &nb, n_cut);
+  tg_pair *got = malloc((size_t)(net->n_arm + 1) * sizeof *got);
   for (ps_int i = 0; i < net->n_arm; i++) {
     got[i].a = net->a[i];
     got[i].b = net->b[i];
   }
-  qsort(got, (size_t)net->n_arm, sizeof *got, cmp_pr);
+  qsort(got, (size_t)net->n_arm, sizeof *got, tg_cmp_pair);
   int same = net->n_arm == nb && memcmp(got, ref, (size_t)nb * sizeof *ref) == 0;
   free(ref);
   free(got);
@@ -550,16 +522,12 @@ static void penny(int m, double a, double *F, double *gap) {
           -0.1 * d, 0.1 * d, -0.1 * d, 0.1 * d, -(m - 1) * d, (m - 1) * d);
   fclose(f);
   ps_ctx ctx;
-  ps_ctx_init(&ctx);
-  ctx.verbosity = getenv("PS_TEST_VERBOSE") ? 1 : 0;
   ps_case cs;
-  ps_case_defaults(&cs);
-  if (ps_case_load(&cs, yaml, &ctx)) tg_die("penny case", &ctx);
-  remove(yaml);
   ps_problem pb;
   ps_run_result res;
   ps_solver *sv = NULL;
-  if (ps_problem_setup(&pb, &cs, &ctx)) tg_die("penny setup", &ctx);
+  tc_setup_case_file(yaml, &cs, &pb, &ctx);
+  remove(yaml);
   if (ps_run_keep(&pb, INFINITY, NULL, &res, &sv, &ctx)) tg_die("penny run", &ctx);
   const double *u = ps_solver_u(sv), *fo = ps_solver_force(sv);
   *F = 0;

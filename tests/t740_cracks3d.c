@@ -476,8 +476,11 @@ static void bad_cracks(ps_ctx *ctx) {
   int sp2 = ps_network_build(&net, &P, &K, &cr, 1, ctx);
   ps_crack_sphere(&cr, tri[1], d);
   int ss2 = ps_network_build(&net, &P, &K, &cr, 1, ctx);
-  ps_check(sp2 == PS_ERR_INPUT && ss2 == PS_ERR_INPUT,
-           "a polygon or a sphere in a 2D network refused: %s", ctx->msg);
+  ps_estimate_opts o = {.free_fraction = 1.0};
+  ps_estimate e;
+  int se2 = ps_estimate_sample(&e, &P, 2.0, &cr, 1, &o, ctx);
+  ps_check(sp2 == PS_ERR_INPUT && ss2 == PS_ERR_INPUT && se2 == PS_ERR_INPUT,
+           "a polygon or a sphere in a 2D network (or its estimate) refused: %s", ctx->msg);
   ps_particles_free(&P);
 }
 

@@ -148,6 +148,25 @@ void ps_crack_bounds(const ps_crack *cr, int dim, double lo[3], double hi[3]) {
   }
 }
 
+/* ps_network.h */
+int ps_cracks_check(const ps_crack *cracks, int n, int dim, ps_ctx *ctx) {
+  static const char *const what[] = {"a segment", "a polygon", "a sphere"};
+  for (int c = 0; c < n; c++) {
+    int kind = cracks[c].kind;
+    int known = kind >= PS_CRACK_SEGMENT && kind <= PS_CRACK_SPHERE;
+    int fits = known && (dim == 2) == (kind == PS_CRACK_SEGMENT) &&
+               (kind != PS_CRACK_POLYGON ||
+                (cracks[c].n >= 3 && cracks[c].n <= PS_CRACK_MAX_VERTICES));
+    if (!fits)
+      return ps_error(ctx, PS_ERR_INPUT,
+                      "crack %d: %s in a %dD network (2D: segments; 3D: planar polygons "
+                      "of 3 to %d points and spheres)",
+                      c + 1, known ? what[kind] : "an unknown kind", dim,
+                      PS_CRACK_MAX_VERTICES);
+  }
+  return PS_OK;
+}
+
 /* the 2D segment rule (ps_crack_cuts) */
 static int segment_cuts(const ps_crack *cr, const double *x, const double *y) {
   const double *p = cr->p0, *q = cr->p1;

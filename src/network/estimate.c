@@ -308,6 +308,7 @@ int ps_estimate_sample(ps_estimate *e, const ps_particles *p, double alpha,
   est_sums s = {0, 0, 0, 0, 0, 0, 0};
   ps_int n = p->n, m = n < PS_ESTIMATE_SAMPLES ? n : PS_ESTIMATE_SAMPLES;
   memset(e, 0, sizeof *e);
+  PS_CHECK(ps_cracks_check(cracks, n_cracks, p->dim, ctx));
   e->dim = p->dim;
   e->stage = 2;
   e->particles = (double)n;

@@ -251,22 +251,7 @@ int ps_network_build(ps_network *net, const ps_particles *p,
     return ps_error(ctx, PS_ERR_INPUT, "kernel dimension %d differs from the cloud's %d",
                     K->dim, dim);
   PS_CHECK(check_particles(p, &hmin, &hmax, ctx));
-  for (int c = 0; c < n_cracks; c++) {
-    int kind = cracks[c].kind, want = dim == 2 ? PS_CRACK_SEGMENT : kind;
-    if (kind != want || (kind != PS_CRACK_SEGMENT && kind != PS_CRACK_POLYGON &&
-                         kind != PS_CRACK_SPHERE) ||
-        (kind == PS_CRACK_SEGMENT && dim != 2) ||
-        (kind == PS_CRACK_POLYGON && (cracks[c].n < 3 || cracks[c].n > PS_CRACK_MAX_VERTICES)))
-      return ps_error(ctx, PS_ERR_INPUT,
-                      "crack %d: %s in a %dD network (2D: segments; 3D: planar polygons "
-                      "of 3 to %d points and spheres)",
-                      c + 1,
-                      kind == PS_CRACK_SEGMENT   ? "a segment"
-                      : kind == PS_CRACK_POLYGON ? "a polygon"
-                      : kind == PS_CRACK_SPHERE  ? "a sphere"
-                                                 : "an unknown kind",
-                      dim, PS_CRACK_MAX_VERTICES);
-  }
+  PS_CHECK(ps_cracks_check(cracks, n_cracks, dim, ctx));
   PS_CHECK_GOTO(collect_pairs(p, K, cracks, n_cracks, &pairs, &na, ctx));
   if (na == 0) {
     status = ps_error(ctx, PS_ERR_INPUT,

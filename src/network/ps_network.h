@@ -78,6 +78,12 @@ int ps_crack_polygon(ps_crack *cr, int n, const double (*v)[3], int *bad, ps_ctx
 /* Set *cr to the sphere of centre c[3] and radius R > 0 (m). */
 void ps_crack_sphere(ps_crack *cr, const double *c, double R);
 
+/* Each of the n cracks of the form of a dim-dimensional body: segments
+ * in 2D, polygons (3..16 points) and spheres in 3D. PS_OK, or PS_ERR_INPUT
+ * naming the first that is not ("crack 2: a segment in a 3D network"):
+ * ps_crack_cuts reads 2 coordinates of a segment's arm, 3 of the others'. */
+int ps_cracks_check(const ps_crack *cracks, int n, int dim, ps_ctx *ctx);
+
 /* The axis-aligned box lo..hi (dim coordinates, m) that holds every point
  * where the crack can cut an arm. */
 void ps_crack_bounds(const ps_crack *cr, int dim, double lo[3], double hi[3]);
@@ -190,7 +196,8 @@ void ps_estimate_density(ps_estimate *e, int dim, double n, double neighbours,
  * PS_ESTIMATE_SAMPLES particles (k-d tree counts; a horizon that covers
  * the whole body costs O(log n) per particle), the cracks applied to the
  * arms; then the factor and memory. Allocates a k-d tree (O(n)) and
- * small buffers. Returns PS_OK, PS_ERR_NOMEM. */
+ * small buffers. Returns PS_OK, PS_ERR_NOMEM, PS_ERR_INPUT (a crack of
+ * the other dimension, ps_cracks_check). */
 #define PS_ESTIMATE_SAMPLES 512
 int ps_estimate_sample(ps_estimate *e, const ps_particles *p, double alpha,
                        const ps_crack *cracks, int n_cracks,

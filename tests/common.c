@@ -21,6 +21,14 @@ void tc_network(ps_particles *P, double alpha, const ps_crack *cracks,
   if (ps_network_build(net, P, &K, cracks, n_cracks, &ctx)) die("network", &ctx);
 }
 
+void tc_setup_case_file(const char *yaml, ps_case *cs, ps_problem *pb, ps_ctx *ctx) {
+  ps_ctx_init(ctx);
+  ctx->verbosity = getenv("PS_TEST_VERBOSE") ? 1 : 0;
+  ps_case_defaults(cs);
+  if (ps_case_load(cs, yaml, ctx)) die(yaml, ctx);
+  if (ps_problem_setup(pb, cs, ctx)) die("problem set-up", ctx);
+}
+
 ps_material tc_material(double nu, int plane) {
   ps_ctx ctx;
   ps_ctx_init(&ctx);

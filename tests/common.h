@@ -38,6 +38,11 @@ void tc_evaluator_create_model(tc_evaluator *ev, const ps_model_type *type,
 void tc_eval(tc_evaluator *ev, const ps_particles *P, const double *u);
 void tc_evaluator_free(tc_evaluator *ev);
 
+/* The case file yaml read into *cs (defaults first) with a fresh *ctx
+ * (verbose when PS_TEST_VERBOSE is set) and its problem set up in *pb;
+ * exits on failure. */
+void tc_setup_case_file(const char *yaml, ps_case *cs, ps_problem *pb, ps_ctx *ctx);
+
 /* Distance from x to the nearest face of the box [lo, hi] (dim axes). */
 /* A solver of problem pb with its case's solver options on one thread
  * and its forces (exits on failure). */

@@ -30,3 +30,38 @@ void tg_make_box(ps_particles *P, int dim, ps_int nx, ps_int ny, ps_int nz, doub
     P->volume[a] *= pow(s, dim);
   }
 }
+
+int tg_cmp_pair(const void *u, const void *v) {
+  const tg_pair *p = u, *q = v;
+  if (p->a != q->a) return p->a < q->a ? -1 : 1;
+  if (p->b != q->b) return p->b < q->b ? -1 : 1;
+  return 0;
+}
+
+tg_pair *tg_brute_arms(const ps_particles *P, double alpha, tg_cut_fn cut, const void *arg,
+                       ps_int *n, ps_int *n_cut) {
+  ps_int cap = 1024, na = 0;
+  tg_pair *arms = malloc((size_t)cap * sizeof *arms);
+  int dim = P->dim;
+  *n_cut = 0;
+  for (ps_int a = 0; a < P->n; a++)
+    for (ps_int b = a + 1; b < P->n; b++) {
+      const double *x = &P->x[a * dim], *y = &P->x[b * dim];
+      double r = sqrt(tg_d2(y, x, dim));
+      double hm = P->h[a] > P->h[b] ? P->h[a] : P->h[b];
+      if (!(r < alpha * hm)) continue;
+      if (cut && cut(arg, x, y)) {
+        (*n_cut)++;
+        continue;
+      }
+      if (na == cap) {
+        cap *= 2;
+        arms = realloc(arms, (size_t)cap * sizeof *arms);
+      }
+      arms[na].a = a;
+      arms[na].b = b;
+      na++;
+    }
+  *n = na;
+  return arms;
+}

@@ -19,4 +19,19 @@ double tg_d2(const double *x, const double *y, int dim);
 void tg_make_box(ps_particles *P, int dim, ps_int nx, ps_int ny, ps_int nz, double d,
                  unsigned long seed, ps_ctx *ctx);
 
+/* An arm as the pair of its particles (a < b), ordered by (a, b). */
+typedef struct {
+  ps_int a, b;
+} tg_pair;
+int tg_cmp_pair(const void *u, const void *v);
+
+/* A test's own "does the arm x-y cross the crack(s) in arg?" */
+typedef int (*tg_cut_fn)(const void *arg, const double *x, const double *y);
+
+/* The brute-force arm list {a < b : r < alpha max(h_a, h_b), not cut}
+ * (cut NULL: none cut), sorted by (a, b), in *n arms (malloc'd; the
+ * caller frees it); *n_cut: the pairs within reach that cut removed. */
+tg_pair *tg_brute_arms(const ps_particles *P, double alpha, tg_cut_fn cut, const void *arg,
+                       ps_int *n, ps_int *n_cut);
+
 #endif

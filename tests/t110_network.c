@@ -22,17 +22,6 @@
 
 static int small_mode = 0;
 
-typedef struct {
-  ps_int a, b;
-} pr;
-
-static int cmp_pr(const void *u, const void *v) {
-  const pr *p = u, *q = v;
-  if (p->a != q->a) return p->a < q->a ? -1 : 1;
-  if (p->b != q->b) return p->b < q->b ? -1 : 1;
-  return 0;
-}
-
 /* Our own segment test (parametric, not orientation signs as in src/):
  * does the open segment x-y cross the open segment p-q? */
 /* Our own segment test (parametric, not orientation signs as in src/):
@@ -52,36 +41,25 @@ static int seg_cross(const double *x, const double *y, const double *p,
 /* ------------------------------------------------------------------ */
 /* 1./2. network against brute force                                   */
 
+/* the cracks of a brute-force list */
+typedef struct {
+  const ps_crack *cr;
+  int n;
+} crack_list;
+
+static int cuts_any(const void *arg, const double *x, const double *y) {
+  const crack_list *l = arg;
+  for (int c = 0; c < l->n; c++)
+    if (seg_cross(x, y, l->cr[c].p0, l->cr[c].p1)) return 1;
+  return 0;
+}
+
 /* The brute-force arm list {a < b : r < alpha max(h_a, h_b), not cut by any
  * crack}, sorted by (a, b). Also counts the pairs removed by the cracks. */
-static pr *brute_arms(const ps_particles *P, double alpha, const ps_crack *cr,
-                      int ncr, ps_int *n_out, ps_int *n_cut) {
-  ps_int cap = 1024, na = 0;
-  pr *arms = malloc((size_t)cap * sizeof *arms);
-  int dim = P->dim;
-  *n_cut = 0;
-  for (ps_int a = 0; a < P->n; a++)
-    for (ps_int b = a + 1; b < P->n; b++) {
-      double r = sqrt(tg_d2(&P->x[b * dim], &P->x[a * dim], dim));
-      double hm = P->h[a] > P->h[b] ? P->h[a] : P->h[b];
-      if (!(r < alpha * hm)) continue;
-      int cut = 0;
-      for (int c = 0; c < ncr && !cut; c++)
-        cut = seg_cross(&P->x[a * dim], &P->x[b * dim], cr[c].p0, cr[c].p1);
-      if (cut) {
-        (*n_cut)++;
-        continue;
-      }
-      if (na == cap) {
-        cap *= 2;
-        arms = realloc(arms, (size_t)cap * sizeof *arms);
-      }
-      arms[na].a = a;
-      arms[na].b = b;
-      na++;
-    }
-  *n_out = na;
-  return arms;
+static tg_pair *brute_arms(const ps_particles *P, double alpha, const ps_crack *cr,
+                           int ncr, ps_int *n_out, ps_int *n_cut) {
+  crack_list l = {cr, ncr};
+  return tg_brute_arms(P, alpha, cuts_any, &l, n_out, n_cut);
 }
 
 /* Compare net with the brute-force list and with the Eq. 70 weights;
@@ -91,16 +69,16 @@ static void compare_network(const ps_network *net, const ps_particles *P,
                             const char *label) {
   int dim = P->dim;
   ps_int nb, ncut;
-  pr *ref = brute_arms(P, K->alpha, cr, ncr, &nb, &ncut);
+  tg_pair *ref = brute_arms(P, K->alpha, cr, ncr, &nb, &ncut);
   /* arm set: exact */
   int ordered = 1;
-  pr *got = malloc((size_t)(net->n_arm + 1) * sizeof *got);
+  tg_pair *got = malloc((size_t)(net->n_arm + 1) * sizeof *got);
   for (ps_int i = 0; i < net->n_arm; i++) {
     got[i].a = net->a[i];
     got[i].b = net->b[i];
     if (!(net->a[i] < net->b[i])) ordered = 0;
   }
-  qsort(got, (size_t)net->n_arm, sizeof *got, cmp_pr);
+  qsort(got, (size_t)net->n_arm, sizeof *got, tg_cmp_pair);
   int same = net->n_arm == nb &&
              (nb == 0 || memcmp(got, ref, (size_t)nb * sizeof *ref) == 0);
   ps_check(same && ordered,
@@ -256,9 +234,9 @@ static void test_network_crack(ps_ctx *ctx) {
   ps_kernel K;
   if (ps_kernel_init(&K, 2, 2, 5.1, ctx)) tg_die("ps_kernel_init", ctx);
   /* an interior, slightly slanted crack across the middle */
-  ps_crack cr[2] = {{{8.3 * d, 15.1 * d, 0}, {31.7 * d, 14.9 * d, 0}},
+  ps_crack cr[2] = {{.p0 = {8.3 * d, 15.1 * d, 0}, .p1 = {31.7 * d, 14.9 * d, 0}},
                     /* an edge crack entering from outside the bottom edge */
-                    {{20.2 * d, -1.0 * d, 0}, {20.4 * d, 7.3 * d, 0}}};
+                    {.p0 = {20.2 * d, -1.0 * d, 0}, .p1 = {20.4 * d, 7.3 * d, 0}}};
   ps_network net;
   if (ps_network_build(&net, &P, &K, cr, 1, ctx)) tg_die("ps_network_build", ctx);
   compare_network(&net, &P, &K, cr, 1, "network 2D box, crack across the middle");
@@ -318,7 +296,7 @@ static void test_crack_tip(ps_ctx *ctx) {
   ps_kernel K;
   if (ps_kernel_init(&K, 2, 2, 3.5, ctx)) tg_die("ps_kernel_init", ctx);
   /* particles at ((i + 1/2) d, (j + 1/2) d); the tip at the corner (6d, 5d) */
-  ps_crack cr = {{-1.0 * d, 5.0 * d, 0}, {6.0 * d, 5.0 * d, 0}};
+  ps_crack cr = {.p0 = {-1.0 * d, 5.0 * d, 0}, .p1 = {6.0 * d, 5.0 * d, 0}};
   ps_network ref;
   if (ps_network_build(&ref, &P, &K, &cr, 1, ctx)) tg_die("ps_network_build", ctx);
   int same = 1;
@@ -444,7 +422,7 @@ static void disk_network(const ps_disk_params *dp, ps_int *n_arm, double *ratio,
   if (ps_geom_sizes_eq115(&P, 5, ctx)) tg_die("ps_geom_sizes_eq115", ctx);
   ps_kernel K;
   if (ps_kernel_init(&K, 2, 2, 5.1, ctx)) tg_die("ps_kernel_init", ctx);
-  ps_crack cr = {{-dp->c, 0, 0}, {dp->c, 0, 0}};
+  ps_crack cr = {.p0 = {-dp->c, 0, 0}, .p1 = {dp->c, 0, 0}};
   ps_network net;
   double t0 = ps_wtime();
   if (ps_network_build(&net, &P, &K, &cr, 1, ctx)) tg_die("ps_network_build", ctx);

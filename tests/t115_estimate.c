@@ -15,7 +15,7 @@ static void test_estimate(ps_ctx *ctx) {
   tg_make_box(&P, 2, 40, 30, 1, d, 9, ctx);
   ps_kernel K;
   if (ps_kernel_init(&K, 2, 2, 5.1, ctx)) tg_die("ps_kernel_init", ctx);
-  ps_crack cr = {{8.3 * d, 15.1 * d, 0}, {31.7 * d, 14.9 * d, 0}};
+  ps_crack cr = {.p0 = {8.3 * d, 15.1 * d, 0}, .p1 = {31.7 * d, 14.9 * d, 0}};
   ps_network net;
   if (ps_network_build(&net, &P, &K, &cr, 1, ctx)) tg_die("ps_network_build", ctx);
   ps_estimate_opts o = {1, 1, 1, 0, 1.0};

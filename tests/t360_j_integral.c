@@ -92,7 +92,7 @@ static void gradient_of_affine(void) {
   ps_particles P;
   ps_network net;
   if (ps_geom_box(&P, 2, counts, 1e-3, "square", 0.2, 3, &ctx)) die_ctx("box", &ctx);
-  ps_crack cr = {{-1e-3, 8e-3, 0}, {10e-3, 8e-3, 0}};
+  ps_crack cr = {.p0 = {-1e-3, 8e-3, 0}, .p1 = {10e-3, 8e-3, 0}};
   tc_network(&P, 3.5, &cr, 1, &net);
   const double G[4] = {3e-4, -2e-4, 5e-4, 1e-4}; /* du_j/dx_k = G[2j + k] */
   double *u = malloc(2 * P.n * sizeof *u), *H = malloc(4 * P.n * sizeof *H), worst = 0;

@@ -180,15 +180,11 @@ static void edge_crack_turned(double theta, const double *l, tip_result *r) {
           s * p1[0] + c * p1[1]);
   fclose(f);
   ps_ctx ctx;
-  ps_ctx_init(&ctx);
-  ctx.verbosity = getenv("PS_TEST_VERBOSE") ? 1 : 0;
   ps_case cs;
-  ps_case_defaults(&cs);
-  if (ps_case_load(&cs, yaml, &ctx)) die_ctx("turned case", &ctx);
   ps_problem pb;
   ps_run_result res;
   ps_solver *sv = NULL;
-  if (ps_problem_setup(&pb, &cs, &ctx)) die_ctx("turned setup", &ctx);
+  tc_setup_case_file(yaml, &cs, &pb, &ctx);
   remove(cloud);
   remove(yaml);
   /* the tractions of t360 (p on the top row, -p on the bottom one; a

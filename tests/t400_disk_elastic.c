@@ -40,7 +40,7 @@ static double run(int n_eta, int n_xi, ps_int *np, double *sig_ratio) {
   dp.jitter = 0.1;
   ps_particles P;
   if (ps_geom_disk(&P, &dp, &ctx)) abort();
-  ps_crack cr = {{-dp.c, 0, 0}, {dp.c, 0, 0}};
+  ps_crack cr = {.p0 = {-dp.c, 0, 0}, .p1 = {dp.c, 0, 0}};
   ps_network net;
   tc_network(&P, 5.1, &cr, 1, &net);
   ps_material mat = tc_material(0.3, PS_PLANE_STRAIN);

@@ -256,12 +256,38 @@ static int copy_given(ps_particles *p, const ps_particles *g, ps_ctx *ctx) {
   return PS_OK;
 }
 
-/* arms across a hole cross its inscribed polygon of this many sides */
+/* 2D: arms across a hole cross its inscribed polygon of this many sides */
 enum { HOLE_SIDES = 64 };
 
-/* The particles of the case (disk, box with holes, cloud or mesh), the
- * cracks the geometry adds (the disk's, the holes' polygons) and a
- * mesh's named sets (*sets, zeroed for the other types). */
+/* The holes of a box or a cloud: the particles inside removed, and the
+ * cracks that keep arms from crossing them added to cracks[*n_cracks..]:
+ * in 2D the HOLE_SIDES segments of each circle's inscribed polygon, in 3D
+ * each sphere itself (ps_crack_cuts: closest distance below R). */
+static int add_holes(ps_problem *pb, const ps_case *cs, int dim, ps_crack *cracks,
+                     int *n_cracks, ps_ctx *ctx) {
+  if (cs->n_holes == 0) return PS_OK;
+  PS_CHECK(in_case(ctx, ps_geom_cut_holes(&pb->P, (const double(*)[4])cs->holes,
+                                          cs->n_holes, ctx), cs->file));
+  for (int i = 0; i < cs->n_holes; i++) {
+    const double *h = cs->holes[i];
+    if (dim == 3) {
+      ps_crack_sphere(&cracks[(*n_cracks)++], h, h[3]);
+      continue;
+    }
+    for (int j = 0; j < HOLE_SIDES; j++, ++*n_cracks) {
+      double t0 = 2 * M_PI * j / HOLE_SIDES, t1 = 2 * M_PI * (j + 1) / HOLE_SIDES;
+      cracks[*n_cracks].p0[0] = h[0] + h[2] * cos(t0);
+      cracks[*n_cracks].p0[1] = h[1] + h[2] * sin(t0);
+      cracks[*n_cracks].p1[0] = h[0] + h[2] * cos(t1);
+      cracks[*n_cracks].p1[1] = h[1] + h[2] * sin(t1);
+    }
+  }
+  return PS_OK;
+}
+
+/* The particles of the case (disk, box or cloud with holes, or mesh), the
+ * cracks the geometry adds (the disk's, the holes') and a mesh's named
+ * sets (*sets, zeroed for the other types). */
 static int make_particles(ps_problem *pb, const ps_case *cs, int dim, ps_crack *cracks,
                           int *n_cracks, ps_mesh_sets *sets, ps_ctx *ctx) {
   switch (cs->geometry) {
@@ -278,23 +304,14 @@ static int make_particles(ps_problem *pb, const ps_case *cs, int dim, ps_crack *
                                       cs->jitter, cs->seed, ctx), cs->file));
     for (ps_int a = 0; a < pb->P.n; a++)
       for (int k = 0; k < dim; k++) pb->P.x[a * dim + k] += cs->origin[k];
-    PS_CHECK(in_case(ctx, ps_geom_cut_holes(&pb->P, (const double(*)[3])cs->holes,
-                                            cs->n_holes, ctx), cs->file));
-    for (int i = 0; i < cs->n_holes; i++)
-      for (int j = 0; j < HOLE_SIDES; j++, ++*n_cracks) {
-        double t0 = 2 * M_PI * j / HOLE_SIDES, t1 = 2 * M_PI * (j + 1) / HOLE_SIDES;
-        const double *h = cs->holes[i];
-        cracks[*n_cracks].p0[0] = h[0] + h[2] * cos(t0);
-        cracks[*n_cracks].p0[1] = h[1] + h[2] * sin(t0);
-        cracks[*n_cracks].p1[0] = h[0] + h[2] * cos(t1);
-        cracks[*n_cracks].p1[1] = h[1] + h[2] * sin(t1);
-      }
+    PS_CHECK(add_holes(pb, cs, dim, cracks, n_cracks, ctx));
     break;
   case PS_GEOM_CLOUD: /* its errors name the cloud file and line */
     if (cs->given_particles)
       PS_CHECK(copy_given(&pb->P, cs->given_particles, ctx));
     else
       PS_CHECK(ps_cloud_read(&pb->P, cs->cloud_file, dim, ctx));
+    PS_CHECK(add_holes(pb, cs, dim, cracks, n_cracks, ctx));
     break;
   case PS_GEOM_MESH: /* its errors name the mesh file (and element) */
     PS_CHECK(ps_mesh_read(&pb->P, sets, cs->cloud_file, cs->mesh_format, dim, ctx));

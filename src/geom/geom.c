@@ -30,22 +30,30 @@ int ps_particles_alloc(ps_particles *p, int dim, ps_int n, ps_ctx *ctx) {
   return PS_OK;
 }
 
-int ps_geom_cut_holes(ps_particles *p, const double (*holes)[3], int n, ps_ctx *ctx) {
+int ps_geom_cut_holes(ps_particles *p, const double (*holes)[4], int n, ps_ctx *ctx) {
   if (n == 0) return PS_OK;
-  if (p->dim != 2) return ps_error(ctx, PS_ERR_INPUT, "holes are 2D only");
+  int dim = p->dim;
+  if (dim != 2 && dim != 3) return ps_error(ctx, PS_ERR_INPUT, "holes: dimension %d", dim);
   ps_int m = 0;
   for (ps_int a = 0; a < p->n; a++) {
+    const double *x = &p->x[a * dim];
     int inside = 0;
-    for (int i = 0; i < n && !inside; i++)
-      inside = hypot(p->x[2 * a] - holes[i][0], p->x[2 * a + 1] - holes[i][1]) < holes[i][2];
+    for (int i = 0; i < n && !inside; i++) {
+      const double *h = holes[i]; /* centre h[0..dim), radius h[dim] */
+      if (dim == 2)
+        inside = hypot(x[0] - h[0], x[1] - h[1]) < h[2];
+      else
+        inside = sqrt((x[0] - h[0]) * (x[0] - h[0]) + (x[1] - h[1]) * (x[1] - h[1]) +
+                      (x[2] - h[2]) * (x[2] - h[2])) < h[3];
+    }
     if (inside) continue;
-    p->x[2 * m] = p->x[2 * a];
-    p->x[2 * m + 1] = p->x[2 * a + 1];
+    for (int k = 0; k < dim; k++) p->x[m * dim + k] = x[k];
     p->volume[m] = p->volume[a];
     p->h[m] = p->h[a];
     p->block[m] = p->block[a];
     if (p->zone_xi) p->zone_xi[m] = p->zone_xi[a];
     if (p->in_boundary_zone) p->in_boundary_zone[m] = p->in_boundary_zone[a];
+    if (p->line) p->line[m] = p->line[a];
     m++;
   }
   if (m == 0) return ps_error(ctx, PS_ERR_INPUT, "the holes remove every particle");

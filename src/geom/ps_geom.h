@@ -57,10 +57,11 @@ int ps_error_coincide(ps_ctx *ctx, const ps_particles *p, ps_int a, ps_int b);
  * that is not (with its cloud file and line). */
 int ps_particles_check(const ps_particles *p, ps_ctx *ctx);
 
-/* Remove the particles inside any of the n circles (cx, cy, R) (2D),
- * keeping the order of the rest. Returns PS_OK, PS_ERR_INPUT (not 2D, or
- * no particle left), PS_ERR_NOMEM. */
-int ps_geom_cut_holes(ps_particles *p, const double (*holes)[3], int n, ps_ctx *ctx);
+/* Remove the particles inside any of the n holes, the open circles (2D:
+ * holes[i] = {cx, cy, R}) or balls (3D: {cx, cy, cz, R}) |x - c| < R,
+ * keeping the order of the rest (and their cloud lines). Returns PS_OK,
+ * PS_ERR_INPUT (no particle left). */
+int ps_geom_cut_holes(ps_particles *p, const double (*holes)[4], int n, ps_ctx *ctx);
 
 /* Box on a lattice: counts[k] particles along axis k, spacing d (m), lower
  * corner at the origin. lattice: "square" (cubic in 3D) or "hex" (2D only,

@@ -320,6 +320,40 @@ static int steps_check(ps_loader *L) {
   return PS_OK;
 }
 
+/* Each geometry.cracks and geometry.holes entry in the form of
+ * geometry.dim: 2D segments [[x0, y0], [x1, y1]] and circles [cx, cy, R],
+ * 3D planar polygons [[x, y, z], ...] and spheres [cx, cy, cz, R]; the
+ * first entry of the other form is named. */
+static int cracks_holes_dim_check(ps_loader *L) {
+  const ps_case *cs = L->cs;
+  for (int i = 0; i < cs->n_cracks; i++) {
+    if (L->crack_dim[i] == cs->dim) continue;
+    if (cs->dim == 3)
+      return ps_yaml_fail(L, L->line_crack[i],
+                          "geometry.cracks entry %d is a 2D segment [[x0, y0], [x1, y1]] but "
+                          "geometry.dim is 3: a 3D crack is a planar polygon [[x, y, z], "
+                          "...] of 3 to %d points",
+                          i + 1, PS_CRACK_MAX_VERTICES);
+    return ps_yaml_fail(L, L->line_crack[i],
+                        "geometry.cracks entry %d is a 3D polygon of [x, y, z] points but "
+                        "geometry.dim is 2: a 2D crack is a segment [[x0, y0], [x1, y1]]",
+                        i + 1);
+  }
+  for (int i = 0; i < cs->n_holes; i++) {
+    if (L->hole_len[i] == cs->dim + 1) continue;
+    if (cs->dim == 3)
+      return ps_yaml_fail(L, L->line_hole[i],
+                          "geometry.holes entry %d is a circle [cx, cy, R] but geometry.dim "
+                          "is 3: a 3D hole is a sphere [cx, cy, cz, R]",
+                          i + 1);
+    return ps_yaml_fail(L, L->line_hole[i],
+                        "geometry.holes entry %d is a sphere [cx, cy, cz, R] but "
+                        "geometry.dim is 2: a 2D hole is a circle [cx, cy, R]",
+                        i + 1);
+  }
+  return PS_OK;
+}
+
 /* case_impl.h */
 int ps_case_cross_checks(ps_loader *L) {
   static const char *const gname[] = {"disk", "box", "cloud", "mesh"};
@@ -347,9 +381,7 @@ int ps_case_cross_checks(ps_loader *L) {
   if (cs->geometry == PS_GEOM_CLOUD && !cs->cloud_file[0] && !cs->given_particles)
     return ps_yaml_fail(L, L->line_type, "geometry.type cloud needs geometry.file");
   if (mesh_check(L) != PS_OK) return PS_ERR_INPUT;
-  if (cs->n_cracks > 0 && cs->dim == 3)
-    return ps_yaml_fail(L, L->line_cracks,
-                        "geometry.cracks are 2D only (geometry.dim is 3)");
+  if (cracks_holes_dim_check(L) != PS_OK) return PS_ERR_INPUT;
   if (cs->output.n_j_rings > 0 && cs->dim == 3)
     return ps_yaml_fail(L, L->line_j, "output.j_integral is 2D only (geometry.dim is 3)");
   if (L->line_j_crack && cs->output.j_crack >= cs->n_cracks)
@@ -357,8 +389,10 @@ int ps_case_cross_checks(ps_loader *L) {
                         "output.j_integral.crack %d is not in geometry.cracks (%d given, "
                         "counted from 0)",
                         cs->output.j_crack, cs->n_cracks);
-  if (cs->n_holes > 0 && (cs->dim == 3 || cs->geometry != PS_GEOM_BOX))
-    return ps_yaml_fail(L, L->line_holes, "geometry.holes need a 2D box");
+  if (cs->n_holes > 0 && cs->geometry != PS_GEOM_BOX && cs->geometry != PS_GEOM_CLOUD)
+    return ps_yaml_fail(L, L->line_holes,
+                        "geometry.holes need geometry.type box or cloud (got %s)",
+                        gname[cs->geometry]);
   if (fixed_poisson_check(L) != PS_OK || particle_counts_check(L) != PS_OK ||
       model_keys_check(L) != PS_OK || dissipation_check(L) != PS_OK)
     return PS_ERR_INPUT;

@@ -38,6 +38,12 @@ typedef struct ps_loader {
   int line_steps, line_load_step, line_load_step_after_break, line_max_load; /* path */
   int line_horizon, line_horizon_factor;
   int line_geometry[24]; /* per ps_case_geometry_keys entry: where it was given */
+  /* geometry.cracks and holes, per entry: its line, and the form given
+   * (cracks: 2 for a segment of [x, y] points, 3 for a polygon of
+   * [x, y, z] points; holes: the values, 3 or 4), checked against
+   * geometry.dim once the file is read */
+  int line_crack[PS_MAX_CRACKS], crack_dim[PS_MAX_CRACKS];
+  int line_hole[PS_MAX_HOLES], hole_len[PS_MAX_HOLES];
 } ps_loader;
 
 /* Handler for one key of a mapping: key is the bare key, name its dotted

@@ -12,63 +12,121 @@
 
 /* ---- geometry ---- */
 
-/* geometry.cracks: a list of segments [[x0, y0], [x1, y1]]. */
+/* geometry.cracks: a list of 2D segments [[x0, y0], [x1, y1]] or of 3D
+ * planar polygons [[x, y, z], ...] of 3 to 16 points, each entry with
+ * points of one form (which must be geometry.dim's: case_checks.c). A
+ * polygon is checked here (ps_crack_polygon: planar, nonzero area). */
 static int get_cracks(ps_loader *L, yaml_node_t *v, const char *name) {
   char b[80];
   ps_case *cs = L->cs;
   if (v->type != YAML_SEQUENCE_NODE)
     return ps_yaml_fail(L, line_of(v),
-                        "%s must be a list of segments [[x0, y0], [x1, y1]] (got %s)",
+                        "%s must be a list of segments [[x0, y0], [x1, y1]] (2D) or planar "
+                        "polygons [[x, y, z], ...] (3D) (got %s)",
                         name, ps_yaml_got(v, b));
   int n = seq_len(v);
   if (n > PS_MAX_CRACKS)
-    return ps_yaml_fail(L, line_of(v), "%s has %d segments, at most %d are allowed", name,
+    return ps_yaml_fail(L, line_of(v), "%s has %d cracks, at most %d are allowed", name,
                         n, PS_MAX_CRACKS);
   cs->n_cracks = 0;
   for (int i = 0; i < n; i++) {
-    yaml_node_t *seg = seq_item(L, v, i);
-    if (seg->type != YAML_SEQUENCE_NODE || seq_len(seg) != 2)
-      return ps_yaml_fail(L, line_of(seg),
-                          "%s: a segment must be [[x0, y0], [x1, y1]] (got %s)", name,
-                          ps_yaml_got(seg, b));
+    yaml_node_t *e = seq_item(L, v, i);
+    int np = e->type == YAML_SEQUENCE_NODE ? seq_len(e) : 0;
+    if (np < 2)
+      return ps_yaml_fail(L, line_of(e),
+                          "%s entry %d must be a segment [[x0, y0], [x1, y1]] (2D) or a "
+                          "planar polygon [[x, y, z], ...] of 3 to %d points (3D) (got %s)",
+                          name, i + 1, PS_CRACK_MAX_VERTICES,
+                          np == 1 ? "1 point" : ps_yaml_got(e, b));
+    /* the points, all of the first one's form: [x, y] or [x, y, z] */
+    double pt[PS_CRACK_MAX_VERTICES][3] = {{0}};
+    int form = 0;
+    for (int j = 0; j < np && j < PS_CRACK_MAX_VERTICES; j++) {
+      yaml_node_t *q = seq_item(L, e, j);
+      int nc = q->type == YAML_SEQUENCE_NODE ? seq_len(q) : 0;
+      if (nc != 2 && nc != 3)
+        return ps_yaml_fail(L, line_of(q),
+                            "%s entry %d: point %d must be [x, y] (2D) or [x, y, z] (3D) "
+                            "(got %s)",
+                            name, i + 1, j + 1, ps_yaml_got(q, b));
+      if (j == 0) form = nc;
+      if (nc != form)
+        return ps_yaml_fail(L, line_of(q),
+                            "%s entry %d: point %d has %d coordinates but point 1 has %d: "
+                            "give every point as [x, y] (2D) or [x, y, z] (3D)",
+                            name, i + 1, j + 1, nc, form);
+      for (int k = 0; k < nc; k++)
+        if (ps_yaml_coord(L, seq_item(L, q, k), name, &pt[j][k])) return PS_ERR_INPUT;
+    }
+    L->line_crack[i] = line_of(e);
+    L->crack_dim[i] = form;
     ps_crack *cr = &cs->cracks[i];
     memset(cr, 0, sizeof *cr);
-    if (ps_yaml_point2(L, seq_item(L, seg, 0), name, cr->p0) ||
-        ps_yaml_point2(L, seq_item(L, seg, 1), name, cr->p1))
-      return PS_ERR_INPUT;
-    if (cr->p0[0] == cr->p1[0] && cr->p0[1] == cr->p1[1])
-      return ps_yaml_fail(L, line_of(seg), "%s: segment %d has zero length", name, i + 1);
+    if (form == 2) {
+      if (np != 2)
+        return ps_yaml_fail(L, line_of(e),
+                            "%s entry %d: a 2D crack is a segment of 2 points [[x0, y0], "
+                            "[x1, y1]] (got %d points)",
+                            name, i + 1, np);
+      memcpy(cr->p0, pt[0], sizeof pt[0]);
+      memcpy(cr->p1, pt[1], sizeof pt[1]);
+      if (cr->p0[0] == cr->p1[0] && cr->p0[1] == cr->p1[1])
+        return ps_yaml_fail(L, line_of(e), "%s entry %d: the segment has zero length", name,
+                            i + 1);
+    } else {
+      if (np < 3 || np > PS_CRACK_MAX_VERTICES)
+        return ps_yaml_fail(L, line_of(e),
+                            "%s entry %d: a 3D crack is a planar polygon of 3 to %d points "
+                            "[[x, y, z], ...] (got %d points)",
+                            name, i + 1, PS_CRACK_MAX_VERTICES, np);
+      int bad;
+      if (ps_crack_polygon(cr, np, (const double(*)[3])pt, &bad, L->ctx) != PS_OK) {
+        char m[sizeof L->ctx->msg];
+        snprintf(m, sizeof m, "%s", L->ctx->msg);
+        return ps_yaml_fail(L, line_of(bad >= 0 ? seq_item(L, e, bad) : e), "%s entry %d: %s",
+                            name, i + 1, m);
+      }
+    }
     cs->n_cracks++;
   }
   L->line_cracks = line_of(v);
   return PS_OK;
 }
 
-/* geometry.holes: a list of circles [cx, cy, R]. */
+/* geometry.holes: a list of circles [cx, cy, R] (2D) or spheres
+ * [cx, cy, cz, R] (3D; which must be geometry.dim's: case_checks.c). */
 static int get_holes(ps_loader *L, yaml_node_t *v, const char *name) {
   char b[80];
   ps_case *cs = L->cs;
   if (v->type != YAML_SEQUENCE_NODE)
     return ps_yaml_fail(L, line_of(v),
-                        "%s must be a list of circles [cx, cy, R] (got %s)", name,
-                        ps_yaml_got(v, b));
+                        "%s must be a list of circles [cx, cy, R] (2D) or spheres "
+                        "[cx, cy, cz, R] (3D) (got %s)",
+                        name, ps_yaml_got(v, b));
   int n = seq_len(v);
   if (n > PS_MAX_HOLES)
-    return ps_yaml_fail(L, line_of(v), "%s has %d circles, at most %d are allowed", name,
-                        n, PS_MAX_HOLES);
+    return ps_yaml_fail(L, line_of(v), "%s has %d holes, at most %d are allowed", name, n,
+                        PS_MAX_HOLES);
   cs->n_holes = 0;
   for (int i = 0; i < n; i++) {
     yaml_node_t *h = seq_item(L, v, i);
-    if (h->type != YAML_SEQUENCE_NODE || seq_len(h) != 3)
-      return ps_yaml_fail(L, line_of(h), "%s: a hole must be [cx, cy, R] (got %s)", name,
-                          ps_yaml_got(h, b));
+    int nv = h->type == YAML_SEQUENCE_NODE ? seq_len(h) : 0;
+    if (nv != 3 && nv != 4)
+      return ps_yaml_fail(L, line_of(h),
+                          "%s entry %d must be a circle [cx, cy, R] (2D) or a sphere "
+                          "[cx, cy, cz, R] (3D) (got %s)",
+                          name, i + 1, ps_yaml_got(h, b));
     double *c = cs->holes[i];
-    if (ps_yaml_coord(L, seq_item(L, h, 0), name, &c[0]) ||
-        ps_yaml_coord(L, seq_item(L, h, 1), name, &c[1]) ||
-        ps_yaml_real(L, seq_item(L, h, 2), name, 0.0, 1, INFINITY, 0, &c[2]))
-      return PS_ERR_INPUT;
-    if (c[2] > PS_MAX_COORD)
-      return ps_yaml_coord(L, seq_item(L, h, 2), name, &c[2]);
+    memset(c, 0, sizeof cs->holes[i]);
+    for (int k = 0; k + 1 < nv; k++)
+      if (ps_yaml_coord(L, seq_item(L, h, k), name, &c[k])) return PS_ERR_INPUT;
+    yaml_node_t *r = seq_item(L, h, nv - 1);
+    char rname[96];
+    snprintf(rname, sizeof rname, "%s entry %d: the radius R", name, i + 1);
+    if (ps_yaml_real(L, r, rname, 0.0, 1, INFINITY, 0, &c[nv - 1])) return PS_ERR_INPUT;
+    if (c[nv - 1] > PS_MAX_COORD) return ps_yaml_coord(L, r, name, &c[nv - 1]);
+    L->line_hole[i] = line_of(h);
+    L->hole_len[i] = nv;
     cs->n_holes++;
   }
   L->line_holes = line_of(v);

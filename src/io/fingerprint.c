@@ -81,8 +81,12 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
     fnv(&h, b);
   }
   for (int i = 0; i < cs->n_holes; i++) {
-    snprintf(b, sizeof b, "hole %.17g %.17g %.17g", cs->holes[i][0], cs->holes[i][1],
-             cs->holes[i][2]);
+    if (cs->dim == 3) /* newer form: 3D spheres */
+      snprintf(b, sizeof b, "hole %.17g %.17g %.17g %.17g", cs->holes[i][0], cs->holes[i][1],
+               cs->holes[i][2], cs->holes[i][3]);
+    else
+      snprintf(b, sizeof b, "hole %.17g %.17g %.17g", cs->holes[i][0], cs->holes[i][1],
+               cs->holes[i][2]);
     fnv(&h, b);
   }
   const ps_model_type *type = ps_model_type_find(cs->model);
@@ -116,8 +120,16 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
     }
   }
   for (int i = 0; i < cs->n_cracks; i++) {
-    snprintf(b, sizeof b, "crack %.17g %.17g %.17g %.17g", cs->cracks[i].p0[0],
-             cs->cracks[i].p0[1], cs->cracks[i].p1[0], cs->cracks[i].p1[1]);
+    const ps_crack *c = &cs->cracks[i];
+    if (c->kind == PS_CRACK_POLYGON) { /* newer form: a 3D polygon, its vertices */
+      int w = snprintf(b, sizeof b, "crack polygon %d", c->n);
+      for (int j = 0; j < c->n && w > 0 && (size_t)w < sizeof b; j++)
+        w += snprintf(b + w, sizeof b - (size_t)w, " %.17g %.17g %.17g", c->v[j][0],
+                      c->v[j][1], c->v[j][2]);
+    } else {
+      snprintf(b, sizeof b, "crack %.17g %.17g %.17g %.17g", c->p0[0], c->p0[1], c->p1[0],
+               c->p1[1]);
+    }
     fnv(&h, b);
   }
   snprintf(b, sizeof b, "kernel %.17g %d model %s E %.17g nu %.17g plane %d ey %.17g "

@@ -116,8 +116,11 @@ typedef struct ps_case {
   double jitter;       /* box: fraction of d */
   double origin[3];    /* box: corner of the first cell, m (default 0) */
   int n_holes;
-  double holes[PS_MAX_HOLES][3]; /* box, 2D: circular holes (cx, cy, R), m:
-                          particles inside are removed, arms across cut */
+  double holes[PS_MAX_HOLES][4]; /* box, cloud: holes, m, the centre in
+                          holes[i][0..dim) and the radius R in
+                          holes[i][dim] (2D circles (cx, cy, R), 3D
+                          spheres (cx, cy, cz, R)): particles inside are
+                          removed, arms across cut */
   unsigned long seed;  /* jitter seed (box; geometry.seed also sets
                           disk.seed) */
   char cloud_file[1024]; /* cloud, mesh: path (resolved against dir) */
@@ -131,7 +134,8 @@ typedef struct ps_case {
   int size_rule;       /* enum ps_size_rule (default eq115) */
   int size_neighbours; /* n of Eq. 115 (default 5) */
   int n_cracks;
-  ps_crack cracks[PS_MAX_CRACKS]; /* geometry.cracks; the disk adds its own */
+  ps_crack cracks[PS_MAX_CRACKS]; /* geometry.cracks: 2D segments, 3D planar
+                          polygons; the disk adds its own */
 
   /* kernel */
   double alpha;        /* default 5.1 */

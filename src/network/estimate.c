@@ -235,6 +235,7 @@ static int two_hop(const ps_kdtree *t, const ps_particles *p, double alpha,
 /* sampled sums of stage 2 */
 typedef struct {
   double arms, fam, fam2, pairs, neighbours;
+  double listed, cut; /* family members listed (a aside), of them cut by a crack */
 } est_sums;
 
 /* the largest size among the particles list[0..k) */
@@ -273,6 +274,8 @@ static int sample_one(const ps_kdtree *t, const ps_particles *p, ps_int a,
       int cut = 0;
       for (int c = 0; c < n_cracks && !cut && b != a; c++)
         cut = ps_crack_cuts(&cracks[c], x, &p->x[b * dim]);
+      s->listed += b != a;
+      s->cut += cut;
       if (cut) continue;
       bufs[0][m++] = b; /* the family, a itself included */
       if (b == a) continue;
@@ -306,9 +309,10 @@ int ps_estimate_sample(ps_estimate *e, const ps_particles *p, double alpha,
   int status = PS_OK;
   ps_kdtree *t = NULL;
   ps_int *bufs[3] = {NULL, NULL, NULL}, caps[3] = {0, 0, 0};
-  est_sums s = {0, 0, 0, 0, 0};
+  est_sums s = {0, 0, 0, 0, 0, 0, 0};
   ps_int n = p->n, m = n < PS_ESTIMATE_SAMPLES ? n : PS_ESTIMATE_SAMPLES;
   memset(e, 0, sizeof *e);
+  PS_CHECK(ps_cracks_check(cracks, n_cracks, p->dim, ctx));
   e->dim = p->dim;
   e->stage = 2;
   e->particles = (double)n;
@@ -325,7 +329,8 @@ int ps_estimate_sample(ps_estimate *e, const ps_particles *p, double alpha,
    * one outlying particle (a stray far point under Eq. 115, one volume
    * far too large under Eq. 44) whose horizon covers the body. Each arm
    * lies in one or both of its ends' horizons, so sum k_a / 2 bounds the
-   * arms from below (cracks aside); a particle whose horizon holds far
+   * arms from below, less the share f of the sampled candidates that the
+   * cracks cut (0 without cracks); a particle whose horizon holds far
    * more than the sampled mean adds its family's (k_a + 1)^2 to the
    * pattern (family coupling) and the family slots. */
   double sum_k = 0, out_sq = 0, big = PS_EST_OUTLIER * (e->neighbours + 1);
@@ -340,7 +345,8 @@ int ps_estimate_sample(ps_estimate *e, const ps_particles *p, double alpha,
   double sum_m2 = s.fam2 - 2 * s.fam - (double)m; /* sum of m^2 */
   e->family_sq = scale * (r * r * sum_m2 + 2 * r * s.fam + (double)m) + out_sq;
   e->pairs = s.pairs * scale;
-  e->arms = fmax(e->arms, 0.5 * sum_k);
+  double f_cut = s.listed > 0 ? s.cut / s.listed : 0.0;
+  e->arms = fmax(e->arms, 0.5 * sum_k * (1 - f_cut));
   if (o->family_coupling)
     e->pairs = fmin(e->pairs + out_sq, (double)n * (double)n);
   else

@@ -1,5 +1,6 @@
 /* network.c: kernel (Eq. 112/113, Eq. 54), neighbour search by k-d tree,
- * arm rule r < alpha max(h_a, h_b), pre-crack cuts, weights (Eq. 70). */
+ * arm rule r < alpha max(h_a, h_b), pre-crack cuts (the test: crack.c),
+ * weights (Eq. 70). */
 #include "ps_network.h"
 
 #include <gsl/gsl_errno.h>
@@ -67,26 +68,6 @@ double ps_kernel_df(const ps_kernel *K, double u) {
   return K->k * gsl_pow_int(s, K->k - 1) * (-2.0 * u / a2) / K->Z;
 }
 
-int ps_crack_cuts(const ps_crack *cr, const double *x, const double *y) {
-  const double *p = cr->p0, *q = cr->p1;
-  double ux = q[0] - p[0], uy = q[1] - p[1], lu = hypot(ux, uy);
-  double ex = y[0] - x[0], ey = y[1] - x[1];
-  double tol = PS_CRACK_TOUCH * hypot(ex, ey);
-  if (!(lu > 0)) return 0; /* a point: cuts nothing */
-  /* signed distances of the arm's ends from the crack's line: the ends
-   * must lie on opposite sides, each farther than tol */
-  double dx = (ux * (x[1] - p[1]) - uy * (x[0] - p[0])) / lu;
-  double dy = (ux * (y[1] - p[1]) - uy * (y[0] - p[0])) / lu;
-  if (!((dx > tol && dy < -tol) || (dx < -tol && dy > tol))) return 0;
-  /* the arm meets the crack's line at x + t (y - x), t = dx / (dx - dy) in
-   * (0, 1); sigma = that point's distance from p0 along the crack. Cut
-   * when it lies inside the open segment (p0, p1) by more than tol: an
-   * arm through an end point (to round-off) is kept */
-  double t = dx / (dx - dy);
-  double sigma = ((x[0] - p[0] + t * ex) * ux + (x[1] - p[1] + t * ey) * uy) / lu;
-  return sigma > tol && sigma < lu - tol;
-}
-
 typedef struct {
   ps_int a, b;
 } pair;
@@ -133,11 +114,12 @@ static int check_particles(const ps_particles *p, double *hmin, double *hmax,
 /* The arm candidates (a < b, sorted, unique) into *pairs[*np]: every
  * particle finds the others inside its own horizon alpha h_a; the union
  * of both directions gives the rule r < alpha max(h_a, h_b). Pairs whose
- * segment a crack cuts are left out. Each particle tests only the crack
- * segments whose bounding box meets its horizon's (a cut point lies on
- * both the arm, inside the horizon, and the segment), widened by a margin
- * far above round-off: the segments left out cannot cut, so the network
- * is the same (16 holes, 1,040 segments: each particle tests a few). */
+ * segment a crack cuts are left out. Each particle tests only the cracks
+ * whose bounding box (ps_crack_bounds) meets its horizon's (a cut point
+ * lies on both the arm, inside the horizon, and the crack), widened by a
+ * margin far above round-off: the cracks left out cannot cut, so the
+ * network is the same (16 holes, 1,040 segments: each particle tests a
+ * few). */
 static int collect_pairs(const ps_particles *p, const ps_kernel *K,
                          const ps_crack *cracks, int n_cracks, pair **pairs,
                          ps_int *np_out, ps_ctx *ctx) {
@@ -154,14 +136,15 @@ static int collect_pairs(const ps_particles *p, const ps_kernel *K,
     const double *xa = &p->x[a * dim];
     double R = K->alpha * p->h[a];
     PS_CHECK_GOTO(ps_kdtree_radius(tree, xa, R, &nb, &cap, &cnt, ctx));
-    /* the segments that may cut an arm of a (in the plane: x, y) */
-    double Rm = 1.01 * R + 1e-9 * (fabs(xa[0]) + fabs(xa[1]));
+    /* the cracks that may cut an arm of a */
+    double Rm = 1.01 * R, lo[3], hi[3];
+    for (int k = 0; k < dim; k++) Rm += 1e-9 * fabs(xa[k]);
     n_near = 0;
     for (int c = 0; c < n_cracks; c++) {
-      const double *u = cracks[c].p0, *v = cracks[c].p1;
+      ps_crack_bounds(&cracks[c], dim, lo, hi);
       int away = 0;
-      for (int k = 0; k < 2 && !away; k++)
-        away = fmin(u[k], v[k]) > xa[k] + Rm || fmax(u[k], v[k]) < xa[k] - Rm;
+      for (int k = 0; k < dim && !away; k++)
+        away = lo[k] > xa[k] + Rm || hi[k] < xa[k] - Rm;
       if (!away) near[n_near++] = c;
     }
     for (ps_int j = 0; j < cnt; j++) {
@@ -268,6 +251,7 @@ int ps_network_build(ps_network *net, const ps_particles *p,
     return ps_error(ctx, PS_ERR_INPUT, "kernel dimension %d differs from the cloud's %d",
                     K->dim, dim);
   PS_CHECK(check_particles(p, &hmin, &hmax, ctx));
+  PS_CHECK(ps_cracks_check(cracks, n_cracks, dim, ctx));
   PS_CHECK_GOTO(collect_pairs(p, K, cracks, n_cracks, &pairs, &na, ctx));
   if (na == 0) {
     status = ps_error(ctx, PS_ERR_INPUT,

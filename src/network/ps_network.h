@@ -30,14 +30,63 @@ double ps_kernel_Z_k2(int dim, double alpha);
 double ps_kernel_f(const ps_kernel *K, double u);
 double ps_kernel_df(const ps_kernel *K, double u);
 
-/* A straight pre-crack: arms whose segment crosses it are not created
- * (ps_crack_cuts states the rule at its end points). */
+/* A pre-crack or a hole's boundary: arms whose segment crosses it are not
+ * created (ps_crack_cuts states the rule at its edges).
+ *  - PS_CRACK_SEGMENT (2D): the open segment (p0, p1); the zero value, so
+ *    a zeroed struct (or {{x0, y0}, {x1, y1}}) with p0, p1 set is a
+ *    segment;
+ *  - PS_CRACK_POLYGON (3D): a planar polygon of n vertices v[0..n)
+ *    (geometry.cracks), set up by ps_crack_polygon, which also stores its
+ *    plane (centroid o, unit normal nrm, in-plane axes e1, e2) and the
+ *    vertices' coordinates uv in (e1, e2);
+ *  - PS_CRACK_SPHERE (3D): a hole's ball |x - p0| < radius
+ *    (geometry.holes), set up by ps_crack_sphere. */
+#define PS_CRACK_MAX_VERTICES 16
+enum ps_crack_kind { PS_CRACK_SEGMENT = 0, PS_CRACK_POLYGON = 1, PS_CRACK_SPHERE = 2 };
 typedef struct ps_crack {
-  double p0[3], p1[3]; /* end points (2D: a segment; 3D: not yet supported) */
+  double p0[3], p1[3]; /* segment: end points (x, y), m; sphere: p0 the centre */
+  int kind;            /* enum ps_crack_kind (after p0, p1: {{x0, y0}, {x1, y1}}
+                          initialises a segment) */
+  double radius;       /* sphere: R, m */
+  int n;               /* polygon: vertices, 3..PS_CRACK_MAX_VERTICES */
+  double v[PS_CRACK_MAX_VERTICES][3];  /* polygon: vertices in order, m */
+  double o[3], nrm[3], e1[3], e2[3];    /* polygon: its plane's frame */
+  double uv[PS_CRACK_MAX_VERTICES][2]; /* polygon: vertices in the plane, m */
 } ps_crack;
 
 /* The tolerance of ps_crack_cuts, relative to the arm's length. */
 #define PS_CRACK_TOUCH 1e-9
+/* A crack polygon is planar when every vertex lies within PS_CRACK_FLAT s
+ * of its plane, and not degenerate when its area exceeds PS_CRACK_FLAT
+ * s^2, s = the largest distance of a vertex from the vertices' centroid. */
+#define PS_CRACK_FLAT 1e-6
+
+/* Set *cr to the polygon of the n points v (m, in order around it; the
+ * even-odd rule decides its interior, so a self-crossing outline is
+ * allowed and means what the crossing-number test says). Its plane: the
+ * vertices' centroid o and the unit normal of Newell's area vector
+ * A = 1/2 sum_i v_i x v_(i+1), whose length is the (projected) area; the
+ * vertices are then projected onto that plane (they lie within
+ * PS_CRACK_FLAT s of it). Returns PS_OK, or PS_ERR_INPUT with a message
+ * (no file or line: the caller adds them) and *bad the point at fault
+ * (0-based) or -1 for the polygon as a whole: n outside 3..16, a
+ * coordinate not finite, zero area (|A| <= PS_CRACK_FLAT s^2: the points
+ * coincide or lie on a line), not planar (the vertex farthest from the
+ * plane). */
+int ps_crack_polygon(ps_crack *cr, int n, const double (*v)[3], int *bad, ps_ctx *ctx);
+
+/* Set *cr to the sphere of centre c[3] and radius R > 0 (m). */
+void ps_crack_sphere(ps_crack *cr, const double *c, double R);
+
+/* Each of the n cracks of the form of a dim-dimensional body: segments
+ * in 2D, polygons (3..16 points) and spheres in 3D. PS_OK, or PS_ERR_INPUT
+ * naming the first that is not ("crack 2: a segment in a 3D network"):
+ * ps_crack_cuts reads 2 coordinates of a segment's arm, 3 of the others'. */
+int ps_cracks_check(const ps_crack *cracks, int n, int dim, ps_ctx *ctx);
+
+/* The axis-aligned box lo..hi (dim coordinates, m) that holds every point
+ * where the crack can cut an arm. */
+void ps_crack_bounds(const ps_crack *cr, int dim, double lo[3], double hi[3]);
 
 /* The arm network. Arm i joins particles a[i] < b[i]. Each particle's
  * family (the arms incident to it) is stored CSR-wise: fam_arm[fam_ptr[p]
@@ -56,8 +105,9 @@ typedef struct ps_network {
 } ps_network;
 
 /* Build the network: arms r < alpha max(h_a, h_b), none crossing a crack
- * segment, weights of Eq. 70 from the kernel. Returns PS_OK, PS_ERR_INPUT
- * (no arm at all; a particle left without arms; two particles closer than
+ * (segments in 2D, polygons and spheres in 3D), weights of Eq. 70 from the
+ * kernel. Returns PS_OK, PS_ERR_INPUT (a crack of the other dimension;
+ * no arm at all; a particle left without arms; two particles closer than
  * PS_COINCIDE max(h_a, h_b), ps_error_coincide; a coordinate not finite;
  * a non-positive size or volume: each message names the particles, with
  * their cloud file and line), PS_ERR_NOMEM. */
@@ -66,18 +116,31 @@ int ps_network_build(ps_network *net, const ps_particles *p,
                      ps_ctx *ctx);
 void ps_network_free(ps_network *net);
 
-/* Does the crack cut the arm x-y (2D)? The crack is the open segment
- * (p0, p1): with tol = PS_CRACK_TOUCH |y - x|, the arm is cut when its
- * ends lie on opposite sides of the crack's line, each farther than tol
- * from it, and the point where it meets that line lies inside the segment
- * by more than tol from either end. So an arm through an end point of the
- * crack (a crack tip on a lattice point, up to round-off) is kept,
+/* Does the crack cut the arm x-y? x and y hold 2 (segment) or 3
+ * (polygon, sphere) coordinates; tol = PS_CRACK_TOUCH |y - x|.
+ * Segment (2D): the crack is the open segment (p0, p1): the arm is cut
+ * when its ends lie on opposite sides of the crack's line, each farther
+ * than tol from it, and the point where it meets that line lies inside the
+ * segment by more than tol from either end. So an arm through an end point
+ * of the crack (a crack tip on a lattice point, up to round-off) is kept,
  * deterministically and whichever way the arm is walked, and an arm with
  * an end on the crack's line (within tol) is not cut by it. (Tips on
  * lattice points: the edge-cracked plates of data/cases, whose networks
  * this rule leaves as they were; the disk's foci hold no particle and no
- * arm passes within 1e-6 of its length of them. doc/model.md.) Exposed
- * for the tests. */
+ * arm passes within 1e-6 of its length of them. doc/model.md.)
+ * Polygon (3D), the same rule one dimension up: the crack is the open
+ * polygon (its interior): the arm is cut when its ends lie on opposite
+ * sides of the polygon's plane, each farther than tol from it, and the
+ * point where it meets the plane lies inside the polygon (crossing
+ * number, even-odd, in the plane's coordinates uv) and farther than tol
+ * from every edge. An arm with an end on the plane (within tol), or
+ * through an edge or a vertex (within tol), is kept.
+ * Sphere (3D hole): the arm is cut when its closest distance to the
+ * centre is below the radius, |x + t (y - x) - p0| < R for some t in
+ * [0, 1] (exact; an arm that only touches the sphere is kept).
+ * Polygon and sphere take the arm's ends in a fixed order (the
+ * lexicographically smaller first), so the answer does not depend on
+ * which way it is walked, to the bit. Exposed for the tests. */
 int ps_crack_cuts(const ps_crack *cr, const double *x, const double *y);
 
 /* ---- size estimate before allocation (estimate.c) ---- */
@@ -136,7 +199,8 @@ void ps_estimate_density(ps_estimate *e, int dim, double n, double neighbours,
  * PS_ESTIMATE_SAMPLES particles (k-d tree counts; a horizon that covers
  * the whole body costs O(log n) per particle), the cracks applied to the
  * arms; then the factor and memory. Allocates a k-d tree (O(n)) and
- * small buffers. Returns PS_OK, PS_ERR_NOMEM. */
+ * small buffers. Returns PS_OK, PS_ERR_NOMEM, PS_ERR_INPUT (a crack of
+ * the other dimension, ps_cracks_check). */
 #define PS_ESTIMATE_SAMPLES 512
 int ps_estimate_sample(ps_estimate *e, const ps_particles *p, double alpha,
                        const ps_crack *cracks, int n_cracks,

@@ -19,7 +19,9 @@ typedef struct {
   const ps_arm_state *st;
   const double *X, *u;
   double *f;
-  int phase;           /* 0 geometry, 1 forces, 2 the tangent's data */
+  int phase;           /* 0 geometry, 1 forces (and, with tangent, the
+                          tangent's data) */
+  int tangent;
   ps_int bad[PS_PARTS_MAX]; /* phase 0: the first arm of a part whose
                                length is not finite, or -1 */
 } eval_job;
@@ -115,8 +117,8 @@ static void arm_forces(eval_job *j, int part, ps_int i0, ps_int i1) {
 static void arm_tangent(eval_job *j, ps_int i0, ps_int i1) {
   ps_system *s = j->s;
   const int d = s->dim;
+  memcpy(&s->tq[i0 * d], &s->q[i0 * d], (size_t)((i1 - i0) * d) * sizeof *s->q);
   for (ps_int i = i0; i < i1; i++) {
-    for (int k = 0; k < d; k++) s->tq[i * d + k] = s->q[i * d + k];
     s->tTl[i] = j->st->broken[i] ? 0.0 : s->T[i] / s->l[i];
     if (s->tr) {
       s->tr[2 * i] = s->r[2 * i];
@@ -132,10 +134,10 @@ static void eval_part(void *arg, int part) {
   ps_asm_part_range(j->s->net->n_arm, part, j->s->parts, &i0, &i1);
   if (j->phase == 0)
     arm_geometry(j, part, i0, i1);
-  else if (j->phase == 1)
+  else {
     arm_forces(j, part, i0, i1);
-  else
-    arm_tangent(j, i0, i1);
+    if (j->tangent) arm_tangent(j, i0, i1);
+  }
 }
 
 /* g[m x dim] = the gradient of sum_k w[k] l_k (k over particle c's
@@ -293,7 +295,7 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
     return ps_error(ctx, PS_ERR_INPUT,
                     "the system was evaluated with a model with arm rotations: it cannot "
                     "serve the %s model", model->type->name);
-  eval_job job = {s, st, X, u, f, 0, {0}};
+  eval_job job = {s, st, X, u, f, 0, 0, {0}};
   size_t u_bytes = (size_t)s->n_dof * sizeof *u;
   if (!(s->geom_valid && X == s->X_geom && !memcmp(u, s->u_geom, u_bytes))) {
     s->geom_valid = 0;
@@ -317,6 +319,8 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
     PS_CHECK(model->type->evaluate(model, s->dl, st, s->T, energy,
                                    want_tangent ? &s->tan : NULL, ctx));
   job.phase = 1;
+  job.tangent = want_tangent;
+  if (want_tangent) s->assembled = 0;
   ps_team_run(s->team, s->parts, eval_part, &job);
   ps_asm_add_parts(s, f, s->f_part);
   if (!want_tangent) {
@@ -324,10 +328,8 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
     return PS_OK;
   }
 
-  /* keep the tangent's geometry, free bodies and family gradients */
-  s->assembled = 0;
-  job.phase = 2;
-  ps_team_run(s->team, s->parts, eval_part, &job);
+  /* the tangent's geometry is kept (phase 1); its free bodies and family
+   * gradients */
   if (s->M) force_vectors(s);
   ps_int any_free = mark_free_bodies(s, st);
   PS_CHECK(family_storage(s, ctx));

@@ -143,6 +143,11 @@ sed 's/  fracture: {critical_stretch: 1.0e-3}/  delta: 1.0e-6/' "$N" > "$T/bond_
 expect 1 "bond_delta.yaml:30: material.delta is the fibre model's breaking limit (Eq. 118): the bond model breaks arms by material.fracture" -- info "$T/bond_delta.yaml"
 sed 's/  micromodulus: constant/  micromodulus: flat/' "$N" > "$T/micro_bad.yaml"
 expect 1 "micro_bad.yaml:27: material.micromodulus must be one of" -- info "$T/micro_bad.yaml"
+# path.round_tolerance: a relative residual in (0, 1)
+sed 's/^path:/path:\n  round_tolerance: 0/' "$N" > "$T/round_tol0.yaml"
+expect 1 "round_tol0.yaml:46: path.round_tolerance must be in (0, 1) (got 0)" -- info "$T/round_tol0.yaml"
+sed 's/^path:/path:\n  round_tolerance: 1/' "$N" > "$T/round_tol1.yaml"
+expect 1 "round_tol1.yaml:46: path.round_tolerance must be in (0, 1) (got 1)" -- info "$T/round_tol1.yaml"
 # material.break_rule and break_length (issue 19): the fibre model's only,
 # break_length with (and only with) the strain rule; the fibre notched plate
 F="$srcdir/data/cases/notched-plate-fibre.yaml"

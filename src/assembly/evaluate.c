@@ -19,17 +19,21 @@ typedef struct {
   const ps_arm_state *st;
   const double *X, *u;
   double *f;
-  int phase;           /* 0 geometry, 1 forces, 2 the tangent's data */
+  int phase;           /* 0 geometry, 1 forces (and, with tangent, the
+                          tangent's data) */
+  int tangent;
   ps_int bad[PS_PARTS_MAX]; /* phase 0: the first arm of a part whose
                                length is not finite, or -1 */
 } eval_job;
 
 /* arms [i0, i1): l, dl, q at y = X + u; the first arm whose length is not
- * finite into j->bad[part] */
-static void arm_geometry(eval_job *j, int part, ps_int i0, ps_int i1) {
+ * finite into j->bad[part]. d is the dimension, a constant where
+ * geometry_part inlines this (the same operations in the same order as
+ * with a variable d: the same numbers) */
+static PS_ALWAYS_INLINE void arm_geometry_dim(eval_job *j, int part, ps_int i0, ps_int i1,
+                                              const int d) {
   ps_system *s = j->s;
   const ps_network *net = s->net;
-  const int d = s->dim;
   const double *X = j->X, *u = j->u;
   j->bad[part] = -1;
   for (ps_int i = i0; i < i1; i++) {
@@ -48,8 +52,8 @@ static void arm_geometry(eval_job *j, int part, ps_int i0, ps_int i1) {
     if (!isfinite(l) && j->bad[part] < 0) j->bad[part] = i;
     s->l[i] = l;
     /* l - l(r0) = (2 dX.du + du.du)/(l + l(r0)): no cancellation at
-     * small strain */
-    s->dl[i] = (2.0 * dXdu + du2) / (l + sqrt(r0 * r0 + e2));
+     * small strain; l(r0) = sqrt(r0^2 + e2) is s->l0 */
+    s->dl[i] = (2.0 * dXdu + du2) / (l + s->l0[i]);
     if (s->th) { /* 2D: rotation from dX to y = dX + du, dX x y = dX x du */
       double dX0 = X[b * d] - X[a * d], dX1 = X[b * d + 1] - X[a * d + 1];
       double du0 = u[b * d] - u[a * d], du1 = u[b * d + 1] - u[a * d + 1];
@@ -61,12 +65,32 @@ static void arm_geometry(eval_job *j, int part, ps_int i0, ps_int i1) {
   }
 }
 
+static void arm_geometry(eval_job *j, int part, ps_int i0, ps_int i1) {
+  if (j->s->dim == 2) /* constant loop bounds, unrolled */
+    arm_geometry_dim(j, part, i0, i1, 2);
+  else
+    arm_geometry_dim(j, part, i0, i1, 3);
+}
+
 /* f = sum over arms [i0, i1) of T (dl/dy), into j->f (part 0) or part
- * p's n_dof of s->f_part (p >= 1) */
+ * p's n_dof of s->f_part (p >= 1); d as in arm_geometry_dim */
+static PS_ALWAYS_INLINE void central_forces_dim(const ps_system *s, double *f, ps_int i0,
+                                                ps_int i1, const int d) {
+  const ps_network *net = s->net;
+  for (ps_int i = i0; i < i1; i++) {
+    double T = s->T[i];
+    if (T == 0.0) continue;
+    const double *q = &s->q[i * d];
+    for (int k = 0; k < d; k++) {
+      f[net->a[i] * d + k] -= T * q[k]; /* dl/dy_a = -q */
+      f[net->b[i] * d + k] += T * q[k];
+    }
+  }
+}
+
 static void arm_forces(eval_job *j, int part, ps_int i0, ps_int i1) {
   ps_system *s = j->s;
   const ps_network *net = s->net;
-  const int d = s->dim;
   double *f = part == 0 ? j->f : s->f_part + (size_t)(part - 1) * (size_t)s->n_dof;
   memset(f, 0, (size_t)s->n_dof * sizeof *f);
   if (s->M) { /* not central: dPsi/dy_b = T q + M r (2D) */
@@ -82,15 +106,10 @@ static void arm_forces(eval_job *j, int part, ps_int i0, ps_int i1) {
     }
     return;
   }
-  for (ps_int i = i0; i < i1; i++) {
-    double T = s->T[i];
-    if (T == 0.0) continue;
-    const double *q = &s->q[i * d];
-    for (int k = 0; k < d; k++) {
-      f[net->a[i] * d + k] -= T * q[k]; /* dl/dy_a = -q */
-      f[net->b[i] * d + k] += T * q[k];
-    }
-  }
+  if (s->dim == 2)
+    central_forces_dim(s, f, i0, i1, 2);
+  else
+    central_forces_dim(s, f, i0, i1, 3);
 }
 
 /* the tangent's arm geometry of arms [i0, i1): tq = q, tTl = T/l (0 for a
@@ -98,8 +117,8 @@ static void arm_forces(eval_job *j, int part, ps_int i0, ps_int i1) {
 static void arm_tangent(eval_job *j, ps_int i0, ps_int i1) {
   ps_system *s = j->s;
   const int d = s->dim;
+  memcpy(&s->tq[i0 * d], &s->q[i0 * d], (size_t)((i1 - i0) * d) * sizeof *s->q);
   for (ps_int i = i0; i < i1; i++) {
-    for (int k = 0; k < d; k++) s->tq[i * d + k] = s->q[i * d + k];
     s->tTl[i] = j->st->broken[i] ? 0.0 : s->T[i] / s->l[i];
     if (s->tr) {
       s->tr[2 * i] = s->r[2 * i];
@@ -115,10 +134,10 @@ static void eval_part(void *arg, int part) {
   ps_asm_part_range(j->s->net->n_arm, part, j->s->parts, &i0, &i1);
   if (j->phase == 0)
     arm_geometry(j, part, i0, i1);
-  else if (j->phase == 1)
+  else {
     arm_forces(j, part, i0, i1);
-  else
-    arm_tangent(j, i0, i1);
+    if (j->tangent) arm_tangent(j, i0, i1);
+  }
 }
 
 /* g[m x dim] = the gradient of sum_k w[k] l_k (k over particle c's
@@ -276,14 +295,23 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
     return ps_error(ctx, PS_ERR_INPUT,
                     "the system was evaluated with a model with arm rotations: it cannot "
                     "serve the %s model", model->type->name);
-  eval_job job = {s, st, X, u, f, 0, {0}};
-  ps_team_run(s->team, s->parts, eval_part, &job);
-  for (int p = 0; p < s->parts; p++)
-    if (job.bad[p] >= 0) {
-      ps_int i = job.bad[p];
-      return ps_error(ctx, PS_ERR_SOLVER, "arm %lld: particles %lld and %lld: length %g",
-                      (long long)i, (long long)net->a[i], (long long)net->b[i], s->l[i]);
+  eval_job job = {s, st, X, u, f, 0, 0, {0}};
+  size_t u_bytes = (size_t)s->n_dof * sizeof *u;
+  if (!(s->geom_valid && X == s->X_geom && !memcmp(u, s->u_geom, u_bytes))) {
+    s->geom_valid = 0;
+    ps_team_run(s->team, s->parts, eval_part, &job);
+    for (int p = 0; p < s->parts; p++)
+      if (job.bad[p] >= 0) {
+        ps_int i = job.bad[p];
+        return ps_error(ctx, PS_ERR_SOLVER, "arm %lld: particles %lld and %lld: length %g",
+                        (long long)i, (long long)net->a[i], (long long)net->b[i], s->l[i]);
+      }
+    if (!model->type->rotations) { /* force_vectors below overwrites q */
+      memcpy(s->u_geom, u, u_bytes);
+      s->X_geom = X;
+      s->geom_valid = 1;
     }
+  }
   if (model->type->rotations)
     PS_CHECK(model->type->evaluate_rot(model, s->dl, s->th, st, s->T, s->M, energy,
                                        want_tangent ? &s->tan : NULL, ctx));
@@ -291,6 +319,8 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
     PS_CHECK(model->type->evaluate(model, s->dl, st, s->T, energy,
                                    want_tangent ? &s->tan : NULL, ctx));
   job.phase = 1;
+  job.tangent = want_tangent;
+  if (want_tangent) s->assembled = 0;
   ps_team_run(s->team, s->parts, eval_part, &job);
   ps_asm_add_parts(s, f, s->f_part);
   if (!want_tangent) {
@@ -298,10 +328,8 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
     return PS_OK;
   }
 
-  /* keep the tangent's geometry, free bodies and family gradients */
-  s->assembled = 0;
-  job.phase = 2;
-  ps_team_run(s->team, s->parts, eval_part, &job);
+  /* the tangent's geometry is kept (phase 1); its free bodies and family
+   * gradients */
   if (s->M) force_vectors(s);
   ps_int any_free = mark_free_bodies(s, st);
   PS_CHECK(family_storage(s, ctx));

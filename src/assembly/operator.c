@@ -55,12 +55,22 @@ static PS_ALWAYS_INLINE void apply_terms_dim(const ps_system *s, const double *x
     double cc = ps_asm_family_term(s, c, 0, &m, &M, &g);
     double ch = ps_asm_family_term(s, c, 1, &m, &M, &h);
     if (cc == 0.0 && ch == 0.0) continue;
+    if (ch == 0.0) { /* one term (the fibre model's total reading): the
+                        loops below without the second, which would add
+                        a zero to each entry */
+      double gx = 0.0;
+      for (ps_int p = 0; p < m; p++)
+        for (int k = 0; k < d; k++) gx += g[p * d + k] * x[M[p] * d + k];
+      gx *= cc;
+      for (ps_int p = 0; p < m; p++)
+        for (int k = 0; k < d; k++) y[M[p] * d + k] += gx * g[p * d + k];
+      continue;
+    }
     /* both terms in one pass over the members: x and y are read and
      * written once (the family terms are most of the product); a term
      * that is absent is the other's gradient with coefficient 0 (its own
      * may not be allocated), which adds exactly 0 */
     if (cc == 0.0) g = h;
-    if (ch == 0.0) h = g;
     double gx = 0.0, hx = 0.0;
     for (ps_int p = 0; p < m; p++)
       for (int k = 0; k < d; k++) {

@@ -8,6 +8,8 @@
  * free-free upper triangle A with its gather map from Kfull. */
 #include "assembly_internal.h"
 
+#include <math.h>
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -53,6 +55,8 @@ void ps_system_free(ps_system *s) {
   free(s->dl);
   free(s->q);
   free(s->T);
+  free(s->l0);
+  free(s->u_geom);
   free(s->G[0]);
   free(s->G[1]);
   free(s->tq);
@@ -249,6 +253,12 @@ static int work_arrays(ps_system *s, ps_ctx *ctx) {
   ALLOC(s->dl, net->n_arm);
   ALLOC(s->q, (ps_int)d * net->n_arm);
   ALLOC(s->T, net->n_arm);
+  ALLOC(s->l0, net->n_arm);
+  ALLOC(s->u_geom, s->n_dof);
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    double r0 = net->r0[i], e2 = PS_ARM_LENGTH_ROUNDING * PS_ARM_LENGTH_ROUNDING * r0 * r0;
+    s->l0[i] = sqrt(r0 * r0 + e2);
+  }
   ALLOC(s->tq, (ps_int)d * net->n_arm);
   ALLOC(s->tTl, net->n_arm);
   ALLOC(s->free_body, net->n_particle);
@@ -328,6 +338,7 @@ int ps_system_state_list(ps_system *s, ps_state_list *l, ps_ctx *ctx) {
         s->G[term] = ps_calloc(d * (size_t)s->fam_members_ptr[np], dbl, ctx);
         if (!s->G[term]) return PS_ERR_NOMEM;
       }
+  s->geom_valid = 0; /* a restore writes l, dl, q */
   PS_CHECK(ps_state_add(l, "sys.l", s->l, na * dbl, ctx));
   PS_CHECK(ps_state_add(l, "sys.dl", s->dl, na * dbl, ctx));
   PS_CHECK(ps_state_add(l, "sys.q", s->q, d * na * dbl, ctx));

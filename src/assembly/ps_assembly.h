@@ -66,6 +66,19 @@ typedef struct ps_system {
    * to b; the gradient of l, |q| = |y_b - y_a| / l <= 1), tension T, all
    * of the rounded length of PS_ARM_LENGTH_ROUNDING */
   double *l, *dl, *q, *T;
+  double *l0;               /* [n_arm] the rounded reference length
+                               sqrt(r0^2 + (e r0)^2), fixed per network */
+  /* the arm geometry l, dl, q (and th, r) above is that of positions
+   * X_geom + u_geom when geom_valid: an evaluation at the same X and u
+   * (bit for bit) takes it as it is instead of computing it again, which
+   * gives the same numbers (a Newton iteration evaluates its tangent at
+   * the point its line search has just evaluated; a breaking round its
+   * forces where the last round converged). Never for models with arm
+   * rotations, whose evaluation overwrites q with the force's direction.
+   * Whoever writes l, dl or q otherwise sets geom_valid = 0. */
+  double *u_geom;           /* [n_dof] */
+  const double *X_geom;
+  int geom_valid;
   /* the tangent of the last evaluation with one (PS_EVAL_OPERATOR or
    * PS_EVAL_TANGENT), kept through later evaluations of forces alone:
    * the model's stiffnesses tan, and the arm geometry tq (directions,

@@ -94,7 +94,7 @@ int ps_case_on_solver(ps_loader *L, void *arg, const char *key, const char *name
 const char *const ps_case_path_keys[] = {
     "load_step", "load_step_after_break", "max_load", "max_increments", "min_step",
     "stop_crack_tip", "stop_tip_advance", "stop_load_drop", "max_break_rounds",
-    "max_arms_per_round", "control", "arc_length_max", "arc_length_psi",
+    "max_arms_per_round", "round_tolerance", "control", "arc_length_max", "arc_length_psi",
     "arc_length_iterations", "max_arms_per_step", "dissipation_step", "dissipation_max",
     "steps", NULL};
 
@@ -148,6 +148,8 @@ int ps_case_on_path(ps_loader *L, void *arg, const char *key, const char *name,
     return ps_yaml_real(L, v, name, 0.0, 0, 1.0, 1, &o->stop_load_drop);
   if (IS("max_arms_per_round"))
     return ps_yaml_int(L, v, name, 0, INT_MAX, &o->max_arms_per_round);
+  if (IS("round_tolerance"))
+    return ps_yaml_real(L, v, name, 0.0, 1, 1.0, 1, &o->round_tolerance);
   if (IS("control")) { /* the order of enum ps_path_control */
     static const char *const controls[] = {"load", "arc_length", "dissipation", NULL};
     L->line_control = line_of(v);

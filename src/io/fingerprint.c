@@ -191,6 +191,10 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
     snprintf(b, sizeof b, "arms per round %d", po->max_arms_per_round);
     fnv(&h, b);
   }
+  if (po->round_tolerance > 0) { /* newer key: only when set */
+    snprintf(b, sizeof b, "round tolerance %.17g", po->round_tolerance);
+    fnv(&h, b);
+  }
   ps_solver_opts so_default;
   ps_solver_opts_default(&so_default);
   if (so->max_small_steps != so_default.max_small_steps) { /* newer keys: only

@@ -188,13 +188,23 @@ static int bond_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
   const ps_network *net = m->net;
   const int soft = m->mat.softening_ratio > 1.0 && m->arm_s0;
   double psi = 0.0;
-  for (ps_int i = 0; i < net->n_arm; i++) {
+  if (!soft) /* linear arms: the loop below without its branches */
+    for (ps_int i = 0; i < net->n_arm; i++) {
+      double k = st->broken[i] ? 0.0 : m->arm_k[i];
+      st->stretch[i] = dl[i] / net->r0[i];
+      st->eps_p_trial[i] = st->eps_p[i];
+      st->yielding[i] = 0;
+      T[i] = k * dl[i];
+      psi += 0.5 * k * dl[i] * dl[i];
+      if (tan) tan->D[i] = k;
+    }
+  for (ps_int i = 0; soft && i < net->n_arm; i++) {
     double k = st->broken[i] ? 0.0 : m->arm_k[i], D = k;
     int was_loading = st->yielding[i];
     st->stretch[i] = dl[i] / net->r0[i];
     st->eps_p_trial[i] = st->eps_p[i];
     st->yielding[i] = 0;
-    if (soft && k > 0 && isfinite(m->arm_s0[i])) {
+    if (k > 0 && isfinite(m->arm_s0[i])) {
       soft_arm a = soft_of(m, i);
       double phi;
       T[i] = soft_evaluate(&a, dl[i], st->eps_p[i], was_loading, &D, &phi,
@@ -252,11 +262,17 @@ static double bond_arm_dissipation(const ps_model *m, const ps_arm_state *c,
   return soft_dissipated(&a, kt) - soft_dissipated(&a, kc);
 }
 
+/* only softening arms dissipate (bond_arm_dissipation) */
+static int bond_dissipates(const ps_model *m) {
+  return m->mat.softening_ratio > 1.0 && m->arm_s0;
+}
+
 static const ps_model_type bond_type = {.name = "bond",
                                         .evaluate = bond_evaluate,
                                         .break_excess = bond_break_excess,
                                         .arm_energy = bond_arm_energy,
                                         .arm_dissipation = bond_arm_dissipation,
+                                        .dissipates = bond_dissipates,
                                         .prepare = bond_prepare,
                                         .family_coupling = 0,
                                         .lattice = 1,

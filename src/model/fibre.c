@@ -306,9 +306,13 @@ static double fibre_arm_dissipation(const ps_model *m, const ps_arm_state *c,
   return D;
 }
 
+/* only plastic flow dissipates (fibre_arm_dissipation) */
+static int fibre_dissipates(const ps_model *m) { return m->mat.plastic; }
+
 static const ps_model_type fibre_type = {.name = "fibre",
                                          .evaluate = fibre_evaluate,
                                          .arm_dissipation = fibre_arm_dissipation,
+                                         .dissipates = fibre_dissipates,
                                          .break_excess = fibre_break_excess,
                                          .prepare = fibre_prepare,
                                          .family_coupling = 1,

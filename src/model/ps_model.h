@@ -219,6 +219,11 @@ typedef struct ps_model_type {
    * value. */
   double (*arm_dissipation)(const ps_model *m, const ps_arm_state *c, const ps_arm_state *st,
                             ps_int i, double dl, double *dD);
+  /* Optional (NULL: whenever arm_dissipation is there): 0 when this
+   * instance's arm_dissipation is 0 for every arm and state (bond without
+   * softening, elastic fibre), so that its sum over the arms is skipped:
+   * the same 0. */
+  int (*dissipates)(const ps_model *m);
   /* Optional (NULL: nothing to do): check the parameters against the
    * network, precompute per-arm data into m->arm_k and allocate m->work.
    * Returns PS_OK, PS_ERR_INPUT (message names the parameter),

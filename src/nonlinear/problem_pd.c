@@ -139,7 +139,8 @@ double ps_pd_dissipation(const ps_pd *pd, double *g) {
   const int N = net->dim;
   double D = 0.0;
   if (g) memset(g, 0, (size_t)pd->sys.n_dof * sizeof *g);
-  if (!m->type->arm_dissipation) return 0.0;
+  if (!m->type->arm_dissipation || (m->type->dissipates && !m->type->dissipates(m)))
+    return 0.0;
   for (ps_int i = 0; i < net->n_arm; i++) {
     double dD;
     D += m->type->arm_dissipation(m, &pd->st_saved, &pd->st, i, pd->sys.dl[i], &dD);

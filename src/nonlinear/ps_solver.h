@@ -157,6 +157,18 @@ ps_int ps_solver_count_past_criterion(const ps_solver *s);
 int ps_solver_break_round(ps_solver *s, ps_int max_count, ps_int *n_broken,
                           ps_ctx *ctx);
 
+/* ps_solver_break_round with the re-equilibration stopped once the
+ * relative residual is below tolerance (used when above solver.tolerance:
+ * path.round_tolerance; <= solver.tolerance: the solver's own). */
+int ps_solver_break_round_to(ps_solver *s, ps_int max_count, double tolerance,
+                             ps_int *n_broken, ps_ctx *ctx);
+
+/* Newton at the load of the last commit, from its state, to
+ * solver.tolerance; commits when converged (a state committed at a looser
+ * tolerance made an equilibrium of it). Returns PS_OK, PS_DIVERGED (the
+ * state is that of the failed attempt) or fatal. */
+int ps_solver_resettle(ps_solver *s, ps_ctx *ctx);
+
 /* Break the arms past the criterion (as ps_solver_break_round) without
  * re-equilibrating: the state, out of equilibrium by the broken arms'
  * forces, becomes the commit, from which the next path-following step

@@ -621,10 +621,26 @@ double ps_solver_step_dissipation(const ps_solver *s) { return s->pd->dissipatio
 
 int ps_solver_break_round(ps_solver *s, ps_int max_count, ps_int *n_broken,
                           ps_ctx *ctx) {
+  return ps_solver_break_round_to(s, max_count, 0.0, n_broken, ctx);
+}
+
+int ps_solver_break_round_to(ps_solver *s, ps_int max_count, double tolerance,
+                             ps_int *n_broken, ps_ctx *ctx) {
   PS_CHECK(ps_pd_break_arms(s->pd, max_count, n_broken, ctx));
   if (*n_broken == 0) return PS_OK;
   s->have_prev = 0; /* no secant predictor across a break */
   ps_log(ctx, 2, "    %lld arms broke, re-equilibrating\n", (long long)*n_broken);
+  double tol = s->opts.tolerance;
+  if (tolerance > tol) s->opts.tolerance = tolerance;
+  int status = ps_newton_solve(s, ctx);
+  s->opts.tolerance = tol;
+  if (status != PS_OK) return status;
+  ps_solver_commit(s);
+  return PS_OK;
+}
+
+int ps_solver_resettle(ps_solver *s, ps_ctx *ctx) {
+  ps_log(ctx, 2, "    re-equilibrating to solver.tolerance\n");
   int status = ps_newton_solve(s, ctx);
   if (status != PS_OK) return status;
   ps_solver_commit(s);

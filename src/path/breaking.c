@@ -22,13 +22,14 @@ double ps_path_crack_tip(const ps_path *p) {
  * fewer arms, the worst first, halving down to one: only if one arm cannot
  * be broken and re-equilibrated does the round stay failed. */
 static int round_with_retries(ps_path *p, ps_int *n_broken, ps_ctx *ctx) {
-  int settle = ps_solver_break_round(p->s, p->o.max_arms_per_round, n_broken, ctx);
+  double tol = p->o.round_tolerance;
+  int settle = ps_solver_break_round_to(p->s, p->o.max_arms_per_round, tol, n_broken, ctx);
   while (settle == PS_DIVERGED && *n_broken > 1) {
     ps_int limit = *n_broken / 2;
     ps_solver_restore(p->s);
     ps_log(ctx, 2, "    re-equilibration failed: breaking the worst %lld arms only\n",
            (long long)limit);
-    settle = ps_solver_break_round(p->s, limit, n_broken, ctx);
+    settle = ps_solver_break_round_to(p->s, limit, tol, n_broken, ctx);
     p->gentle_rounds++;
   }
   return settle;
@@ -45,9 +46,20 @@ static int crack_has_run(const ps_path *p) {
          (p->pb.c > 0 && o->stop_tip_advance > 0 && tr - p->tip_start >= o->stop_tip_advance);
 }
 
+/* path.round_tolerance: the state of the last round, converged to the
+ * looser tolerance, solved again to solver.tolerance (*loose = 0).
+ * Returns PS_OK, PS_DIVERGED or fatal. */
+static int tighten(ps_path *p, int *loose, ps_ctx *ctx) {
+  if (!*loose) return PS_OK;
+  *loose = 0;
+  return ps_solver_resettle(p->s, ctx);
+}
+
 int ps_path_break_rounds(ps_path *p, ps_int its0, ps_int *n_broken, int *settle,
                          int *settled, ps_ctx *ctx) {
   int rounds = 0;
+  int loose = 0; /* the last commit is a round's, converged to
+                    path.round_tolerance only */
   double t_note = ps_wtime(); /* long increments print a line every 10 s */
   *n_broken = 0;
   for (;;) {
@@ -55,11 +67,21 @@ int ps_path_break_rounds(ps_path *p, ps_int its0, ps_int *n_broken, int *settle,
     *settle = round_with_retries(p, &nr, ctx);
     if (*settle < 0) return *settle;
     *n_broken += nr;
+    if (*settle == PS_OK && nr > 0 && p->o.round_tolerance > 0) loose = 1;
+    if (*settle == PS_OK && nr == 0 && loose) {
+      /* nothing past the criterion in the loose state: the equilibrium to
+       * solver.tolerance decides, and the rounds go on from it if arms
+       * are past the criterion there */
+      *settle = tighten(p, &loose, ctx);
+      if (*settle < 0) return *settle;
+      if (*settle == PS_OK && ps_solver_count_past_criterion(p->s) > 0) continue;
+    }
     *settled = *settle == PS_OK && nr == 0; /* no arm left past delta */
     if (*settle != PS_OK || nr == 0) return PS_OK;
     if (p->pb.interrupted && p->pb.interrupted(p->pb.interrupted_data, NULL, 0)) {
       p->rounds_interrupted = 1;
-      return PS_OK;
+      *settle = tighten(p, &loose, ctx);
+      return *settle < 0 ? *settle : PS_OK;
     }
     if (ps_wtime() - t_note > 10.0) {
       ps_solver_stats st;
@@ -70,7 +92,10 @@ int ps_path_break_rounds(ps_path *p, ps_int its0, ps_int *n_broken, int *settle,
              ps_solver_lambda(p->s), rounds + 1, (long long)(p->broken_total + *n_broken),
              (long long)(st.newton_iterations - its0));
     }
-    if (crack_has_run(p)) return PS_OK; /* the stop rules end the run */
+    if (crack_has_run(p)) { /* the stop rules end the run */
+      *settle = tighten(p, &loose, ctx);
+      return *settle < 0 ? *settle : PS_OK;
+    }
     if (++rounds >= p->o.max_break_rounds)
       return ps_error(ctx, PS_ERR_SOLVER,
                       "%s: arms still breaking after %d re-equilibrations at load "

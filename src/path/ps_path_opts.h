@@ -34,6 +34,14 @@ typedef struct ps_path_opts {
                                    arms, those past the criterion by the
                                    most, before re-equilibrating; 0: all of
                                    them (default) */
+  double round_tolerance;       /* > 0: each breaking round's
+                                   re-equilibration stops at this relative
+                                   residual (if above solver.tolerance), and
+                                   the state the rounds end in is solved
+                                   again to solver.tolerance (and the rounds
+                                   go on if arms are then past the
+                                   criterion); 0: every round to
+                                   solver.tolerance (default) */
   int control;                  /* the step controller: PS_CONTROL_LOAD
                                    (default), PS_CONTROL_ARC_LENGTH or
                                    PS_CONTROL_DISSIPATION */

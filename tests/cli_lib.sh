@@ -29,6 +29,14 @@ no_hang() {
   expect "$@"
   P=$P_plain
 }
+# drop_columns FILE NAME...: the CSV FILE without the columns NAME... (by
+# header), e.g. history.csv without wall_s, whose value no two runs share
+drop_columns() {
+  f=$1
+  shift
+  awk -F, -v names=" $* " 'NR == 1 { for (i = 1; i <= NF; i++) if (index(names, " " $i " ")) w[i] = 1 }
+    { s = ""; for (i = 1; i <= NF; i++) if (!(i in w)) s = s (s == "" ? "" : ",") $i; print s }' "$f"
+}
 # the closing line and the exit status of the script
 summary() {
   echo "$pass passed, $fail failed"

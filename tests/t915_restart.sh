@@ -20,10 +20,7 @@ rm -rf "$T"
 mkdir -p "$T"
 
 # history.csv without its wall_s column
-no_wall() {
-  col=$(head -1 "$1" | tr ',' '\n' | grep -n '^wall_s$' | cut -d: -f1)
-  cut -d, -f"1-$((col - 1)),$((col + 1))-" "$1"
-}
+no_wall() { drop_columns "$1" wall_s; }
 # summary.txt without times, memory and threads
 counts() { grep -v '_s:\|_MiB:\|^threads:' "$1"; }
 # same A B WHAT: the outputs of runs A and B are identical

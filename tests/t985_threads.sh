@@ -95,10 +95,7 @@ done
 
 val() { sed -n "s/^$2: //p" "$1"; }
 # history.csv without its wall_s column
-hist() {
-  awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "wall_s") w = i }
-    { s = ""; for (i = 1; i <= NF; i++) if (i != w) s = s (s == "" ? "" : ",") $i; print s }' "$1"
-}
+hist() { drop_columns "$1" wall_s; }
 # same A B: history.csv (but wall_s) and particles.csv of runs A and B
 # byte for byte (the first difference in $why)
 same() {

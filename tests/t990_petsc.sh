@@ -76,10 +76,7 @@ run() {
 }
 # history.csv without wall_s and relative_residual (the residual Newton
 # stopped at is round-off of the solver, not a result)
-hist() {
-  awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "wall_s" || $i == "relative_residual") w[i] = 1 }
-    { s = ""; for (i = 1; i <= NF; i++) if (!(i in w)) s = s (s == "" ? "" : ",") $i; print s }' "$1"
-}
+hist() { drop_columns "$1" wall_s relative_residual; }
 # udiff A B: max |u_A - u_B| / max |u| over the displacement columns of
 # particles.csv (ux, uy[, uz])
 udiff() {

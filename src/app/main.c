@@ -374,8 +374,6 @@ static int command(peristatic *ps, const cli *c) {
   if (status == PERISTATIC_OK && c->max_memory > 0)
     status = peristatic_set_max_memory(ps, c->max_memory, "--max-memory");
   if (status == PERISTATIC_OK) status = peristatic_set_threads(ps, c->threads);
-  if (status == PERISTATIC_OK && c->petsc[0])
-    status = peristatic_set_petsc_options(ps, c->petsc);
   if (status == PERISTATIC_OK && c->restart) status = peristatic_set_restart(ps, c->restart);
   char outdir[1100];
   if (status == PERISTATIC_OK) status = peristatic_output_dir(ps, c->out, outdir, sizeof outdir);
@@ -404,11 +402,9 @@ int main(int argc, char **argv) {
   }
   /* under mpiexec, or with PETSc options, MPI starts now (a serial run
    * with solver.linear: petsc starts it when it creates the solver) */
-  int status = PERISTATIC_OK;
-  if (peristatic_parallel_launched() || c.petsc[0]) {
-    status = peristatic_set_petsc_options(ps, c.petsc);
-    if (status == PERISTATIC_OK) status = peristatic_parallel_init(ps);
-  }
+  int status = peristatic_set_petsc_options(ps, c.petsc);
+  if (status == PERISTATIC_OK && (peristatic_parallel_launched() || c.petsc[0]))
+    status = peristatic_parallel_init(ps);
   if (status == PERISTATIC_OK) status = command(ps, &c);
   code = status < 0 ? fail(status, ps) : 0;
   peristatic_free(ps);

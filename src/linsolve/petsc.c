@@ -1,22 +1,24 @@
 /* petsc.c: the PETSc backend (solver.linear: petsc) and the MPI process
  * layer it needs (ps_parallel_*).
  *
- * The matrix is PETSc's AIJ (MPIAIJ on several ranks), rows split in
- * contiguous blocks over the ranks (PETSc's default layout: n / P rows
- * each, the first n % P ranks one more); each rank sets only its own rows,
- * from the full symmetric rows ps_csc_expand makes of the upper triangle.
- * The KSP and its PC come from PETSc's options (the case's
- * solver.petsc_options, then the command line's -ksp_* / -pc_* / ...).
- * Without options: -ksp_type preonly -pc_type cholesky with MUMPS, an
- * LDL^T factorisation with pivoting (symmetric, not assumed definite);
- * its negative pivots (MUMPS INFOG(12)) make the factor PS_NOT_POSDEF,
- * as CHOLMOD's LL^T would be. A multigrid PC gets the rigid-body modes of
- * the unknowns as its near-null space.
+ * The system PETSc solves is over all dofs, in blocks of dim (one block a
+ * particle): a free dof's row is its row of the tangent (the full
+ * symmetric row ps_csc_expand makes of the upper triangle), a prescribed
+ * dof's row is the identity's. Its rows are split over the ranks in whole
+ * particles (PETSc's default layout of blocks), and each rank sets only
+ * its own rows. The matrix is AIJ (MPIAIJ on several ranks, block size
+ * dim), or SBAIJ with -mat_type sbaij (the upper triangle only). The KSP
+ * and its PC come from PETSc's options (the case's solver.petsc_options,
+ * then the command line's -ksp_* / -pc_* / ...). Without options:
+ * -ksp_type preonly -pc_type cholesky with MUMPS, an LDL^T factorisation
+ * with pivoting (symmetric, not assumed definite); its negative pivots
+ * (MUMPS INFOG(12)) make the factor PS_NOT_POSDEF, as CHOLMOD's LL^T would
+ * be. The particles' rigid-body modes are the near-null space (GAMG).
  *
- * The right-hand side and the solution are whole vectors on every rank:
- * each rank copies its rows in and all ranks get all of x back (a
- * VecScatter to all), so the callers, which hold the whole state on every
- * rank, stay identical on all ranks. */
+ * The right-hand side and the solution are whole vectors of the free dofs
+ * on every rank: each rank copies its rows in and all ranks get all of x
+ * back (a VecScatter to all), so the callers, which hold the whole state
+ * on every rank, stay identical on all ranks. */
 #include <config.h>
 
 #include "ps_linsolve.h"
@@ -33,8 +35,6 @@
  * reads flops_factor / (5 x 4 nnz_factor)): a rule of thumb, not a
  * measurement (doc/performance.md) */
 #define PS_PETSC_SETUP_ITERATIONS 50.0
-
-int ps_parallel_available(void) { return 1; }
 
 int ps_parallel_launched(void) {
   const char *const vars[] = {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", NULL};
@@ -80,14 +80,6 @@ int ps_parallel_size(void) {
   return n;
 }
 
-int ps_parallel_all_agree(int flag) {
-  if (ps_parallel_size() == 1) return flag;
-  int lo = flag, hi = flag;
-  MPI_Allreduce(&flag, &lo, 1, MPI_INT, MPI_MIN, PETSC_COMM_WORLD);
-  MPI_Allreduce(&flag, &hi, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
-  return lo == hi;
-}
-
 void ps_parallel_finalize(void) {
   PetscBool up = PETSC_FALSE, down = PETSC_FALSE;
   PetscInitialized(&up);
@@ -106,6 +98,8 @@ typedef struct {
                             this rank's rows */
   ps_int n_free;         /* A's order */
   int d;                 /* the block size: dim, or 1 */
+  const ps_int *dof;     /* free index -> dof (ls->dof_of_free), or NULL
+                            when the system is A's own (identity) */
   ps_int *row_free;      /* this rank's row r: its free index, or -1 */
   ps_int *Ap, *Ai, *map; /* this rank's rows of the whole system (dofs as
                             columns) and where each value is in A->x (-1:
@@ -183,11 +177,11 @@ static int make_ksp(petsc_state *s, ps_ctx *ctx) {
 
 /* the first free index whose dof is >= g */
 static ps_int free_from(const petsc_state *s, ps_int g) {
-  if (!s->ls->dof_of_free) return g < s->n_free ? g : s->n_free;
+  if (!s->dof) return g < s->n_free ? g : s->n_free;
   ps_int lo = 0, hi = s->n_free;
   while (lo < hi) {
     ps_int mid = lo + (hi - lo) / 2;
-    if (s->ls->dof_of_free[mid] < g) lo = mid + 1;
+    if (s->dof[mid] < g) lo = mid + 1;
     else hi = mid;
   }
   return lo;
@@ -198,7 +192,7 @@ static ps_int free_from(const petsc_state *s, ps_int g) {
  * dof's row is its diagonal alone (map -1: the value 1). Rows are split
  * in whole particles (blocks of dim dofs). */
 static int full_rows(petsc_state *s, const ps_csc *A, ps_ctx *ctx) {
-  const ps_int *dof = s->ls->dof_of_free;
+  const ps_int *dof = s->dof;
   ps_int k0 = free_from(s, s->rstart), k1 = free_from(s, s->rend), *fAp, *fAi, *fmap;
   PS_CHECK(ps_csc_expand(A, k0, k1, &fAp, &fAi, &fmap, ctx));
   ps_int m = s->rend - s->rstart, nz = fAp[k1 - k0] + (m - (k1 - k0));
@@ -265,6 +259,7 @@ static int pt_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st, ps_ct
    * (blocks of dim for GAMG and the rigid-body modes), else over A's */
   int blocks = ls->dim >= 1 && ls->dof_of_free && ls->x && ls->n_dof >= A->n;
   s->d = blocks ? ls->dim : 1;
+  s->dof = blocks ? ls->dof_of_free : NULL;
   s->n_free = A->n;
   ps_int N = blocks ? ls->n_dof : A->n;
   if (N > (ps_int)PETSC_MAX_INT || A->p[A->n] > (ps_int)PETSC_MAX_INT / 2)
@@ -390,7 +385,8 @@ static int pt_factor(void *state, const ps_csc *A, ps_int *bad_col, ps_linsolve_
     st->flops_factor = flops;
     if (neg > 0) return PS_NOT_POSDEF;
   } else {
-    /* an AMG or incomplete factor: its set-up counted as about
+    /* any other PC (AMG, incomplete factor, a factor not by MUMPS): its
+     * set-up counted as about
      * PS_PETSC_SETUP_ITERATIONS of the CG iterations it preconditions
      * (ps_linsolve_stats: flops_factor / (5 x 4 nnz_factor)) */
     st->nnz_factor = (double)A->p[A->n];
@@ -405,9 +401,8 @@ static int gather(petsc_state *s, double *x, ps_ctx *ctx) {
   PT(VecScatterBegin(s->to_all, s->x, s->x_all, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
   PT(VecScatterEnd(s->to_all, s->x, s->x_all, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
   const PetscScalar *a;
-  const ps_int *dof = s->N != s->n_free || s->d > 1 ? s->ls->dof_of_free : NULL;
   PT(VecGetArrayRead(s->x_all, &a), "VecGetArrayRead");
-  for (ps_int k = 0; k < s->n_free; k++) x[k] = a[dof ? dof[k] : k];
+  for (ps_int k = 0; k < s->n_free; k++) x[k] = a[s->dof ? s->dof[k] : k];
   PT(VecRestoreArrayRead(s->x_all, &a), "VecRestoreArrayRead");
   return PS_OK;
 }
@@ -474,7 +469,6 @@ static void pt_destroy(void **state) {
 
 #else /* without PETSc: rank 0 of 1, and a backend that says how to get one */
 
-int ps_parallel_available(void) { return 0; }
 int ps_parallel_launched(void) { return 0; }
 int ps_parallel_init(const char *options, ps_ctx *ctx) {
   return ps_error(ctx, PS_ERR_INPUT, "this peristatic was built without PETSc: configure "
@@ -482,7 +476,6 @@ int ps_parallel_init(const char *options, ps_ctx *ctx) {
 }
 int ps_parallel_rank(void) { return 0; }
 int ps_parallel_size(void) { return 1; }
-int ps_parallel_all_agree(int flag) { return flag; }
 void ps_parallel_finalize(void) {}
 
 static int pt_create(void **state, const ps_linsolve *ls, ps_ctx *ctx) {

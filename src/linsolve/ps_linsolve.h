@@ -78,8 +78,6 @@ extern const ps_linsolve_type *const ps_linsolve_petsc;
 /* The MPI process layer of the PETSc backend (petsc.c). MPI and PETSc
  * are process-wide, so these are too; without PETSc the process is rank
  * 0 of 1. */
-/* 1 when this build has the PETSc backend */
-int ps_parallel_available(void);
 /* 1 when an MPI launcher (mpiexec) started this process (its environment) */
 int ps_parallel_launched(void);
 /* Initialise PETSc and MPI once, with PETSc options (NULL: none) as if
@@ -90,8 +88,6 @@ int ps_parallel_init(const char *options, ps_ctx *ctx);
 /* this process's rank and the number of ranks (0 and 1 before init) */
 int ps_parallel_rank(void);
 int ps_parallel_size(void);
-/* 1 when flag is the same on every rank (collective), else 0 */
-int ps_parallel_all_agree(int flag);
 /* PetscFinalize (and MPI's) if init ran; no-op otherwise */
 void ps_parallel_finalize(void);
 

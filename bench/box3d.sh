@@ -5,11 +5,13 @@
 # Default material: the fibre model, alpha 3.5, elastic.
 box3d() {
   f="$work/$1.yaml"
+  # the default in a variable: inside ${3:-...} the first '}' would end it
+  default_material='kernel: {alpha: 3.5}
+material: {E: 210.0e9, nu: 0.3, yield_strain: 0.002, plastic: false}'
   cat > "$f" <<EOC
 name: $1
 geometry: {type: box, dim: 3, counts: [$2, $2, $2], spacing: 1.0e-3, lattice: square}
-${3:-kernel: {alpha: 3.5}
-material: {E: 210.0e9, nu: 0.3, yield_strain: 0.002, plastic: false}}
+${3:-$default_material}
 loading:
   type: boundary
   boundary:

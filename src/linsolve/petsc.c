@@ -2,12 +2,15 @@
  * layer it needs (ps_parallel_*).
  *
  * The system PETSc solves is over all dofs, in blocks of dim (one block a
- * particle): a free dof's row is its row of the tangent (the full
- * symmetric row ps_csc_expand makes of the upper triangle), a prescribed
- * dof's row is the identity's. Its rows are split over the ranks in whole
- * particles (PETSc's default layout of blocks), and each rank sets only
- * its own rows. The matrix is AIJ (MPIAIJ on several ranks, block size
- * dim), or SBAIJ with -mat_type sbaij (the upper triangle only). The KSP
+ * particle): a free dof's row is its row of the symmetric tangent whose
+ * upper triangle the caller's A is, a prescribed dof's row is the
+ * identity's. Its rows are split over the ranks in whole particles
+ * (PETSc's default layout of blocks), and each rank sets only its own
+ * rows. The matrix is AIJ (MPIAIJ on several ranks, block size dim), or
+ * SBAIJ with -mat_type sbaij (the upper triangle only), or BAIJ; its
+ * pattern is set once per analysis, and each factorisation writes A's
+ * values straight into the value arrays of the matrix's local pieces,
+ * slot by slot (value_slots finds which entry each slot holds). The KSP
  * and its PC come from PETSc's options (the case's solver.petsc_options,
  * then the command line's -ksp_* / -pc_* / ...). Without options:
  * -ksp_type preonly -pc_type cholesky with MUMPS, an LDL^T factorisation
@@ -94,17 +97,25 @@ typedef struct {
   KSP ksp;
   Vec b, x, x_all;      /* b, x: this rank's rows; x_all: all rows */
   VecScatter to_all;
-  PetscInt N, rstart, rend; /* the system's order (all dofs: full_rows),
+  PetscInt N, rstart, rend; /* the system's order (all dofs: this_rows),
                             this rank's rows */
   ps_int n_free;         /* A's order */
   int d;                 /* the block size: dim, or 1 */
   const ps_int *dof;     /* free index -> dof (ls->dof_of_free), or NULL
                             when the system is A's own (identity) */
   ps_int *row_free;      /* this rank's row r: its free index, or -1 */
-  ps_int *Ap, *Ai, *map; /* this rank's rows of the whole system (dofs as
-                            columns) and where each value is in A->x (-1:
-                            a prescribed dof's diagonal, 1) */
-  PetscInt *cols;        /* one row's columns as PetscInt */
+  /* where the values go (fill_values): the local pieces of the matrix
+   * (the matrix itself, or an MPI matrix's diagonal and off-diagonal
+   * blocks) whose value arrays are written directly, slot by slot from
+   * A->x (piece_src[p][slot]: the position in A->x, PS_ONE for a
+   * prescribed dof's diagonal, PS_ZERO for a slot outside the pattern);
+   * and the entries no piece holds (MatSetValues, row by row: rest_ia,
+   * rest_ja, rest_src) */
+  Mat piece[2];
+  ps_int piece_len[2];
+  ps_int *piece_src[2];
+  PetscInt *rest_ia, *rest_ja;
+  ps_int *rest_src;
   double *vals;          /* one row's values */
   ps_int max_row;        /* the longest row */
   int direct;            /* the PC is a factorisation by MUMPS */
@@ -112,6 +123,10 @@ typedef struct {
                             1e-10), for solves without ls->rtol */
   int have_pc;           /* the PC was set up */
 } petsc_state;
+
+/* piece_src and rest_src values that are not positions in A->x */
+#define PS_ONE ((ps_int)-1)
+#define PS_ZERO ((ps_int)-2)
 
 /* PS_ERR_SOLVER with PETSc's own text for error ierr of call `what` */
 static int petsc_failed(PetscErrorCode ierr, const char *what, ps_ctx *ctx) {
@@ -147,15 +162,20 @@ static void pt_free_objects(petsc_state *s) {
   if (s->x) VecDestroy(&s->x);
   if (s->x_all) VecDestroy(&s->x_all);
   if (s->to_all) VecScatterDestroy(&s->to_all);
-  free(s->Ap);
-  free(s->Ai);
-  free(s->map);
   free(s->row_free);
   s->row_free = NULL;
-  free(s->cols);
+  for (int p = 0; p < 2; p++) {
+    free(s->piece_src[p]);
+    s->piece_src[p] = NULL;
+    s->piece[p] = NULL;
+    s->piece_len[p] = 0;
+  }
+  free(s->rest_ia);
+  free(s->rest_ja);
+  free(s->rest_src);
   free(s->vals);
-  s->Ap = s->Ai = s->map = NULL;
-  s->cols = NULL;
+  s->rest_ia = s->rest_ja = NULL;
+  s->rest_src = NULL;
   s->vals = NULL;
   s->have_pc = 0;
 }
@@ -187,43 +207,222 @@ static ps_int free_from(const petsc_state *s, ps_int g) {
   return lo;
 }
 
-/* this rank's rows of the whole system over all dofs: a free dof's row is
- * its row of A (ps_csc_expand) with the columns as dofs; a prescribed
- * dof's row is its diagonal alone (map -1: the value 1). Rows are split
- * in whole particles (blocks of dim dofs). */
-static int full_rows(petsc_state *s, const ps_csc *A, ps_ctx *ctx) {
+/* This rank's rows of the system over all dofs (A's own when s->dof is
+ * NULL) in CSR, columns as dofs (sorted): *ia[m + 1], *ja, and *src, for
+ * each entry the position of its value in A->x (PS_ONE: a prescribed
+ * dof's diagonal, the value 1). A free dof k's row is row k of the
+ * symmetric matrix whose upper triangle A is: the entries of A's column k
+ * (rows i <= k, the row's left part and diagonal) then the entries (k, c)
+ * of the columns c > k (its right part, in increasing c); with
+ * upper_only (SBAIJ) the diagonal and the right part alone. Rows are
+ * whole particles (blocks of dim). Returns PS_OK or PS_ERR_NOMEM. */
+static int this_rows(const petsc_state *s, const ps_csc *A, int upper_only, PetscInt **ia_out,
+                     PetscInt **ja_out, ps_int **src_out, ps_ctx *ctx) {
   const ps_int *dof = s->dof;
-  ps_int k0 = free_from(s, s->rstart), k1 = free_from(s, s->rend), *fAp, *fAi, *fmap;
-  PS_CHECK(ps_csc_expand(A, k0, k1, &fAp, &fAi, &fmap, ctx));
-  ps_int m = s->rend - s->rstart, nz = fAp[k1 - k0] + (m - (k1 - k0));
-  s->Ap = ps_calloc((size_t)m + 1, sizeof *s->Ap, ctx);
-  s->Ai = ps_calloc((size_t)nz + 1, sizeof *s->Ai, ctx);
-  s->map = ps_calloc((size_t)nz + 1, sizeof *s->map, ctx);
-  s->row_free = ps_calloc((size_t)m + 1, sizeof *s->row_free, ctx);
-  if (s->Ap && s->Ai && s->map && s->row_free) {
-    ps_int w = 0, k = k0;
-    for (ps_int r = 0; r < m; r++) {
-      ps_int g = s->rstart + r;
-      s->Ap[r] = w;
-      s->row_free[r] = -1;
-      if (k < k1 && (dof ? dof[k] : k) == g) {
-        s->row_free[r] = k;
-        for (ps_int e = fAp[k - k0]; e < fAp[k - k0 + 1]; e++, w++) {
-          s->Ai[w] = dof ? dof[fAi[e]] : fAi[e];
-          s->map[w] = fmap[e];
-        }
-        k++;
-      } else {
-        s->Ai[w] = g;
-        s->map[w++] = -1;
+  ps_int k0 = free_from(s, s->rstart), k1 = free_from(s, s->rend), m = s->rend - s->rstart;
+  PetscInt *ia = ps_calloc((size_t)m + 1, sizeof *ia, ctx), *ja = NULL;
+  ps_int *src = NULL, *fill = ps_calloc((size_t)(k1 - k0) + 1, sizeof *fill, ctx);
+  ps_int *row_of = ps_calloc((size_t)(k1 - k0) + 1, sizeof *row_of, ctx);
+  if (!ia || !fill || !row_of) goto nomem;
+  /* each row's length: a prescribed dof 1; a free dof its left part and
+   * diagonal (or the diagonal alone) plus its right part */
+  for (ps_int r = 0, k = k0; r < m; r++) {
+    ps_int g = s->rstart + r;
+    if (k < k1 && (dof ? dof[k] : k) == g) {
+      row_of[k - k0] = r;
+      ps_int own = A->p[k + 1] - A->p[k];
+      int has_diag = own > 0 && A->i[A->p[k + 1] - 1] == k;
+      ia[r + 1] = upper_only ? has_diag : own;
+      k++;
+    } else {
+      ia[r + 1] = 1;
+    }
+  }
+  for (ps_int c = k0 + 1; c < A->n; c++)
+    for (ps_int e = A->p[c]; e < A->p[c + 1]; e++) {
+      ps_int i = A->i[e];
+      if (i >= k0 && i < k1 && i != c) ia[row_of[i - k0] + 1]++;
+    }
+  for (ps_int r = 0; r < m; r++) ia[r + 1] += ia[r];
+  ja = ps_calloc((size_t)ia[m] + 1, sizeof *ja, ctx);
+  src = ps_calloc((size_t)ia[m] + 1, sizeof *src, ctx);
+  if (!ja || !src) goto nomem;
+  for (ps_int r = 0, k = k0; r < m; r++) {
+    ps_int g = s->rstart + r, w = ia[r];
+    if (k < k1 && (dof ? dof[k] : k) == g) {
+      for (ps_int e = A->p[k]; e < A->p[k + 1]; e++) {
+        ps_int i = A->i[e];
+        if (upper_only && i != k) continue;
+        ja[w] = (PetscInt)(dof ? dof[i] : i);
+        src[w++] = e;
+      }
+      fill[k - k0] = w;
+      k++;
+    } else {
+      ja[w] = (PetscInt)g;
+      src[w] = PS_ONE;
+    }
+  }
+  for (ps_int c = k0 + 1; c < A->n; c++)
+    for (ps_int e = A->p[c]; e < A->p[c + 1]; e++) {
+      ps_int i = A->i[e];
+      if (i < k0 || i >= k1 || i == c) continue;
+      ps_int w = fill[i - k0]++;
+      ja[w] = (PetscInt)(dof ? dof[c] : c);
+      src[w] = e;
+    }
+  free(fill);
+  free(row_of);
+  *ia_out = ia;
+  *ja_out = ja;
+  *src_out = src;
+  return PS_OK;
+nomem:
+  free(ia);
+  free(ja);
+  free(src);
+  free(fill);
+  free(row_of);
+  return PS_ERR_NOMEM;
+}
+
+/* The local pieces of the matrix whose value arrays can be written
+ * directly: a sequential AIJ, BAIJ or SBAIJ matrix itself; an MPI AIJ or
+ * BAIJ matrix's diagonal and off-diagonal blocks; an MPI SBAIJ matrix's
+ * diagonal block (its off-diagonal block is not public). Other types: no
+ * piece (every value through MatSetValues). */
+static int local_pieces(petsc_state *s, ps_ctx *ctx) {
+  PetscBool seq = PETSC_FALSE, maij = PETSC_FALSE, mbaij = PETSC_FALSE, msbaij = PETSC_FALSE;
+  const PetscInt *colmap;
+  s->piece[0] = s->piece[1] = NULL;
+  PT(PetscObjectTypeCompareAny((PetscObject)s->A, &seq, MATSEQAIJ, MATSEQBAIJ, MATSEQSBAIJ, ""),
+     "PetscObjectTypeCompareAny");
+  PT(PetscObjectTypeCompare((PetscObject)s->A, MATMPIAIJ, &maij), "PetscObjectTypeCompare");
+  PT(PetscObjectTypeCompare((PetscObject)s->A, MATMPIBAIJ, &mbaij), "PetscObjectTypeCompare");
+  PT(PetscObjectTypeCompare((PetscObject)s->A, MATMPISBAIJ, &msbaij), "PetscObjectTypeCompare");
+  if (seq) s->piece[0] = s->A;
+  else if (maij) PT(MatMPIAIJGetSeqAIJ(s->A, &s->piece[0], &s->piece[1], &colmap), "MatMPIAIJGetSeqAIJ");
+  else if (mbaij) PT(MatMPIBAIJGetSeqBAIJ(s->A, &s->piece[0], &s->piece[1], &colmap), "MatMPIBAIJGetSeqBAIJ");
+  else if (msbaij) PT(MatGetDiagonalBlock(s->A, &s->piece[0]), "MatGetDiagonalBlock");
+  return PS_OK;
+}
+
+/* a sequential piece's value array (its stored entries, padding of
+ * blocks included) */
+static PetscErrorCode piece_array(Mat P, PetscScalar **a, int get) {
+  PetscBool aij = PETSC_FALSE, baij = PETSC_FALSE;
+  PetscErrorCode ierr = PetscObjectTypeCompare((PetscObject)P, MATSEQAIJ, &aij);
+  if (!ierr) ierr = PetscObjectTypeCompare((PetscObject)P, MATSEQBAIJ, &baij);
+  if (ierr) return ierr;
+  if (aij) return get ? MatSeqAIJGetArray(P, a) : MatSeqAIJRestoreArray(P, a);
+  if (baij) return get ? MatSeqBAIJGetArray(P, a) : MatSeqBAIJRestoreArray(P, a);
+  return get ? MatSeqSBAIJGetArray(P, a) : MatSeqSBAIJRestoreArray(P, a);
+}
+
+/* The preallocation of a block matrix (BAIJ) of block size s->d from the
+ * numbers of blocks each block row of this rank's rows (ia, ja) has in
+ * the diagonal part (columns among this rank's rows) and outside it.
+ * Returns PS_OK or PS_ERR_NOMEM; PETSc's error in *ierr. */
+static int block_preallocation(const petsc_state *s, const PetscInt *ia, const PetscInt *ja,
+                               PetscErrorCode *ierr, ps_ctx *ctx) {
+  int d = s->d;
+  ps_int mb = (s->rend - s->rstart) / d, nb = s->N / d;
+  PetscInt *dn = ps_calloc((size_t)mb + 1, sizeof *dn, ctx);
+  PetscInt *on = ps_calloc((size_t)mb + 1, sizeof *on, ctx);
+  ps_int *seen = ps_calloc((size_t)nb + 1, sizeof *seen, ctx);
+  if (!dn || !on || !seen) {
+    free(dn), free(on), free(seen);
+    return PS_ERR_NOMEM;
+  }
+  for (ps_int c = 0; c < nb; c++) seen[c] = -1;
+  for (ps_int R = 0; R < mb; R++)
+    for (ps_int r = R * d; r < (R + 1) * d; r++)
+      for (PetscInt e = ia[r]; e < ia[r + 1]; e++) {
+        ps_int c = ja[e] / d;
+        if (seen[c] == R) continue;
+        seen[c] = R;
+        if (c >= s->rstart / d && c < s->rend / d) dn[R]++;
+        else on[R]++;
+      }
+  *ierr = MatXAIJSetPreallocation(s->A, d, dn, on, NULL, NULL);
+  free(dn), free(on), free(seen);
+  return PS_OK;
+}
+
+/* Where each value goes. The matrix, preallocated with this rank's rows,
+ * is filled once with the number of each entry plus one and assembled;
+ * reading the pieces' arrays back then says which entry every slot
+ * holds (numbers are exact in double up to 2^53; a slot left 0 is block
+ * padding). Entries found in no piece stay for MatSetValues (rest_*).
+ * Returns PS_OK, PS_ERR_NOMEM or a PETSc error. */
+static int value_slots(petsc_state *s, const PetscInt *ia, const PetscInt *ja, const ps_int *src,
+                       ps_ctx *ctx) {
+  ps_int m = s->rend - s->rstart, nz = (ps_int)ia[m];
+  unsigned char *found = ps_calloc((size_t)nz + 1, 1, ctx);
+  if (!found) return PS_ERR_NOMEM;
+  int status = PS_OK;
+  for (ps_int r = 0; r < m && status == PS_OK; r++) {
+    PetscInt row = s->rstart + (PetscInt)r, len = ia[r + 1] - ia[r];
+    for (PetscInt q = 0; q < len; q++) s->vals[q] = (double)(ia[r] + q + 1);
+    PetscErrorCode ierr = MatSetValues(s->A, 1, &row, len, ja + ia[r], s->vals, INSERT_VALUES);
+    if (ierr) status = petsc_failed(ierr, "MatSetValues", ctx);
+  }
+  if (status == PS_OK) {
+    PetscErrorCode ierr = MatAssemblyBegin(s->A, MAT_FINAL_ASSEMBLY);
+    if (!ierr) ierr = MatAssemblyEnd(s->A, MAT_FINAL_ASSEMBLY);
+    if (ierr) status = petsc_failed(ierr, "matrix assembly", ctx);
+  }
+  if (status == PS_OK) status = local_pieces(s, ctx);
+  for (int p = 0; p < 2 && status == PS_OK && s->piece[p]; p++) {
+    MatInfo info;
+    PetscScalar *a = NULL;
+    PetscErrorCode ierr = MatGetInfo(s->piece[p], MAT_LOCAL, &info);
+    if (!ierr) ierr = piece_array(s->piece[p], &a, 1);
+    if (ierr) {
+      status = petsc_failed(ierr, "MatGetInfo / the value array", ctx);
+      break;
+    }
+    s->piece_len[p] = (ps_int)info.nz_used;
+    s->piece_src[p] = ps_calloc((size_t)s->piece_len[p] + 1, sizeof *s->piece_src[p], ctx);
+    if (!s->piece_src[p]) status = PS_ERR_NOMEM;
+    for (ps_int slot = 0; status == PS_OK && slot < s->piece_len[p]; slot++) {
+      double v = a[slot];
+      ps_int e = (ps_int)v - 1;
+      if (v == 0.0) s->piece_src[p][slot] = PS_ZERO;
+      else if (v != (double)(e + 1) || e < 0 || e >= nz || found[e])
+        status = ps_error(ctx, PS_ERR_INTERNAL, "PETSc's matrix holds a value peristatic did not "
+                          "set (slot %lld of piece %d: %g)", (long long)slot, p, v);
+      else {
+        found[e] = 1;
+        s->piece_src[p][slot] = src[e];
       }
     }
-    s->Ap[m] = w;
+    ierr = piece_array(s->piece[p], &a, 0);
+    if (ierr && status == PS_OK) status = petsc_failed(ierr, "the value array", ctx);
   }
-  free(fAp);
-  free(fAi);
-  free(fmap);
-  return s->Ap && s->Ai && s->map && s->row_free ? PS_OK : PS_ERR_NOMEM;
+  /* the rest, row by row */
+  ps_int n_rest = 0;
+  for (ps_int e = 0; e < nz; e++) n_rest += !found[e];
+  if (status == PS_OK) {
+    s->rest_ia = ps_calloc((size_t)m + 1, sizeof *s->rest_ia, ctx);
+    s->rest_ja = ps_calloc((size_t)n_rest + 1, sizeof *s->rest_ja, ctx);
+    s->rest_src = ps_calloc((size_t)n_rest + 1, sizeof *s->rest_src, ctx);
+    if (!s->rest_ia || !s->rest_ja || !s->rest_src) status = PS_ERR_NOMEM;
+  }
+  if (status == PS_OK) {
+    ps_int w = 0;
+    for (ps_int r = 0; r < m; r++) {
+      s->rest_ia[r] = (PetscInt)w;
+      for (PetscInt e = ia[r]; e < ia[r + 1]; e++)
+        if (!found[e]) {
+          s->rest_ja[w] = ja[e];
+          s->rest_src[w++] = src[e];
+        }
+    }
+    s->rest_ia[m] = (PetscInt)w;
+  }
+  free(found);
+  return status;
 }
 
 /* the near-null space of elasticity: PETSc's rigid-body modes of the
@@ -282,48 +481,46 @@ static int pt_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st, ps_ct
   PT(PetscObjectTypeCompareAny((PetscObject)s->A, &sbaij, MATSBAIJ, MATSEQSBAIJ, MATMPISBAIJ, ""),
      "PetscObjectTypeCompareAny");
   if (!sbaij && s->d > 1) PT(MatSetBlockSize(s->A, s->d), "MatSetBlockSize");
-  PS_CHECK(full_rows(s, A, ctx));
   ps_int m = s->rend - s->rstart;
-  if (sbaij) { /* symmetric storage: each row's entries on and right of
-                  the diagonal only (a suffix of the sorted row) */
-    ps_int w = 0;
-    for (ps_int r = 0; r < m; r++) {
-      ps_int k = s->Ap[r];
-      while (k < s->Ap[r + 1] && s->Ai[k] < s->rstart + r) k++;
-      s->Ap[r] = w;
-      for (; k < s->Ap[r + 1]; k++, w++) {
-        s->Ai[w] = s->Ai[k];
-        s->map[w] = s->map[k];
-      }
-    }
-    s->Ap[m] = w; /* (row r's old end, Ap[r + 1], was read before it moved) */
-  }
-  PetscInt *ia = ps_calloc((size_t)m + 1, sizeof *ia, ctx);
-  PetscInt *ja = ps_calloc((size_t)s->Ap[m] + 1, sizeof *ja, ctx);
+  PetscInt *ia = NULL, *ja = NULL;
+  ps_int *src = NULL;
+  PS_CHECK(this_rows(s, A, sbaij, &ia, &ja, &src, ctx));
   s->max_row = 0;
   for (ps_int r = 0; r < m; r++)
-    if (s->Ap[r + 1] - s->Ap[r] > s->max_row) s->max_row = s->Ap[r + 1] - s->Ap[r];
-  s->cols = ps_calloc((size_t)s->max_row + 1, sizeof *s->cols, ctx);
+    if (ia[r + 1] - ia[r] > s->max_row) s->max_row = ia[r + 1] - ia[r];
   s->vals = ps_calloc((size_t)s->max_row + 1, sizeof *s->vals, ctx);
+  s->row_free = ps_calloc((size_t)m + 1, sizeof *s->row_free, ctx);
   PetscErrorCode ierr = 0;
-  if (ia && ja && s->cols && s->vals) {
-    for (ps_int r = 0; r <= m; r++) ia[r] = (PetscInt)s->Ap[r];
-    for (ps_int k = 0; k < s->Ap[m]; k++) ja[k] = (PetscInt)s->Ai[k];
-    /* the preallocation of the matrix's type; the others do nothing */
-    if (sbaij) {
+  int status = s->vals && s->row_free ? PS_OK : PS_ERR_NOMEM;
+  if (status == PS_OK) {
+    for (ps_int r = 0, k = free_from(s, s->rstart); r < m; r++) {
+      int is_free = k < s->n_free && (s->dof ? s->dof[k] : k) == s->rstart + r;
+      s->row_free[r] = is_free ? k++ : -1;
+    }
+    /* the exact pattern for AIJ and SBAIJ (the preallocation of the
+     * matrix's type; the other calls do nothing); other types (BAIJ)
+     * from counts of blocks */
+    PetscBool aij = PETSC_FALSE;
+    ierr = PetscObjectTypeCompareAny((PetscObject)s->A, &aij, MATSEQAIJ, MATMPIAIJ, "");
+    if (ierr) {
+    } else if (sbaij) {
       ierr = MatSeqSBAIJSetPreallocationCSR(s->A, 1, ia, ja, NULL);
       if (!ierr) ierr = MatMPISBAIJSetPreallocationCSR(s->A, 1, ia, ja, NULL);
-    } else {
+    } else if (aij) {
       ierr = MatSeqAIJSetPreallocationCSR(s->A, ia, ja, NULL);
       if (!ierr) ierr = MatMPIAIJSetPreallocationCSR(s->A, ia, ja, NULL);
+    } else {
+      status = block_preallocation(s, ia, ja, &ierr, ctx);
     }
+    if (!ierr && status == PS_OK)
+      ierr = MatSetOption(s->A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE);
+    if (ierr) status = petsc_failed(ierr, "matrix preallocation", ctx);
   }
-  int nomem = !ia || !ja || !s->cols || !s->vals;
+  if (status == PS_OK && !ierr) status = value_slots(s, ia, ja, src, ctx);
   free(ia);
   free(ja);
-  if (nomem) return PS_ERR_NOMEM;
-  if (ierr) return petsc_failed(ierr, "matrix preallocation", ctx);
-  PT(MatSetOption(s->A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE), "MatSetOption");
+  free(src);
+  PS_CHECK(status);
   PT(MatSetOption(s->A, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption");
   PT(MatSetOption(s->A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE), "MatSetOption");
   PT(MatCreateVecs(s->A, &s->x, &s->b), "MatCreateVecs");
@@ -343,23 +540,40 @@ static int pt_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st, ps_ct
   return PS_OK;
 }
 
+/* A's values into the matrix: the pieces' arrays slot by slot, the rest
+ * by MatSetValues (assembled by the caller) */
+static int fill_values(petsc_state *s, const ps_csc *A, ps_ctx *ctx) {
+  for (int p = 0; p < 2 && s->piece[p]; p++) {
+    PetscScalar *a;
+    const ps_int *src = s->piece_src[p];
+    PT(piece_array(s->piece[p], &a, 1), "the value array");
+    for (ps_int slot = 0; slot < s->piece_len[p]; slot++)
+      a[slot] = src[slot] >= 0 ? A->x[src[slot]] : src[slot] == PS_ONE ? 1.0 : 0.0;
+    PT(piece_array(s->piece[p], &a, 0), "the value array");
+  }
+  ps_int m = s->rend - s->rstart;
+  for (ps_int r = 0; r < m; r++) {
+    PetscInt row = s->rstart + (PetscInt)r, len = s->rest_ia[r + 1] - s->rest_ia[r];
+    if (len == 0) continue;
+    const ps_int *src = s->rest_src + s->rest_ia[r];
+    for (PetscInt q = 0; q < len; q++) s->vals[q] = src[q] >= 0 ? A->x[src[q]] : 1.0;
+    PT(MatSetValues(s->A, 1, &row, len, s->rest_ja + s->rest_ia[r], s->vals, INSERT_VALUES),
+       "MatSetValues");
+  }
+  return PS_OK;
+}
+
 /* this rank's rows of A into the matrix, then the PC's set-up */
 static int pt_factor(void *state, const ps_csc *A, ps_int *bad_col, ps_linsolve_stats *st,
                      ps_ctx *ctx) {
   petsc_state *s = state;
   double t = ps_wtime();
   *bad_col = -1;
-  ps_int m = s->rend - s->rstart;
-  for (ps_int r = 0; r < m; r++) {
-    PetscInt row = s->rstart + (PetscInt)r, len = (PetscInt)(s->Ap[r + 1] - s->Ap[r]);
-    for (ps_int k = s->Ap[r], q = 0; k < s->Ap[r + 1]; k++, q++) {
-      s->cols[q] = (PetscInt)s->Ai[k];
-      s->vals[q] = s->map[k] >= 0 ? A->x[s->map[k]] : 1.0;
-    }
-    PT(MatSetValues(s->A, 1, &row, len, s->cols, s->vals, INSERT_VALUES), "MatSetValues");
-  }
+  PS_CHECK(fill_values(s, A, ctx));
   PT(MatAssemblyBegin(s->A, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
   PT(MatAssemblyEnd(s->A, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+  /* (the assembly raises the matrix's state, which tells the PC that the
+   * values written into the pieces' arrays changed) */
   PT(KSPSetOperators(s->ksp, s->A, s->A), "KSPSetOperators");
   PetscErrorCode ierr = KSPSetUp(s->ksp);
   PC pc;

@@ -333,6 +333,7 @@ static ps_estimate_opts estimate_opts(const ps_case *cs, double free_fraction) {
   o.lu = !strcmp(cs->solver.linear, "umfpack");
   o.iterative = !strcmp(cs->solver.linear, "petsc") &&
                 !ps_petsc_options_factor(cs->solver.petsc_options);
+  o.ranks = ps_parallel_size();
   o.free_fraction = free_fraction;
   /* per arm: a critical stretch when arms break by a criterion (8); the
    * three-body model's rotations, moments and their gradients (64) */

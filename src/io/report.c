@@ -139,6 +139,7 @@ static const value_spec summary_keys[] = {
     {"network_s", V_F, 3, R(t_network), 0},
     {"peak_memory_MiB", V_F, 1, R(peak_memory_mib), 0},
     {"cg_iterations", V_I64, 0, S(pcg_iterations), 0},
+    {"ksp_iterations", V_I64, 0, S(ksp_iterations), 0},
     {"cg_failures", V_I64, 0, S(pcg_failures), 0},
     {"cg_skipped", V_I64, 0, S(pcg_skipped), 0},
     {"solves", V_I64, 0, S(solves), 0},

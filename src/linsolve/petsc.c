@@ -207,16 +207,27 @@ static ps_int free_from(const petsc_state *s, ps_int g) {
   return lo;
 }
 
+/* 1 when the entry (k, i), i <= k, of free dofs is stored: always for a
+ * full row (upper_bs 0); for SBAIJ of block size upper_bs when i is in
+ * k's diagonal block */
+static inline int in_left(const petsc_state *s, ps_int i, ps_int k, int upper_bs) {
+  if (upper_bs <= 0) return 1;
+  ps_int gi = s->dof ? s->dof[i] : i, gk = s->dof ? s->dof[k] : k;
+  return gi / upper_bs == gk / upper_bs;
+}
+
 /* This rank's rows of the system over all dofs (A's own when s->dof is
  * NULL) in CSR, columns as dofs (sorted): *ia[m + 1], *ja, and *src, for
  * each entry the position of its value in A->x (PS_ONE: a prescribed
  * dof's diagonal, the value 1). A free dof k's row is row k of the
  * symmetric matrix whose upper triangle A is: the entries of A's column k
  * (rows i <= k, the row's left part and diagonal) then the entries (k, c)
- * of the columns c > k (its right part, in increasing c); with
- * upper_only (SBAIJ) the diagonal and the right part alone. Rows are
- * whole particles (blocks of dim). Returns PS_OK or PS_ERR_NOMEM. */
-static int this_rows(const petsc_state *s, const ps_csc *A, int upper_only, PetscInt **ia_out,
+ * of the columns c > k (its right part, in increasing c); with upper_bs
+ * > 0 (SBAIJ of that block size) the right part and, of the left part,
+ * the entries in k's own diagonal block (its diagonal for upper_bs 1).
+ * Rows are whole particles (blocks of dim). Returns PS_OK or
+ * PS_ERR_NOMEM. */
+static int this_rows(const petsc_state *s, const ps_csc *A, int upper_bs, PetscInt **ia_out,
                      PetscInt **ja_out, ps_int **src_out, ps_ctx *ctx) {
   const ps_int *dof = s->dof;
   ps_int k0 = free_from(s, s->rstart), k1 = free_from(s, s->rend), m = s->rend - s->rstart;
@@ -230,9 +241,9 @@ static int this_rows(const petsc_state *s, const ps_csc *A, int upper_only, Pets
     ps_int g = s->rstart + r;
     if (k < k1 && (dof ? dof[k] : k) == g) {
       row_of[k - k0] = r;
-      ps_int own = A->p[k + 1] - A->p[k];
-      int has_diag = own > 0 && A->i[A->p[k + 1] - 1] == k;
-      ia[r + 1] = upper_only ? has_diag : own;
+      ps_int own = 0;
+      for (ps_int e = A->p[k]; e < A->p[k + 1]; e++) own += in_left(s, A->i[e], k, upper_bs);
+      ia[r + 1] = own;
       k++;
     } else {
       ia[r + 1] = 1;
@@ -252,7 +263,7 @@ static int this_rows(const petsc_state *s, const ps_csc *A, int upper_only, Pets
     if (k < k1 && (dof ? dof[k] : k) == g) {
       for (ps_int e = A->p[k]; e < A->p[k + 1]; e++) {
         ps_int i = A->i[e];
-        if (upper_only && i != k) continue;
+        if (!in_left(s, i, k, upper_bs)) continue;
         ja[w] = (PetscInt)(dof ? dof[i] : i);
         src[w++] = e;
       }
@@ -344,20 +355,56 @@ static int block_preallocation(const petsc_state *s, const PetscInt *ia, const P
         if (c >= s->rstart / d && c < s->rend / d) dn[R]++;
         else on[R]++;
       }
-  *ierr = MatXAIJSetPreallocation(s->A, d, dn, on, NULL, NULL);
+  *ierr = MatXAIJSetPreallocation(s->A, d, dn, on, dn, on); /* (SBAIJ: rows of upper blocks) */
   free(dn), free(on), free(seen);
   return PS_OK;
+}
+
+/* 1 when the matrix is a sequential AIJ (any block size) or SBAIJ (block
+ * size 1) matrix that stores exactly this rank's rows ia, ja (the CSR preallocation,
+ * which leaves it assembled) in that order: then slot k of its value
+ * array is entry k, with no need to find out (value_slots) */
+static int same_layout(petsc_state *s, const PetscInt *ia, const PetscInt *ja) {
+  PetscBool aij = PETSC_FALSE, sbaij = PETSC_FALSE, done = PETSC_FALSE;
+  PetscInt n = 0, bs = 1;
+  const PetscInt *mi = NULL, *mj = NULL;
+  /* (AIJ stores scalar rows whatever its block size) */
+  if (PetscObjectTypeCompare((PetscObject)s->A, MATSEQAIJ, &aij) ||
+      PetscObjectTypeCompare((PetscObject)s->A, MATSEQSBAIJ, &sbaij) || !(aij || sbaij) ||
+      MatGetBlockSize(s->A, &bs) || (sbaij && bs != 1) ||
+      MatGetRowIJ(s->A, 0, PETSC_FALSE, PETSC_FALSE, &n, &mi, &mj, &done))
+    return 0;
+  ps_int m = s->rend - s->rstart;
+  int same = done && n == (PetscInt)m && !memcmp(mi, ia, (size_t)(m + 1) * sizeof *ia) &&
+             !memcmp(mj, ja, (size_t)ia[m] * sizeof *ja);
+  if (done) MatRestoreRowIJ(s->A, 0, PETSC_FALSE, PETSC_FALSE, &n, &mi, &mj, &done);
+  return same;
 }
 
 /* Where each value goes. The matrix, preallocated with this rank's rows,
  * is filled once with the number of each entry plus one and assembled;
  * reading the pieces' arrays back then says which entry every slot
  * holds (numbers are exact in double up to 2^53; a slot left 0 is block
- * padding). Entries found in no piece stay for MatSetValues (rest_*).
+ * padding; two slots may hold one entry: SBAIJ keeps its diagonal
+ * blocks whole and sets both halves); a matrix of the same layout as ia, ja (same_layout) needs no
+ * such pass and takes *src_io as its slots' sources (*src_io = NULL).
+ * Entries found in no piece stay for MatSetValues (rest_*).
  * Returns PS_OK, PS_ERR_NOMEM or a PETSc error. */
-static int value_slots(petsc_state *s, const PetscInt *ia, const PetscInt *ja, const ps_int *src,
+static int value_slots(petsc_state *s, const PetscInt *ia, const PetscInt *ja, ps_int **src_io,
                        ps_ctx *ctx) {
   ps_int m = s->rend - s->rstart, nz = (ps_int)ia[m];
+  const ps_int *src = *src_io;
+  if (same_layout(s, ia, ja)) { /* the slots are the entries */
+    s->piece[0] = s->A;
+    s->piece_len[0] = nz;
+    s->rest_ia = ps_calloc((size_t)m + 1, sizeof *s->rest_ia, ctx);
+    s->rest_ja = ps_calloc(1, sizeof *s->rest_ja, ctx);
+    s->rest_src = ps_calloc(1, sizeof *s->rest_src, ctx);
+    if (!s->rest_ia || !s->rest_ja || !s->rest_src) return PS_ERR_NOMEM;
+    s->piece_src[0] = *src_io; /* taken */
+    *src_io = NULL;
+    return PS_OK;
+  }
   unsigned char *found = ps_calloc((size_t)nz + 1, 1, ctx);
   if (!found) return PS_ERR_NOMEM;
   int status = PS_OK;
@@ -389,7 +436,7 @@ static int value_slots(petsc_state *s, const PetscInt *ia, const PetscInt *ja, c
       double v = a[slot];
       ps_int e = (ps_int)v - 1;
       if (v == 0.0) s->piece_src[p][slot] = PS_ZERO;
-      else if (v != (double)(e + 1) || e < 0 || e >= nz || found[e])
+      else if (v != (double)(e + 1) || e < 0 || e >= nz)
         status = ps_error(ctx, PS_ERR_INTERNAL, "PETSc's matrix holds a value peristatic did not "
                           "set (slot %lld of piece %d: %g)", (long long)slot, p, v);
       else {
@@ -481,10 +528,13 @@ static int pt_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st, ps_ct
   PT(PetscObjectTypeCompareAny((PetscObject)s->A, &sbaij, MATSBAIJ, MATSEQSBAIJ, MATMPISBAIJ, ""),
      "PetscObjectTypeCompareAny");
   if (!sbaij && s->d > 1) PT(MatSetBlockSize(s->A, s->d), "MatSetBlockSize");
+  /* SBAIJ in blocks of dim (a particle's dofs): the upper triangle of
+   * blocks, the diagonal blocks whole */
+  int sbs = sbaij ? s->d : 0;
   ps_int m = s->rend - s->rstart;
   PetscInt *ia = NULL, *ja = NULL;
   ps_int *src = NULL;
-  PS_CHECK(this_rows(s, A, sbaij, &ia, &ja, &src, ctx));
+  PS_CHECK(this_rows(s, A, sbs, &ia, &ja, &src, ctx));
   s->max_row = 0;
   for (ps_int r = 0; r < m; r++)
     if (ia[r + 1] - ia[r] > s->max_row) s->max_row = ia[r + 1] - ia[r];
@@ -503,7 +553,7 @@ static int pt_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st, ps_ct
     PetscBool aij = PETSC_FALSE;
     ierr = PetscObjectTypeCompareAny((PetscObject)s->A, &aij, MATSEQAIJ, MATMPIAIJ, "");
     if (ierr) {
-    } else if (sbaij) {
+    } else if (sbaij && sbs == 1) {
       ierr = MatSeqSBAIJSetPreallocationCSR(s->A, 1, ia, ja, NULL);
       if (!ierr) ierr = MatMPISBAIJSetPreallocationCSR(s->A, 1, ia, ja, NULL);
     } else if (aij) {
@@ -516,7 +566,7 @@ static int pt_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st, ps_ct
       ierr = MatSetOption(s->A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE);
     if (ierr) status = petsc_failed(ierr, "matrix preallocation", ctx);
   }
-  if (status == PS_OK && !ierr) status = value_slots(s, ia, ja, src, ctx);
+  if (status == PS_OK && !ierr) status = value_slots(s, ia, ja, &src, ctx);
   free(ia);
   free(ja);
   free(src);
@@ -651,6 +701,9 @@ static int pt_solve(void *state, const double *b, double *x, ps_linsolve_stats *
                     "solver.petsc_options or on the command line)",
                     KSPConvergedReasons[why], (int)its);
   }
+  PetscInt its = 0;
+  PT(KSPGetIterationNumber(s->ksp, &its), "KSPGetIterationNumber");
+  st->n_iterations += its;
   PS_CHECK(gather(s, x, ctx));
   st->t_solve += ps_wtime() - t;
   st->n_solve++;

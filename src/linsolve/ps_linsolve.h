@@ -13,6 +13,9 @@
 typedef struct ps_linsolve_stats {
   double t_analyze, t_factor, t_solve; /* accumulated wall seconds */
   ps_int n_analyze, n_factor, n_solve;
+  ps_int n_iterations;                 /* iterations of the backend's own
+                                          iterative solves (PETSc's KSP;
+                                          0 for a direct solve) */
   double nnz_factor;                   /* nnz(L) (+ nnz(U) for LU) */
   double flops_factor;                 /* of the last factorisation */
   double serial_share;                 /* of the work of a preconditioner

@@ -141,10 +141,11 @@ static void finish(ps_estimate *e, const ps_estimate_opts *o) {
   if (o->majorant)
     solver += pattern_bytes(d, n, arms, n + 2 * arms, e->majorant_nnz, 0, ff, 0) +
               e->majorant_factor_nnz * (8 + (o->single_precision ? 4 : 0));
-  /* PETSc's AIJ copy of the whole matrix (2 nnz x 12 bytes), this rank's
-   * row maps (2 nnz x 16) and a PC of about the matrix's size (AMG
-   * hierarchy, incomplete factor: 2 nnz x 12) */
-  if (o->iterative) solver += e->tangent_nnz * (24.0 + 32.0 + 24.0);
+  /* PETSc's AIJ copy of the whole matrix (2 nnz x 12 bytes), the map of
+   * its value slots (2 nnz x 8) and a PC of about the matrix's size (AMG
+   * hierarchy, incomplete factor: 2 nnz x 12), each rank holding its
+   * share of the rows */
+  if (o->iterative) solver += e->tangent_nnz * (24.0 + 16.0 + 24.0) / (o->ranks > 1 ? o->ranks : 1);
   e->mem_solver = solver;
   double info = pattern_bytes(d, n, arms, e->pairs, e->tangent_nnz, sq, ff, 1);
   e->mem_build = PS_EST_BASE_INFO + e->mem_particles + fmax(e->mem_network, net + info);

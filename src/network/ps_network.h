@@ -158,6 +158,8 @@ typedef struct ps_estimate_opts {
   int iterative;        /* solver.linear petsc with an iterative PC: no
                            factor; PETSc's copy of the whole matrix,
                            its row maps and a PC about its size */
+  int ranks;            /* MPI ranks sharing PETSc's matrix and PC (1:
+                           one process) */
 } ps_estimate_opts;
 
 /* Sizes and memory of a case before it is built. Counts are doubles: an

@@ -15,6 +15,9 @@ typedef struct ps_solver_stats {
   ps_int ldl_factorisations;  /* LDL^T factors of indefinite tangents (path
                                  control, doc/path-following.md) */
   ps_int solves;              /* direct solves */
+  ps_int ksp_iterations;      /* iterations of the linear solver's own
+                                 iterative solves (PETSc's KSP), beside
+                                 peristatic's CG (pcg_iterations) */
   ps_int pcg_iterations, pcg_failures, pcg_skipped;
   ps_int majorant_factorisations, majorant_failures; /* opts.majorant */
   ps_int shifted_steps;       /* Newton directions from a shifted tangent */

@@ -680,6 +680,7 @@ void ps_solver_get_stats(const ps_solver *s, ps_solver_stats *st) {
   st->ldl_factorisations = s->ls_ldl.stats.n_factor;
   st->solves = s->ls.stats.n_solve + s->ls_fallback.stats.n_solve + s->ls_ldl.stats.n_solve;
   st->pcg_iterations = s->pcg_iterations;
+  st->ksp_iterations = s->ls.stats.n_iterations + s->ls_pre.stats.n_iterations;
   st->pcg_failures = s->pcg_failures;
   st->pcg_skipped = s->pcg_skipped;
   st->majorant_factorisations = s->ls_pre.stats.n_factor;

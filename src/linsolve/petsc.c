@@ -312,8 +312,10 @@ static int local_pieces(petsc_state *s, ps_ctx *ctx) {
   PT(PetscObjectTypeCompare((PetscObject)s->A, MATMPIBAIJ, &mbaij), "PetscObjectTypeCompare");
   PT(PetscObjectTypeCompare((PetscObject)s->A, MATMPISBAIJ, &msbaij), "PetscObjectTypeCompare");
   if (seq) s->piece[0] = s->A;
-  else if (maij) PT(MatMPIAIJGetSeqAIJ(s->A, &s->piece[0], &s->piece[1], &colmap), "MatMPIAIJGetSeqAIJ");
-  else if (mbaij) PT(MatMPIBAIJGetSeqBAIJ(s->A, &s->piece[0], &s->piece[1], &colmap), "MatMPIBAIJGetSeqBAIJ");
+  else if (maij)
+    PT(MatMPIAIJGetSeqAIJ(s->A, &s->piece[0], &s->piece[1], &colmap), "MatMPIAIJGetSeqAIJ");
+  else if (mbaij)
+    PT(MatMPIBAIJGetSeqBAIJ(s->A, &s->piece[0], &s->piece[1], &colmap), "MatMPIBAIJGetSeqBAIJ");
   else if (msbaij) PT(MatGetDiagonalBlock(s->A, &s->piece[0]), "MatGetDiagonalBlock");
   return PS_OK;
 }
@@ -361,9 +363,9 @@ static int block_preallocation(const petsc_state *s, const PetscInt *ia, const P
 }
 
 /* 1 when the matrix is a sequential AIJ (any block size) or SBAIJ (block
- * size 1) matrix that stores exactly this rank's rows ia, ja (the CSR preallocation,
- * which leaves it assembled) in that order: then slot k of its value
- * array is entry k, with no need to find out (value_slots) */
+ * size 1) matrix that stores exactly this rank's rows ia, ja (the CSR
+ * preallocation, which leaves it assembled) in that order: then slot k of
+ * its value array is entry k, with no need to find out (value_slots) */
 static int same_layout(petsc_state *s, const PetscInt *ia, const PetscInt *ja) {
   PetscBool aij = PETSC_FALSE, sbaij = PETSC_FALSE, done = PETSC_FALSE;
   PetscInt n = 0, bs = 1;
@@ -385,10 +387,11 @@ static int same_layout(petsc_state *s, const PetscInt *ia, const PetscInt *ja) {
  * is filled once with the number of each entry plus one and assembled;
  * reading the pieces' arrays back then says which entry every slot
  * holds (numbers are exact in double up to 2^53; a slot left 0 is block
- * padding; two slots may hold one entry: SBAIJ keeps its diagonal
- * blocks whole and sets both halves); a matrix of the same layout as ia, ja (same_layout) needs no
- * such pass and takes *src_io as its slots' sources (*src_io = NULL).
- * Entries found in no piece stay for MatSetValues (rest_*).
+ * padding; two slots may hold one entry: SBAIJ keeps its diagonal blocks
+ * whole and sets both halves). A matrix of the same layout as ia, ja
+ * (same_layout) needs no such pass and takes *src_io as its slots'
+ * sources (*src_io = NULL). Entries found in no piece stay for
+ * MatSetValues (rest_*).
  * Returns PS_OK, PS_ERR_NOMEM or a PETSc error. */
 static int value_slots(petsc_state *s, const PetscInt *ia, const PetscInt *ja, ps_int **src_io,
                        ps_ctx *ctx) {

@@ -118,6 +118,39 @@ int ps_geom_sizes_eq115(ps_particles *p, int n_nearest, ps_ctx *ctx);
 /* Particle sizes by Eq. 44 from the volume: h = (N V / (2 (N-1) pi))^(1/N). */
 void ps_geom_sizes_eq44(ps_particles *p);
 
+/* ---- parts of a cloud (partition.c) ---- */
+
+/* The particles split into `parts` compact parts along a space-filling
+ * curve (Morton order of the reference positions; doc/design-distributed.md):
+ * part p holds order[start[p] .. start[p+1]), counts equal to within one. */
+typedef struct ps_partition {
+  int parts;
+  ps_int n;         /* particles */
+  ps_int *order;    /* [n] particle numbers in curve order */
+  ps_int *start;    /* [parts + 1] */
+  int *part_of;     /* [n] the part of each particle */
+} ps_partition;
+
+/* Split the cloud P into parts (1 .. P->n). Deterministic: the same cloud
+ * gives the same parts anywhere. Returns PS_OK, PS_ERR_INPUT (parts out of
+ * range) or PS_ERR_NOMEM. */
+int ps_partition_curve(ps_partition *pt, const ps_particles *P, int parts, ps_ctx *ctx);
+/* The ghosts of part `part`: the particles of other parts closer than
+ * reach (m) to one of its particles, in increasing number, into *ghost
+ * (allocated here, *n_ghost of them). For a network with arms r < alpha
+ * max(h_a, h_b), reach = alpha max h holds every arm of the part's
+ * particles; twice that, every family term of its neighbours. Returns
+ * PS_OK, PS_ERR_INPUT (part out of range, reach not >= 0) or PS_ERR_NOMEM. */
+int ps_partition_ghosts(const ps_partition *pt, const ps_particles *P, int part, double reach,
+                        ps_int **ghost, ps_int *n_ghost, ps_ctx *ctx);
+void ps_partition_free(ps_partition *pt);
+
+/* *out = the particles ids[0 .. n) of P, in that order (positions,
+ * volumes, sizes, blocks; not the disk's zones or a cloud's file lines).
+ * Returns PS_OK, PS_ERR_INPUT (n < 1) or PS_ERR_NOMEM. */
+int ps_particles_subset(ps_particles *out, const ps_particles *P, const ps_int *ids, ps_int n,
+                        ps_ctx *ctx);
+
 /* ---- k-d tree over a cloud (static, built once) ---- */
 typedef struct ps_kdtree ps_kdtree;
 

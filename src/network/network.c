@@ -238,9 +238,9 @@ static int fill_families(ps_network *net, ps_ctx *ctx) {
   return PS_OK;
 }
 
-int ps_network_build(ps_network *net, const ps_particles *p,
-                     const ps_kernel *K, const ps_crack *cracks, int n_cracks,
-                     ps_ctx *ctx) {
+/* ps_network_build, the first n_checked particles required to have arms */
+static int build(ps_network *net, const ps_particles *p, const ps_kernel *K,
+                 const ps_crack *cracks, int n_cracks, ps_int n_checked, ps_ctx *ctx) {
   int status = PS_OK, dim = p->dim;
   pair *pairs = NULL;
   ps_int na = 0;
@@ -279,7 +279,7 @@ int ps_network_build(ps_network *net, const ps_particles *p,
   }
   PS_CHECK_GOTO(fill_arms(net, p, K, pairs, ctx));
   PS_CHECK_GOTO(fill_families(net, ctx));
-  for (ps_int a = 0; a < p->n; a++)
+  for (ps_int a = 0; a < n_checked; a++)
     if (net->n_arm0[a] == 0) {
       char at[200];
       status = ps_error(ctx, PS_ERR_INPUT,
@@ -293,4 +293,16 @@ cleanup:
   free(pairs);
   if (status < 0) ps_network_free(net);
   return status;
+}
+
+int ps_network_build(ps_network *net, const ps_particles *p,
+                     const ps_kernel *K, const ps_crack *cracks, int n_cracks,
+                     ps_ctx *ctx) {
+  return build(net, p, K, cracks, n_cracks, p->n, ctx);
+}
+
+int ps_network_build_local(ps_network *net, const ps_particles *p, const ps_kernel *K,
+                           const ps_crack *cracks, int n_cracks, ps_int n_owned,
+                           ps_ctx *ctx) {
+  return build(net, p, K, cracks, n_cracks, n_owned, ctx);
 }

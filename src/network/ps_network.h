@@ -116,6 +116,17 @@ int ps_network_build(ps_network *net, const ps_particles *p,
                      ps_ctx *ctx);
 void ps_network_free(ps_network *net);
 
+/* The network of one part of a cloud (doc/design-distributed.md): p holds
+ * the part's n_owned particles first, then its ghosts
+ * (ps_partition_ghosts, reach alpha max h). Every arm with an owned end is
+ * the global network's arm (the same r0 and weights, ends in p's
+ * numbering); arms between two ghosts are those the ghosts have among
+ * themselves. As ps_network_build, except that only the owned particles
+ * must have arms (a ghost at the layer's edge may have none here). */
+int ps_network_build_local(ps_network *net, const ps_particles *p, const ps_kernel *K,
+                           const ps_crack *cracks, int n_cracks, ps_int n_owned,
+                           ps_ctx *ctx);
+
 /* Does the crack cut the arm x-y? x and y hold 2 (segment) or 3
  * (polygon, sphere) coordinates; tol = PS_CRACK_TOUCH |y - x|.
  * Segment (2D): the crack is the open segment (p0, p1): the arm is cut

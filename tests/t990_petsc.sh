@@ -156,6 +156,14 @@ if run block-chol 0 "$C/tension-block-3d.yaml" && run block-n2 2 "$T/block.yaml"
   same_val block-n2 block-chol arms_broken
   same_val block-n2 block-chol sigma_failure_Pa
   u_ok block-n2 block-chol 1e-8
+  # the rows along the space-filling curve (the default on several ranks)
+  # and in the dofs' own order give the same run
+  if run block-n3 3 "$T/block.yaml" && run block-n3-natural 3 "$T/block.yaml" -peristatic_rows natural; then
+    same_val block-n3 block-chol arms_broken
+    same_val block-n3-natural block-chol arms_broken
+    u_ok block-n3 block-chol 1e-8
+    u_ok block-n3-natural block-chol 1e-8
+  fi
 fi
 
 # (d) a rank with no row: two particles (a 2 x 1 bond strip, the left one
@@ -197,6 +205,12 @@ if run tiny-chol 0 "$T/tiny.yaml" && run tiny-n3 3 "$T/tiny-petsc.yaml"; then
 fi
 
 # (f) bad PETSc options
+out=$("$MPIEXEC" -n 2 $P run -q -t 1 -o "$T/badrows" -peristatic_rows diagonal "$T/edge.yaml" 2>&1 >/dev/null)
+rc=$?
+if [ "$rc" -ne 0 ] && printf '%s' "$out" | grep -q -- "-peristatic_rows must be curve or natural" \
+   && [ ! -d "$T/badrows" ]; then
+  ok "-peristatic_rows diagonal: exit $rc, named, no output folder"
+else ko "-peristatic_rows diagonal: exit $rc, message: $out"; fi
 out=$("$MPIEXEC" -n 2 $P run -q -t 1 -o "$T/bad" -pc_type nonsense "$T/edge.yaml" 2>&1 >/dev/null)
 rc=$?
 if [ "$rc" -eq 2 ] && printf '%s' "$out" | grep -q "PETSc's KSPSetFromOptions (check the PETSc options) failed" \

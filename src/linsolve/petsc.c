@@ -26,6 +26,8 @@
 
 #include "ps_linsolve.h"
 
+#include "../geom/ps_geom.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -104,6 +106,14 @@ typedef struct {
   const ps_int *dof;     /* free index -> dof (ls->dof_of_free), or NULL
                             when the system is A's own (identity) */
   ps_int *row_free;      /* this rank's row r: its free index, or -1 */
+  /* the numbering of the system's rows (all dofs): particle by particle
+   * along the space-filling curve of ps_partition_curve when there are
+   * several ranks (each rank's rows a compact part of the body), else the
+   * dofs' own order */
+  ps_int *row_dof;       /* [this rank's rows] the dof of each */
+  ps_int *row_of_dof;    /* [N] the row of each dof */
+  ps_int *free_of;       /* [N] the free index of each dof, or -1 */
+  int curve;             /* 1: rows along the curve; 0: the dofs' order */
   /* where the values go (fill_values): the local pieces of the matrix
    * (the matrix itself, or an MPI matrix's diagonal and off-diagonal
    * blocks) whose value arrays are written directly, slot by slot from
@@ -163,7 +173,10 @@ static void pt_free_objects(petsc_state *s) {
   if (s->x_all) VecDestroy(&s->x_all);
   if (s->to_all) VecScatterDestroy(&s->to_all);
   free(s->row_free);
-  s->row_free = NULL;
+  free(s->row_dof);
+  free(s->row_of_dof);
+  free(s->free_of);
+  s->row_free = s->row_dof = s->row_of_dof = s->free_of = NULL;
   for (int p = 0; p < 2; p++) {
     free(s->piece_src[p]);
     s->piece_src[p] = NULL;
@@ -195,95 +208,108 @@ static int make_ksp(petsc_state *s, ps_ctx *ctx) {
   return PS_OK;
 }
 
-/* the first free index whose dof is >= g */
-static ps_int free_from(const petsc_state *s, ps_int g) {
-  if (!s->dof) return g < s->n_free ? g : s->n_free;
-  ps_int lo = 0, hi = s->n_free;
-  while (lo < hi) {
-    ps_int mid = lo + (hi - lo) / 2;
-    if (s->dof[mid] < g) lo = mid + 1;
-    else hi = mid;
-  }
-  return lo;
+typedef struct {
+  PetscInt col;
+  ps_int src;
+} entry;
+
+static int by_col(const void *x, const void *y) {
+  PetscInt a = ((const entry *)x)->col, b = ((const entry *)y)->col;
+  return (a > b) - (a < b);
 }
 
-/* 1 when the entry (k, i), i <= k, of free dofs is stored: always for a
- * full row (upper_bs 0); for SBAIJ of block size upper_bs when i is in
- * k's diagonal block */
-static inline int in_left(const petsc_state *s, ps_int i, ps_int k, int upper_bs) {
-  if (upper_bs <= 0) return 1;
-  ps_int gi = s->dof ? s->dof[i] : i, gk = s->dof ? s->dof[k] : k;
-  return gi / upper_bs == gk / upper_bs;
+/* 1 when the entry (row, col) of the system (rows and columns in its own
+ * numbering) is stored: always for a full row (upper_bs 0); for SBAIJ of
+ * block size upper_bs when col's block is not left of row's */
+static inline int stored(PetscInt row, PetscInt col, int upper_bs) {
+  return upper_bs <= 0 || col / upper_bs >= row / upper_bs;
 }
 
 /* This rank's rows of the system over all dofs (A's own when s->dof is
- * NULL) in CSR, columns as dofs (sorted): *ia[m + 1], *ja, and *src, for
- * each entry the position of its value in A->x (PS_ONE: a prescribed
- * dof's diagonal, the value 1). A free dof k's row is row k of the
- * symmetric matrix whose upper triangle A is: the entries of A's column k
- * (rows i <= k, the row's left part and diagonal) then the entries (k, c)
- * of the columns c > k (its right part, in increasing c); with upper_bs
- * > 0 (SBAIJ of that block size) the right part and, of the left part,
- * the entries in k's own diagonal block (its diagonal for upper_bs 1).
- * Rows are whole particles (blocks of dim). Returns PS_OK or
+ * NULL) in CSR, columns in the system's numbering (row_of_dof), sorted:
+ * *ia[m + 1], *ja, and *src, for each entry the position of its value in
+ * A->x (PS_ONE: a prescribed dof's diagonal, the value 1). A free dof k's
+ * row is row k of the symmetric matrix whose upper triangle A is: the
+ * entries of A's column k (rows i <= k) and the entries (k, c) of the
+ * columns c > k; with upper_bs > 0 (SBAIJ of that block size) only those
+ * whose column's block is not left of the row's. Returns PS_OK or
  * PS_ERR_NOMEM. */
 static int this_rows(const petsc_state *s, const ps_csc *A, int upper_bs, PetscInt **ia_out,
                      PetscInt **ja_out, ps_int **src_out, ps_ctx *ctx) {
-  const ps_int *dof = s->dof;
-  ps_int k0 = free_from(s, s->rstart), k1 = free_from(s, s->rend), m = s->rend - s->rstart;
+  const ps_int *dof = s->dof, *row = s->row_of_dof;
+  ps_int m = s->rend - s->rstart, n = A->n;
   PetscInt *ia = ps_calloc((size_t)m + 1, sizeof *ia, ctx), *ja = NULL;
-  ps_int *src = NULL, *fill = ps_calloc((size_t)(k1 - k0) + 1, sizeof *fill, ctx);
-  ps_int *row_of = ps_calloc((size_t)(k1 - k0) + 1, sizeof *row_of, ctx);
-  if (!ia || !fill || !row_of) goto nomem;
-  /* each row's length: a prescribed dof 1; a free dof its left part and
-   * diagonal (or the diagonal alone) plus its right part */
-  for (ps_int r = 0, k = k0; r < m; r++) {
-    ps_int g = s->rstart + r;
-    if (k < k1 && (dof ? dof[k] : k) == g) {
-      row_of[k - k0] = r;
-      ps_int own = 0;
-      for (ps_int e = A->p[k]; e < A->p[k + 1]; e++) own += in_left(s, A->i[e], k, upper_bs);
-      ia[r + 1] = own;
-      k++;
-    } else {
+  ps_int *src = NULL, *fill = ps_calloc((size_t)m + 1, sizeof *fill, ctx);
+  ps_int *owner = ps_calloc((size_t)n + 1, sizeof *owner, ctx); /* free index -> local row */
+  entry *tmp = NULL;
+  if (!ia || !fill || !owner) goto nomem;
+#define ROW(k) ((PetscInt)row[dof ? dof[k] : (k)])
+  for (ps_int k = 0; k < n; k++) owner[k] = -1;
+  for (ps_int r = 0; r < m; r++)
+    if (s->row_free[r] >= 0) owner[s->row_free[r]] = r;
+  /* each row's length: a prescribed dof 1; a free dof its stored entries
+   * of A's column k, then of the later columns */
+  for (ps_int r = 0; r < m; r++) {
+    ps_int k = s->row_free[r];
+    if (k < 0) {
       ia[r + 1] = 1;
+      continue;
     }
+    for (ps_int e = A->p[k]; e < A->p[k + 1]; e++) ia[r + 1] += stored(ROW(k), ROW(A->i[e]), upper_bs);
   }
-  for (ps_int c = k0 + 1; c < A->n; c++)
+  for (ps_int c = 0; c < n; c++)
     for (ps_int e = A->p[c]; e < A->p[c + 1]; e++) {
       ps_int i = A->i[e];
-      if (i >= k0 && i < k1 && i != c) ia[row_of[i - k0] + 1]++;
+      if (i != c && owner[i] >= 0 && stored(ROW(i), ROW(c), upper_bs)) ia[owner[i] + 1]++;
     }
   for (ps_int r = 0; r < m; r++) ia[r + 1] += ia[r];
   ja = ps_calloc((size_t)ia[m] + 1, sizeof *ja, ctx);
   src = ps_calloc((size_t)ia[m] + 1, sizeof *src, ctx);
   if (!ja || !src) goto nomem;
-  for (ps_int r = 0, k = k0; r < m; r++) {
-    ps_int g = s->rstart + r, w = ia[r];
-    if (k < k1 && (dof ? dof[k] : k) == g) {
-      for (ps_int e = A->p[k]; e < A->p[k + 1]; e++) {
-        ps_int i = A->i[e];
-        if (!in_left(s, i, k, upper_bs)) continue;
-        ja[w] = (PetscInt)(dof ? dof[i] : i);
+  for (ps_int r = 0; r < m; r++) {
+    ps_int k = s->row_free[r], w = ia[r];
+    if (k < 0) {
+      ja[w] = (PetscInt)(s->rstart + r);
+      src[w] = PS_ONE;
+      continue;
+    }
+    for (ps_int e = A->p[k]; e < A->p[k + 1]; e++)
+      if (stored(ROW(k), ROW(A->i[e]), upper_bs)) {
+        ja[w] = ROW(A->i[e]);
         src[w++] = e;
       }
-      fill[k - k0] = w;
-      k++;
-    } else {
-      ja[w] = (PetscInt)g;
-      src[w] = PS_ONE;
-    }
+    fill[r] = w;
   }
-  for (ps_int c = k0 + 1; c < A->n; c++)
+  for (ps_int c = 0; c < n; c++)
     for (ps_int e = A->p[c]; e < A->p[c + 1]; e++) {
       ps_int i = A->i[e];
-      if (i < k0 || i >= k1 || i == c) continue;
-      ps_int w = fill[i - k0]++;
-      ja[w] = (PetscInt)(dof ? dof[c] : c);
+      if (i == c || owner[i] < 0 || !stored(ROW(i), ROW(c), upper_bs)) continue;
+      ps_int w = fill[owner[i]]++;
+      ja[w] = ROW(c);
       src[w] = e;
     }
+#undef ROW
+  /* in the dofs' own numbering the rows come out sorted; along the curve
+   * they are sorted here */
+  if (s->curve) {
+    ps_int longest = 0;
+    for (ps_int r = 0; r < m; r++)
+      if (ia[r + 1] - ia[r] > longest) longest = ia[r + 1] - ia[r];
+    tmp = ps_calloc((size_t)longest + 1, sizeof *tmp, ctx);
+    if (!tmp) goto nomem;
+    for (ps_int r = 0; r < m; r++) {
+      ps_int len = ia[r + 1] - ia[r];
+      for (ps_int q = 0; q < len; q++) tmp[q] = (entry){ja[ia[r] + q], src[ia[r] + q]};
+      qsort(tmp, (size_t)len, sizeof *tmp, by_col);
+      for (ps_int q = 0; q < len; q++) {
+        ja[ia[r] + q] = tmp[q].col;
+        src[ia[r] + q] = tmp[q].src;
+      }
+    }
+  }
+  free(tmp);
   free(fill);
-  free(row_of);
+  free(owner);
   *ia_out = ia;
   *ja_out = ja;
   *src_out = src;
@@ -293,7 +319,8 @@ nomem:
   free(ja);
   free(src);
   free(fill);
-  free(row_of);
+  free(owner);
+  free(tmp);
   return PS_ERR_NOMEM;
 }
 
@@ -486,7 +513,7 @@ static int rigid_modes(petsc_state *s, ps_ctx *ctx) {
   if (!ierr) ierr = VecGetArray(xyz, &a);
   if (!ierr) {
     /* dof g is component g % dim of particle g / dim: its coordinate is x[g] */
-    memcpy(a, ls->x + s->rstart, (size_t)(s->rend - s->rstart) * sizeof *a);
+    for (ps_int r = 0; r < s->rend - s->rstart; r++) a[r] = ls->x[s->row_dof[r]];
     ierr = VecRestoreArray(xyz, &a);
   }
   MatNullSpace ns = NULL;
@@ -495,6 +522,65 @@ static int rigid_modes(petsc_state *s, ps_ctx *ctx) {
   if (ns) MatNullSpaceDestroy(&ns);
   VecDestroy(&xyz);
   if (ierr) return petsc_failed(ierr, "the rigid-body modes (MatNullSpaceCreateRigidBody)", ctx);
+  return PS_OK;
+}
+
+/* The system's numbering and this rank's rows (*local of them): with
+ * several ranks and the particles' positions, the particles in the order
+ * of ps_partition_curve, rank r's rows those of its part (compact
+ * subdomains: block Jacobi and the off-rank entries see less boundary
+ * than slabs of particle numbers would, doc/design-distributed.md);
+ * else (or with the PETSc option -peristatic_rows natural) the dofs' own
+ * order split by PETSc (blocks of dim). Sets N's
+ * maps row_of_dof and free_of and the rows' row_dof and row_free.
+ * Returns PS_OK, PS_ERR_NOMEM or a PETSc error. */
+static int numbering(petsc_state *s, PetscInt *local, ps_ctx *ctx) {
+  PetscMPIInt rank = 0, size = 1;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  ps_int N = s->N, d = s->d, np = N / d;
+  s->row_of_dof = ps_calloc((size_t)N + 1, sizeof *s->row_of_dof, ctx);
+  s->free_of = ps_calloc((size_t)N + 1, sizeof *s->free_of, ctx);
+  if (!s->row_of_dof || !s->free_of) return PS_ERR_NOMEM;
+  for (ps_int g = 0; g < N; g++) s->free_of[g] = -1;
+  for (ps_int k = 0; k < s->n_free; k++) s->free_of[s->dof ? s->dof[k] : k] = k;
+  /* -peristatic_rows natural keeps the dofs' order (for comparisons) */
+  char rows[32] = "curve";
+  PetscBool given = PETSC_FALSE;
+  PT(PetscOptionsGetString(NULL, NULL, "-peristatic_rows", rows, sizeof rows, &given),
+     "PetscOptionsGetString");
+  if (strcmp(rows, "curve") && strcmp(rows, "natural"))
+    return ps_error(ctx, PS_ERR_INPUT, "-peristatic_rows must be curve or natural (got '%s')",
+                    rows);
+  s->curve = s->dof && size > 1 && np >= size && !strcmp(rows, "curve");
+  if (s->curve) {
+    ps_particles P = {.dim = (int)d, .n = np, .x = (double *)s->ls->x};
+    ps_partition pt;
+    PS_CHECK(ps_partition_curve(&pt, &P, size, ctx));
+    for (ps_int j = 0; j < np; j++)
+      for (ps_int c = 0; c < d; c++) s->row_of_dof[pt.order[j] * d + c] = j * d + c;
+    s->rstart = (PetscInt)(pt.start[rank] * d);
+    s->rend = (PetscInt)(pt.start[rank + 1] * d);
+    ps_partition_free(&pt);
+  } else {
+    PetscInt m = PETSC_DECIDE, end = 0;
+    PT(PetscSplitOwnershipBlock(PETSC_COMM_WORLD, (PetscInt)d, &m, &s->N),
+       "PetscSplitOwnershipBlock");
+    MPI_Scan(&m, &end, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD);
+    s->rstart = end - m;
+    s->rend = end;
+    for (ps_int g = 0; g < N; g++) s->row_of_dof[g] = g;
+  }
+  ps_int m = s->rend - s->rstart;
+  s->row_dof = ps_calloc((size_t)m + 1, sizeof *s->row_dof, ctx);
+  s->row_free = ps_calloc((size_t)m + 1, sizeof *s->row_free, ctx);
+  if (!s->row_dof || !s->row_free) return PS_ERR_NOMEM;
+  for (ps_int g = 0; g < N; g++) {
+    ps_int r = s->row_of_dof[g] - s->rstart;
+    if (r >= 0 && r < m) s->row_dof[r] = g;
+  }
+  for (ps_int r = 0; r < m; r++) s->row_free[r] = s->free_of[s->row_dof[r]];
+  *local = (PetscInt)m;
   return PS_OK;
 }
 
@@ -516,13 +602,10 @@ static int pt_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st, ps_ct
                     "large for this PETSc's %d-bit indices", (long long)N,
                     (long long)A->p[A->n], (int)(8 * sizeof(PetscInt)));
   s->N = (PetscInt)N;
-  PetscInt local = PETSC_DECIDE, end = 0;
-  PT(PetscSplitOwnershipBlock(PETSC_COMM_WORLD, s->d, &local, &s->N), "PetscSplitOwnershipBlock");
-  MPI_Scan(&local, &end, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD);
-  s->rstart = end - local;
-  s->rend = end;
   if (ls->options && ls->options[0])
     PT(PetscOptionsInsertString(NULL, ls->options), "PetscOptionsInsertString");
+  PetscInt local = 0;
+  PS_CHECK(numbering(s, &local, ctx));
   PT(MatCreate(PETSC_COMM_WORLD, &s->A), "MatCreate");
   PT(MatSetSizes(s->A, local, local, s->N, s->N), "MatSetSizes");
   PT(MatSetType(s->A, MATAIJ), "MatSetType");
@@ -542,14 +625,9 @@ static int pt_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st, ps_ct
   for (ps_int r = 0; r < m; r++)
     if (ia[r + 1] - ia[r] > s->max_row) s->max_row = ia[r + 1] - ia[r];
   s->vals = ps_calloc((size_t)s->max_row + 1, sizeof *s->vals, ctx);
-  s->row_free = ps_calloc((size_t)m + 1, sizeof *s->row_free, ctx);
   PetscErrorCode ierr = 0;
-  int status = s->vals && s->row_free ? PS_OK : PS_ERR_NOMEM;
+  int status = s->vals ? PS_OK : PS_ERR_NOMEM;
   if (status == PS_OK) {
-    for (ps_int r = 0, k = free_from(s, s->rstart); r < m; r++) {
-      int is_free = k < s->n_free && (s->dof ? s->dof[k] : k) == s->rstart + r;
-      s->row_free[r] = is_free ? k++ : -1;
-    }
     /* the exact pattern for AIJ and SBAIJ (the preallocation of the
      * matrix's type; the other calls do nothing); other types (BAIJ)
      * from counts of blocks */
@@ -669,7 +747,7 @@ static int gather(petsc_state *s, double *x, ps_ctx *ctx) {
   PT(VecScatterEnd(s->to_all, s->x, s->x_all, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
   const PetscScalar *a;
   PT(VecGetArrayRead(s->x_all, &a), "VecGetArrayRead");
-  for (ps_int k = 0; k < s->n_free; k++) x[k] = a[s->dof ? s->dof[k] : k];
+  for (ps_int k = 0; k < s->n_free; k++) x[k] = a[s->row_of_dof[s->dof ? s->dof[k] : k]];
   PT(VecRestoreArrayRead(s->x_all, &a), "VecRestoreArrayRead");
   return PS_OK;
 }

@@ -4,9 +4,10 @@
  * The system PETSc solves is over all dofs, in blocks of dim (one block a
  * particle): a free dof's row is its row of the symmetric tangent whose
  * upper triangle the caller's A is, a prescribed dof's row is the
- * identity's. Its rows are split over the ranks in whole particles
- * (PETSc's default layout of blocks), and each rank sets only its own
- * rows. The matrix is AIJ (MPIAIJ on several ranks, block size dim), or
+ * identity's. Its rows are split over the ranks in whole particles: on
+ * several ranks numbered along the space-filling curve of
+ * ps_partition_curve, so that a rank's rows are a compact part of the
+ * body (numbering), and each rank sets only its own rows. The matrix is AIJ (MPIAIJ on several ranks, block size dim), or
  * SBAIJ with -mat_type sbaij (the upper triangle only), or BAIJ; its
  * pattern is set once per analysis, and each factorisation writes A's
  * values straight into the value arrays of the matrix's local pieces,

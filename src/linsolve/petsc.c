@@ -629,9 +629,9 @@ static int pt_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st, ps_ct
   PetscErrorCode ierr = 0;
   int status = s->vals ? PS_OK : PS_ERR_NOMEM;
   if (status == PS_OK) {
-    /* the exact pattern for AIJ and SBAIJ (the preallocation of the
-     * matrix's type; the other calls do nothing); other types (BAIJ)
-     * from counts of blocks */
+    /* the exact pattern for AIJ and scalar SBAIJ (the preallocation of
+     * the matrix's type; the other calls do nothing); block types (BAIJ,
+     * SBAIJ in blocks of dim) from counts of blocks */
     PetscBool aij = PETSC_FALSE;
     ierr = PetscObjectTypeCompareAny((PetscObject)s->A, &aij, MATSEQAIJ, MATMPIAIJ, "");
     if (ierr) {

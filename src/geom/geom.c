@@ -30,6 +30,28 @@ int ps_particles_alloc(ps_particles *p, int dim, ps_int n, ps_ctx *ctx) {
   return PS_OK;
 }
 
+/* particle a of src into place j of dst (dst may be src, j <= a): its
+ * position, volume, size and block, and the disk's zones and a cloud's
+ * lines where both clouds have them */
+static void copy_particle(ps_particles *dst, ps_int j, const ps_particles *src, ps_int a) {
+  int d = src->dim;
+  for (int k = 0; k < d; k++) dst->x[j * d + k] = src->x[a * d + k];
+  dst->volume[j] = src->volume[a];
+  dst->h[j] = src->h[a];
+  dst->block[j] = src->block[a];
+  if (dst->zone_xi && src->zone_xi) dst->zone_xi[j] = src->zone_xi[a];
+  if (dst->in_boundary_zone && src->in_boundary_zone)
+    dst->in_boundary_zone[j] = src->in_boundary_zone[a];
+  if (dst->line && src->line) dst->line[j] = src->line[a];
+}
+
+int ps_particles_subset(ps_particles *out, const ps_particles *P, const ps_int *ids, ps_int n,
+                        ps_ctx *ctx) {
+  PS_CHECK(ps_particles_alloc(out, P->dim, n, ctx));
+  for (ps_int j = 0; j < n; j++) copy_particle(out, j, P, ids[j]);
+  return PS_OK;
+}
+
 int ps_geom_cut_holes(ps_particles *p, const double (*holes)[4], int n, ps_ctx *ctx) {
   if (n == 0) return PS_OK;
   int dim = p->dim;
@@ -47,14 +69,7 @@ int ps_geom_cut_holes(ps_particles *p, const double (*holes)[4], int n, ps_ctx *
                       (x[2] - h[2]) * (x[2] - h[2])) < h[3];
     }
     if (inside) continue;
-    for (int k = 0; k < dim; k++) p->x[m * dim + k] = x[k];
-    p->volume[m] = p->volume[a];
-    p->h[m] = p->h[a];
-    p->block[m] = p->block[a];
-    if (p->zone_xi) p->zone_xi[m] = p->zone_xi[a];
-    if (p->in_boundary_zone) p->in_boundary_zone[m] = p->in_boundary_zone[a];
-    if (p->line) p->line[m] = p->line[a];
-    m++;
+    copy_particle(p, m++, p, a);
   }
   if (m == 0) return ps_error(ctx, PS_ERR_INPUT, "the holes remove every particle");
   p->n = m;

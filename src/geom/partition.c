@@ -124,17 +124,3 @@ void ps_partition_free(ps_partition *pt) {
   free(pt->part_of);
   memset(pt, 0, sizeof *pt);
 }
-
-int ps_particles_subset(ps_particles *out, const ps_particles *P, const ps_int *ids, ps_int n,
-                        ps_ctx *ctx) {
-  PS_CHECK(ps_particles_alloc(out, P->dim, n, ctx));
-  int d = P->dim;
-  for (ps_int j = 0; j < n; j++) {
-    ps_int a = ids[j];
-    memcpy(&out->x[j * d], &P->x[a * d], (size_t)d * sizeof *P->x);
-    out->volume[j] = P->volume[a];
-    out->h[j] = P->h[a];
-    out->block[j] = P->block[a];
-  }
-  return PS_OK;
-}

@@ -33,6 +33,12 @@ int ps_particles_alloc(ps_particles *p, int dim, ps_int n, ps_ctx *ctx);
 /* Free all arrays; safe on a zeroed or already freed cloud. */
 void ps_particles_free(ps_particles *p);
 
+/* *out = the particles ids[0 .. n) of P, in that order (positions,
+ * volumes, sizes, blocks; not the disk's zones or a cloud's file lines).
+ * Returns PS_OK, PS_ERR_INPUT (n < 1) or PS_ERR_NOMEM. */
+int ps_particles_subset(ps_particles *out, const ps_particles *P, const ps_int *ids, ps_int n,
+                        ps_ctx *ctx);
+
 /* Where particle a comes from, for messages: "cloud.txt:37: particle 36"
  * for a point cloud (source and line set), "plate.msh: element 37:
  * particle 36" for a mesh (line_is_element), else "particle 36". Writes at
@@ -144,12 +150,6 @@ int ps_partition_curve(ps_partition *pt, const ps_particles *P, int parts, ps_ct
 int ps_partition_ghosts(const ps_partition *pt, const ps_particles *P, int part, double reach,
                         ps_int **ghost, ps_int *n_ghost, ps_ctx *ctx);
 void ps_partition_free(ps_partition *pt);
-
-/* *out = the particles ids[0 .. n) of P, in that order (positions,
- * volumes, sizes, blocks; not the disk's zones or a cloud's file lines).
- * Returns PS_OK, PS_ERR_INPUT (n < 1) or PS_ERR_NOMEM. */
-int ps_particles_subset(ps_particles *out, const ps_particles *P, const ps_int *ids, ps_int n,
-                        ps_ctx *ctx);
 
 /* ---- k-d tree over a cloud (static, built once) ---- */
 typedef struct ps_kdtree ps_kdtree;

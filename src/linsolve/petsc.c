@@ -672,6 +672,12 @@ static int pt_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st, ps_ct
   return PS_OK;
 }
 
+/* the value of a slot or rest entry whose source is src: A->x[src], or 1
+ * (a prescribed dof's diagonal, PS_ONE) or 0 (block padding, PS_ZERO) */
+static inline double source_value(const ps_csc *A, ps_int src) {
+  return src >= 0 ? A->x[src] : src == PS_ONE ? 1.0 : 0.0;
+}
+
 /* A's values into the matrix: the pieces' arrays slot by slot, the rest
  * by MatSetValues (assembled by the caller) */
 static int fill_values(petsc_state *s, const ps_csc *A, ps_ctx *ctx) {
@@ -680,7 +686,7 @@ static int fill_values(petsc_state *s, const ps_csc *A, ps_ctx *ctx) {
     const ps_int *src = s->piece_src[p];
     PT(piece_array(s->piece[p], &a, 1), "the value array");
     for (ps_int slot = 0; slot < s->piece_len[p]; slot++)
-      a[slot] = src[slot] >= 0 ? A->x[src[slot]] : src[slot] == PS_ONE ? 1.0 : 0.0;
+      a[slot] = source_value(A, src[slot]);
     PT(piece_array(s->piece[p], &a, 0), "the value array");
   }
   ps_int m = s->rend - s->rstart;
@@ -688,7 +694,7 @@ static int fill_values(petsc_state *s, const ps_csc *A, ps_ctx *ctx) {
     PetscInt row = s->rstart + (PetscInt)r, len = s->rest_ia[r + 1] - s->rest_ia[r];
     if (len == 0) continue;
     const ps_int *src = s->rest_src + s->rest_ia[r];
-    for (PetscInt q = 0; q < len; q++) s->vals[q] = src[q] >= 0 ? A->x[src[q]] : 1.0;
+    for (PetscInt q = 0; q < len; q++) s->vals[q] = source_value(A, src[q]);
     PT(MatSetValues(s->A, 1, &row, len, s->rest_ja + s->rest_ia[r], s->vals, INSERT_VALUES),
        "MatSetValues");
   }

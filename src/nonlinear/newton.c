@@ -161,6 +161,7 @@ const char *ps_newton_reason_text(int reason) {
   case PS_NEWTON_NOT_FINITE: return "residual not finite";
   case PS_NEWTON_SINGULAR: return "singular tangent";
   case PS_NEWTON_NO_DISSIPATION: return "no arm dissipates along the step";
+  case PS_NEWTON_NO_PROGRESS: return "no progress: the residual stopped falling (a cycle among arm states)";
   case PS_NEWTON_STAGNATED:
     return "stagnated: solver.max_small_steps tiny line-search steps in a row";
   }

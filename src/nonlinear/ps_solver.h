@@ -36,9 +36,19 @@ enum ps_newton_reason {
   PS_NEWTON_STAGNATED = 5,     /* line-search steps below PS_SMALL_STEP that
                                   together cut the residual by < 10%, for
                                   opts.max_small_steps iterations in a row */
-  PS_NEWTON_NO_DISSIPATION = 6 /* dissipation control: the arms dissipate
-                                  nothing along the step's direction */
+  PS_NEWTON_NO_DISSIPATION = 6, /* dissipation control: the arms dissipate
+                                   nothing along the step's direction */
+  PS_NEWTON_NO_PROGRESS = 7     /* arc-length or dissipation step: the
+                                   corrector's smallest residual, far from
+                                   the tolerance, did not fall in
+                                   PS_CORRECTOR_PATIENCE iterations */
 };
+
+/* iterations a constrained step's corrector may go on without lowering
+ * its smallest residual, while that is above PS_CORRECTOR_FAR times the
+ * Newton tolerance, before the step fails and is cut (solver.c) */
+#define PS_CORRECTOR_PATIENCE 6
+#define PS_CORRECTOR_FAR 1e3
 
 /* a line-search step below this counts towards stagnation (newton.c) */
 #define PS_SMALL_STEP 1e-2

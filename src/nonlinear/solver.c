@@ -511,8 +511,9 @@ static int constrained_step(ps_solver *s, const step_constraint *con, void *c, c
     s->al_g = ps_calloc((size_t)nd, sizeof *s->al_g, ctx);
     if (!s->al_q || !s->al_v || !s->al_dr || !s->al_g) return PS_ERR_NOMEM;
   }
-  /* exact directions: past a limit point K is indefinite, where CG's
-   * truncated iterate would not solve the bordered system */
+  /* no truncated directions: past a limit point K is indefinite, where
+   * CG's truncated iterate would not solve the bordered system (the
+   * predictor solves to cg_tolerance, the corrector to the forcing rule) */
   int truncate = s->opts.cg_truncate;
   s->opts.cg_truncate = 0;
   s->cg_rtol = s->opts.pcg_rtol;
@@ -537,9 +538,15 @@ static int constrained_step(ps_solver *s, const step_constraint *con, void *c, c
   for (ps_int k = 0; k < nf; k++) s->u[dof[k]] += dlam * v[k];
   set_lambda(s, lambda0 + dlam);
 
-  /* the corrector: Newton on r_free = 0 and the constraint */
-  double rel0 = NAN, rel_last = INFINITY, lambda_last = lambda0;
-  int halvings = 0;
+  /* the corrector: Newton on r_free = 0 and the constraint, its two
+   * solves to the fixed forcing rule (cg_forcing; 0: exact). The adaptive
+   * rule's loose first solves would move the load factor by the
+   * constraint's response to CG's error. */
+  ps_forcing forcing;
+  ps_forcing_init(&forcing, 0, s->opts.cg_forcing_max, s->opts.cg_forcing, s->opts.pcg_rtol,
+                  s->opts.tolerance);
+  double rel0 = NAN, rel_last = INFINITY, lambda_last = lambda0, rel_best = INFINITY;
+  int halvings = 0, it_best = 0;
   for (int it = 0;; it++) {
     double rn;
     if ((status = ps_nl_eval(s, s->u, s->f, &s->energy, 1, ctx)) < 0) goto done;
@@ -558,6 +565,20 @@ static int constrained_step(ps_solver *s, const step_constraint *con, void *c, c
       reason = PS_NEWTON_MAX_ITER;
       goto failed;
     }
+    /* a corrector that has not lowered its best residual for a while,
+     * far from the tolerance, is cycling among arm states (yielding or
+     * elastic, loading or unloading) or wandering: a smaller step
+     * converges sooner than the remaining iterations. (Near the
+     * tolerance the residual can wander at round-off for a few
+     * iterations and then converge.) */
+    if (rel < rel_best) {
+      rel_best = rel;
+      it_best = it;
+    } else if (it - it_best >= PS_CORRECTOR_PATIENCE &&
+               rel_best > PS_CORRECTOR_FAR * s->opts.tolerance) {
+      reason = PS_NEWTON_NO_PROGRESS;
+      goto failed;
+    }
     if (con->damped) {
       if (rel > 10 * rel_last && halvings < 4) {
         for (ps_int j = 0; j < nd; j++) s->u[j] = 0.5 * (s->u[j] + s->u_trial[j]);
@@ -571,6 +592,7 @@ static int constrained_step(ps_solver *s, const step_constraint *con, void *c, c
       memcpy(s->u_trial, s->u, (size_t)nd * sizeof *s->u);
     }
     load_vector(s, q);
+    s->cg_rtol = ps_forcing_next(&forcing, rel);
     for (ps_int k = 0; k < nf; k++) s->work[k] = -s->f[dof[k]];
     if ((status = solve_tangent(s, s->work, dr, 1, ctx)) == PS_OK)
       status = solve_tangent(s, q, v, 0, ctx);

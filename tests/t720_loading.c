@@ -16,7 +16,10 @@
  *     (a free body), the top one is the reaction column (boundary stress
  *     times its length), a free component reports none.
  * (4) The same loading written as 101 entries (one per top particle)
- *     gives the same displacements, bit for bit. */
+ *     gives the same displacements, bit for bit.
+ * (5) Tractions on hex and square boxes: each layer carries the traction
+ *     times its edge's length (rows of the hex lattice are sqrt(3)/2 d
+ *     apart: a spacing-based layer would carry 0.87 or 1.73 of it). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -418,6 +421,68 @@ static void tension(void) {
   ps_problem_free(&pm);
 }
 
+/* ---- (5) ---- */
+
+/* sum of fext's component k over all particles */
+static double fext_sum(const ps_problem *pb, int k) {
+  double sum = 0;
+  for (ps_int a = 0; a < pb->P.n; a++) sum += pb->fext[a * pb->P.dim + k];
+  return sum;
+}
+
+/* A traction is a force per length of edge, whatever the lattice: on a
+ * hex box (rows dy = sqrt(3)/2 d apart, d between a row's particles)
+ * the top layer (one row, or two when the selection is a spacing thick)
+ * must carry t_y times the width counts[0] d, the right layer (one or
+ * two particles a row) t_x times the height counts[1] dy; on a square
+ * box as before, t times counts d. Exact up to round-off (1e-12). */
+static void hex_traction(void) {
+  const double d = 1.0e-3, dy = d * sqrt(3.0) / 2.0, ty = 1.0e6, tx = 2.0e6;
+  const struct {
+    const char *lattice;
+    double jitter, top, right; /* selection widths in spacings */
+  } runs[] = {{"hex", 0.0, 1.0, 1.0}, {"hex", 0.0, 0.5, 0.6}, {"hex", 0.1, 1.0, 1.0},
+              {"square", 0.0, 0.5, 0.5}};
+  for (size_t r = 0; r < sizeof runs / sizeof runs[0]; r++) {
+    int hex = !strcmp(runs[r].lattice, "hex");
+    double h = hex ? dy : d, width = 20 * d, height = 12 * h;
+    double xmax = hex ? 20.0 * d : 19.5 * d, ymax = 11.5 * h;
+    char text[2048];
+    snprintf(text, sizeof text,
+             "geometry: {type: box, dim: 2, counts: [20, 12], spacing: 1.0e-3, lattice: %s, "
+             "jitter: %g, seed: 3}\n"
+             "material: {model: bond, E: 72.0e9, nu: 0.3333333333333333, plane: stress, "
+             "horizon_factor: 3.015, plastic: false}\n"
+             "loading:\n  type: boundary\n  boundary:\n"
+             "    - select: {y_max: %.17g}\n      fix: [x, y]\n"
+             "    - select: {y_min: %.17g}\n      traction: {y: %g}\n"
+             "    - select: {x_min: %.17g, y_min: %.17g}\n      traction: {x: %g}\n",
+             runs[r].lattice, runs[r].jitter, h, ymax - runs[r].top * d - 0.3 * runs[r].jitter * d,
+             ty, xmax - runs[r].right * d - 0.3 * runs[r].jitter * d, 1.5 * h, tx);
+    ps_problem pb;
+    setup_text("traction", text, &pb);
+    /* the right layer starts above the bottom grip's rows: its height is
+     * that of the rows it holds */
+    double fy = fext_sum(&pb, 1), fx = fext_sum(&pb, 0), rows = 0;
+    unsigned char seen[12] = {0};
+    for (ps_int a = 0; a < pb.P.n; a++)
+      if (pb.fext[2 * a] != 0.0) {
+        long j = lround(pb.P.x[2 * a + 1] / h - 0.5);
+        if (j >= 0 && j < 12 && !seen[j]) rows += (seen[j] = 1);
+      }
+    (void)height;
+    double ey = fabs(fy - ty * width) / (ty * width), ex = fabs(fx - tx * rows * h) / (tx * rows * h);
+    ps_check(ey <= 1e-12,
+             "traction on the top layer (%s lattice, jitter %g, %g spacing(s) deep): "
+             "force / (t_y width) - 1 = %.2g", runs[r].lattice, runs[r].jitter, runs[r].top, ey);
+    ps_check(rows >= 8 && ex <= 1e-12,
+             "traction on the right layer (%s lattice, jitter %g, %g spacing(s) deep): "
+             "force / (t_x x its %g rows' height) - 1 = %.2g", runs[r].lattice, runs[r].jitter,
+             runs[r].right, rows, ex);
+    ps_problem_free(&pb);
+  }
+}
+
 int main(void) {
   mkdir(TMP, 0777);
   patch_test();
@@ -425,5 +490,6 @@ int main(void) {
   bending_values();
   steps_controller();
   tension();
+  hex_traction();
   return ps_check_summary();
 }

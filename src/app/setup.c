@@ -135,6 +135,51 @@ static int setup_groups(ps_problem *pb, const ps_mesh_sets *sets, unsigned char 
   return PS_OK;
 }
 
+/* The thickness h of the layer of particles that boundary entry ib
+ * selects (in_set as setup_bc's), across its edge: a traction t is
+ * applied as the body force t / h, so that the layer carries t times the
+ * edge's length. On a square or cubic lattice a layer one spacing thick
+ * has h = spacing. On the hex lattice rows are dy = sqrt(3)/2 d apart
+ * and each row's particles d apart: a layer along a horizontal edge
+ * (wider in x than in y) of n_rows rows has h = n_rows dy, one along a
+ * vertical edge holding n particles in n_rows rows has h = (n / n_rows)
+ * d (d for one particle per row). Rows are counted by their lattice
+ * index (jitter moves a particle by less than half a row). Returns
+ * PS_OK (*h set) or PS_ERR_NOMEM. */
+static int layer_thickness(const ps_problem *pb, int ib, const unsigned char *in_set, double *h,
+                           ps_ctx *ctx) {
+  const ps_particles *P = &pb->P;
+  const ps_case *cs = &pb->cs;
+  *h = cs->spacing;
+  if (cs->geometry != PS_GEOM_BOX || P->dim != 2 || strcmp(cs->lattice, "hex") != 0)
+    return PS_OK;
+  const ps_select *sel = &cs->bc[ib].sel;
+  const double d = cs->spacing, dy = d * sqrt(3.0) / 2.0;
+  double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+  ps_int n = 0, n_rows = 0;
+  unsigned char *row = ps_calloc((size_t)cs->counts[1], 1, ctx);
+  if (!row) return PS_ERR_NOMEM;
+  for (ps_int a = 0; a < P->n; a++) {
+    if (!selected(P, a, sel, sel->set[0] ? in_set : NULL)) continue;
+    n++;
+    for (int k = 0; k < 2; k++) {
+      lo[k] = fmin(lo[k], P->x[2 * a + k]);
+      hi[k] = fmax(hi[k], P->x[2 * a + k]);
+    }
+    long j = lround((P->x[2 * a + 1] - cs->origin[1]) / dy - 0.5);
+    j = j < 0 ? 0 : j >= (long)cs->counts[1] ? (long)cs->counts[1] - 1 : j;
+    n_rows += !row[j];
+    row[j] = 1;
+  }
+  free(row);
+  if (n == 0) return PS_OK;
+  if (hi[0] - lo[0] >= hi[1] - lo[1])
+    *h = (double)n_rows * dy; /* along a horizontal edge */
+  else
+    *h = d * ((double)n / (double)n_rows); /* along a vertical edge */
+  return PS_OK;
+}
+
 /* Boundary entry ib of the case on the particles it selects (in_set:
  * room for a named set's membership, NULL when no entry names one);
  * *measure_dir: the first measured component. */
@@ -145,6 +190,10 @@ static int setup_bc(ps_problem *pb, int ib, const ps_mesh_sets *sets, unsigned c
   const ps_bc *bc = &cs->bc[ib];
   int d = P->dim;
   PS_CHECK(entry_selects(pb, ib, sets, in_set, ctx));
+  double h = cs->spacing; /* the layer's thickness, where a traction needs it */
+  for (int k = 0; k < d; k++)
+    if (bc->traction_set[k] && bc->traction[k] != 0.0)
+      PS_CHECK(layer_thickness(pb, ib, in_set, &h, ctx));
   ps_int hits = 0;
   for (ps_int a = 0; a < P->n; a++) {
     if (!selected(P, a, &bc->sel, bc->sel.set[0] ? in_set : NULL)) continue;
@@ -159,8 +208,8 @@ static int setup_bc(ps_problem *pb, int ib, const ps_mesh_sets *sets, unsigned c
           pb->fext = ps_calloc((size_t)d * P->n, sizeof *pb->fext, ctx);
           if (!pb->fext) return PS_ERR_NOMEM;
         }
-        /* body force traction / layer over the selected layer */
-        pb->fext[a * d + k] += bc->traction[k] * P->volume[a] / cs->spacing;
+        /* body force traction / thickness over the selected layer */
+        pb->fext[a * d + k] += bc->traction[k] * P->volume[a] / h;
       }
       if (bc->displace_set[k]) {
         pb->fixed[a * d + k] = 1;

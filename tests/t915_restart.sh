@@ -8,7 +8,7 @@
 # control of softening arms (a notched plate) and path.steps with named
 # entries' reactions (a box). A checkpoint of
 # another case, a damaged one and a truncated one are refused (exit 1)
-# with the folder left as it was.
+# with the folder left as it was; output.checkpoint: false writes none.
 srcdir=${srcdir:-.}
 D="$srcdir/tests/data/restart"
 P=./peristatic
@@ -110,6 +110,16 @@ elif [ $rc -eq 0 ]; then
   ok "SIGINT: the run ended before the signal (nothing to restart)"
 else
   ko "SIGINT: exit $rc, $(cat "$T/sig.err")"
+fi
+
+# 3b. output.checkpoint: false writes no checkpoint, neither on the way
+# nor at the end, and changes no result
+sed 's/checkpoint_every: 4}/checkpoint_every: 4, checkpoint: false}/' "$D/disk.yaml" > "$T/nockpt.yaml"
+if grep -q 'checkpoint: false' "$T/nockpt.yaml" && $P run -q -t 1 -o "$T/nockpt" "$T/nockpt.yaml" &&
+   [ ! -e "$T/nockpt/checkpoint.bin" ]; then
+  same "$T/disk-full" "$T/nockpt" "output.checkpoint: false (no checkpoint.bin)"
+else
+  ko "output.checkpoint: false: the run failed or wrote a checkpoint"
 fi
 
 # 4. refusals, the folder left as it was

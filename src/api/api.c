@@ -356,7 +356,7 @@ int peristatic_run(peristatic *ps, const char *out_dir) {
   ps->solver = NULL;
   ps->ran = 0;
   ps->pb->threads = ps->threads;
-  ps->pb->checkpoint = 1;
+  ps->pb->checkpoint = ps->pb->cs.output.checkpoint;
   ps->pb->restart = ps->restart[0] ? ps->restart : NULL;
   out_dir = rank_output(ps, out_dir);
   int status = ps_run_keep(ps->pb, ps->pb->mat.delta, out_dir, &ps->res, &ps->solver, ps->ctx);

@@ -170,7 +170,7 @@ int ps_case_on_path(ps_loader *L, void *arg, const char *key, const char *name,
 /* ---- output ---- */
 
 const char *const ps_case_output_keys[] = {"dir", "vtk_every", "fields", "verbosity",
-                                           "j_integral", "checkpoint_every", NULL};
+                                           "j_integral", "checkpoint", "checkpoint_every", NULL};
 
 static const char *const j_keys[] = {"tip", "direction", "crack", "tips", "rings", NULL};
 
@@ -222,6 +222,7 @@ int ps_case_on_output(ps_loader *L, void *arg, const char *key, const char *name
   if (IS("dir")) return ps_yaml_string(L, v, name, o->dir, sizeof o->dir);
   if (IS("vtk_every")) return ps_yaml_int(L, v, name, 0, INT_MAX, &o->vtk_every);
   if (IS("fields")) return ps_yaml_bool(L, v, name, &o->fields);
+  if (IS("checkpoint")) return ps_yaml_bool(L, v, name, &o->checkpoint);
   if (IS("checkpoint_every")) return ps_yaml_int(L, v, name, 0, INT_MAX, &o->checkpoint_every);
   if (IS("j_integral")) {
     L->line_j = line_of(v);

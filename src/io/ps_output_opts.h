@@ -38,6 +38,9 @@ typedef struct ps_output_opts {
   double j_rings[PS_MAX_J_RINGS]; /* [j_integral.rings] outer half-widths l
                           of the square rings, m (q = 1 inside l/2, 0
                           outside l) */
+  int checkpoint;      /* [checkpoint] 0: `peristatic run` writes no
+                          checkpoint.bin at all, nor keeps the factors'
+                          copies it needs (default 1) */
   int checkpoint_every; /* [checkpoint_every] `peristatic run` writes
                           checkpoint.bin (doc/peristatic.md RESTART) every
                           n increments, and at the end of the run or at an

@@ -23,6 +23,7 @@ void ps_output_opts_default(ps_output_opts *o) {
   o->j_crack = -1;
   o->j_tips = PS_J_TIPS_BOTH;
   for (int i = 0; i < PS_MAX_J_RINGS; i++) o->j_rings[i] = 0.0;
+  o->checkpoint = 1;
   o->checkpoint_every = 10;
   o->verbosity = 1;
 }

@@ -6,7 +6,8 @@
 #   BENCH_LARGE=1  also 40k and 80k particles (elastic), a 3D box of 50,653
 #                  particles (elastic, 6.7 GB), and runs to fracture
 #                  of the paper's disk at its 20k particles, delta = c/3250
-#                  (repeated) and c/1000 (once)
+#                  (repeated) and c/1000 (once), and that disk at 10k and
+#                  20k under dissipation control through the peak (once)
 #   BENCH_HUGE=1   with BENCH_LARGE: also the paper's disk at 40k and 80k
 #                  particles run to fracture at c/1000 with the sweep's
 #                  settings (once each; ~9 and ~40 minutes)
@@ -166,6 +167,20 @@ if [ "${BENCH_LARGE:-0}" = 1 ]; then
   # and at the issue's (and Table 1's) delta = c/1000, which fractures since
   # algorithm version 7 (arm lengths rounded at zero); ~5 min, so once
   run_file "$top/data/cases/paper-griffith.yaml" paper-griffith-c1000 fracture cholmod true 1
+  # issue 20's target: the paper's disk at c/1000 under dissipation control
+  # through the peak to a boundary stress below half of it (10k, then the
+  # 20k of the issue; at most 400 increments; doc/path-following.md)
+  for sz in "14 28 10k" "20 40 20k"; do
+    set -- $sz
+    f="$work/disk-dissipation-$3.yaml"
+    sed -e "s/^  n_eta: 20\$/  n_eta: $1/" -e "s/^  n_xi: 40\$/  n_xi: $2/" \
+      -e 's/^path:$/path:\n  control: dissipation\n  max_increments: 400/' \
+      -e 's/^  stop_load_drop: 0.8$/  stop_load_drop: 0.5/' \
+      -e '/^  stop_tip_advance:/d' -e '/^  stop_crack_tip:/d' -e '/^griffith:/,$d' \
+      "$top/data/cases/paper-griffith.yaml" > "$f"
+    grep -q '^  control: dissipation$' "$f" || { echo "bench: cannot set the control" >&2; exit 1; }
+    run_file "$f" "disk-dissipation-$3-c1000" fracture cholmod true 1
+  done
   # the same on one thread (a sweep's job with -j 2 on 2 cores)
   RUN_THREADS=1 run_file "$f" paper-griffith-c3250-t1 fracture cholmod true 1
   RUN_THREADS=1 run_file "$top/data/cases/paper-griffith.yaml" paper-griffith-c1000-t1 fracture cholmod true 1

@@ -105,10 +105,12 @@ int ps_solver_step(ps_solver *s, double lambda, ps_ctx *ctx);
  * (Dlambda v, v = K_ff^-1 q, its sign that of the last converged
  * increment's dot product with it), then Newton with two right-hand sides
  * per iteration (K_ff^-1 r_free and K_ff^-1 q by the direction strategy,
- * CG truncation off), the load factor's correction the root of the
- * constraint's quadratic whose increment turns least (the linearised
- * constraint where the roots are complex), no line search. Stops as
- * ps_newton_solve (tolerance, max_iterations). Returns PS_OK (not
+ * CG truncation off, CG to the fixed forcing rule of opts.cg_forcing),
+ * the load factor's correction the root of the constraint's quadratic
+ * whose increment turns least (the linearised constraint where the roots
+ * are complex), no line search. Stops as ps_newton_solve (tolerance,
+ * max_iterations), and fails early with PS_NEWTON_NO_PROGRESS (above).
+ * Returns PS_OK (not
  * committed), PS_DIVERGED (state restored to the last commit;
  * ps_solver_last_reason says why), or fatal (PS_ERR_INPUT when the load
  * moves no free dof). */
@@ -123,7 +125,7 @@ int ps_solver_arclength_step(ps_solver *s, double ds, double psi, ps_ctx *ctx);
  * committed states, linearised with its exact gradient, so the load
  * factor may fall while the displacements grow (snap-back). Predictor and
  * Newton as ps_solver_arclength_step; converged when the residual meets
- * the tolerance and D is within 1e-8 tau. Returns PS_OK (not committed),
+ * the tolerance and D is within 1e-2 tau. Returns PS_OK (not committed),
  * PS_DIVERGED (restored; ps_solver_last_reason PS_NEWTON_NO_DISSIPATION
  * when no arm dissipates along the step: elastic loading or unloading,
  * where dissipation control cannot set the load), or fatal. */

@@ -8,6 +8,7 @@
 #   PETSC_BENCH_LARGE=1  also the 3D boxes of 50,653 (fibre) and 250,047
 #                        (bond) particles (minutes each, up to ~6 GB)
 #   PETSC_BENCH_RANKS    the rank counts (default "1 2")
+#   PETSC_BENCH_CASES    the 2D cases (default "intact yielded cracked")
 # Cases (each with the serial CHOLMOD run beside it):
 #   disk-intact   the paper's disk, 20,000 particles, one elastic step
 #   disk-yielded  the same disk loaded to 0.9 sigma_y with plastic arms
@@ -96,9 +97,15 @@ EOC
 }
 . "$top/bench/box3d.sh"
 
-bench_case "$(disk disk-intact 20 40 false 0.05 0.001)" disk-intact
-bench_case "$(disk disk-yielded 20 40 true 0.9 0.001)" disk-yielded
-bench_case "$(disk disk-cracked 6 12 true 3.0 0.001)" disk-cracked
+cases=${PETSC_BENCH_CASES:-intact yielded cracked}
+for c in $cases; do
+  case $c in
+  intact) bench_case "$(disk disk-intact 20 40 false 0.05 0.001)" disk-intact ;;
+  yielded) bench_case "$(disk disk-yielded 20 40 true 0.9 0.001)" disk-yielded ;;
+  cracked) bench_case "$(disk disk-cracked 6 12 true 3.0 0.001)" disk-cracked ;;
+  *) echo "bench-petsc: unknown case '$c' in PETSC_BENCH_CASES (intact, yielded, cracked)" >&2; exit 1 ;;
+  esac
+done
 if [ "${PETSC_BENCH_LARGE:-0}" = 1 ]; then
   bench_case "$(box3d box3d-37 37)" box3d-37
   bench_case "$(box3d box3d-63-bond 63 'material: {model: bond, E: 210.0e9, nu: 0.25, horizon_factor: 2.015}')" \

@@ -172,14 +172,14 @@ if [ "${BENCH_LARGE:-0}" = 1 ]; then
   # 20k of the issue; at most 400 increments; doc/path-following.md)
   for sz in "14 28 10k" "20 40 20k"; do
     set -- $sz
-    f="$work/disk-dissipation-$3.yaml"
+    fd="$work/disk-dissipation-$3.yaml"
     sed -e "s/^  n_eta: 20\$/  n_eta: $1/" -e "s/^  n_xi: 40\$/  n_xi: $2/" \
       -e 's/^path:$/path:\n  control: dissipation\n  max_increments: 400/' \
       -e 's/^  stop_load_drop: 0.8$/  stop_load_drop: 0.5/' \
       -e '/^  stop_tip_advance:/d' -e '/^  stop_crack_tip:/d' -e '/^griffith:/,$d' \
-      "$top/data/cases/paper-griffith.yaml" > "$f"
-    grep -q '^  control: dissipation$' "$f" || { echo "bench: cannot set the control" >&2; exit 1; }
-    run_file "$f" "disk-dissipation-$3-c1000" fracture cholmod true 1
+      "$top/data/cases/paper-griffith.yaml" > "$fd"
+    grep -q '^  control: dissipation$' "$fd" || { echo "bench: cannot set the control" >&2; exit 1; }
+    run_file "$fd" "disk-dissipation-$3-c1000" fracture cholmod true 1
   done
   # the same on one thread (a sweep's job with -j 2 on 2 cores)
   RUN_THREADS=1 run_file "$f" paper-griffith-c3250-t1 fracture cholmod true 1

@@ -434,8 +434,9 @@ static double fext_sum(const ps_problem *pb, int k) {
  * hex box (rows dy = sqrt(3)/2 d apart, d between a row's particles)
  * the top layer (one row, or two when the selection is a spacing thick)
  * must carry t_y times the width counts[0] d, the right layer (one or
- * two particles a row) t_x times the height counts[1] dy; on a square
- * box as before, t times counts d. Exact up to round-off (1e-12). */
+ * two particles a row, above the bottom grip) t_x times the height of
+ * the rows it holds, dy each; on a square box as before, t times the
+ * edge's particles d. Exact up to round-off (1e-12). */
 static void hex_traction(void) {
   const double d = 1.0e-3, dy = d * sqrt(3.0) / 2.0, ty = 1.0e6, tx = 2.0e6;
   const struct {
@@ -445,7 +446,7 @@ static void hex_traction(void) {
               {"square", 0.0, 0.5, 0.5}};
   for (size_t r = 0; r < sizeof runs / sizeof runs[0]; r++) {
     int hex = !strcmp(runs[r].lattice, "hex");
-    double h = hex ? dy : d, width = 20 * d, height = 12 * h;
+    double h = hex ? dy : d, width = 20 * d;
     double xmax = hex ? 20.0 * d : 19.5 * d, ymax = 11.5 * h;
     char text[2048];
     snprintf(text, sizeof text,
@@ -470,7 +471,6 @@ static void hex_traction(void) {
         long j = lround(pb.P.x[2 * a + 1] / h - 0.5);
         if (j >= 0 && j < 12 && !seen[j]) rows += (seen[j] = 1);
       }
-    (void)height;
     double ey = fabs(fy - ty * width) / (ty * width), ex = fabs(fx - tx * rows * h) / (tx * rows * h);
     ps_check(ey <= 1e-12,
              "traction on the top layer (%s lattice, jitter %g, %g spacing(s) deep): "

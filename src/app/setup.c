@@ -154,7 +154,7 @@ static int layer_thickness(const ps_problem *pb, int ib, const unsigned char *in
   if (cs->geometry != PS_GEOM_BOX || P->dim != 2 || strcmp(cs->lattice, "hex") != 0)
     return PS_OK;
   const ps_select *sel = &cs->bc[ib].sel;
-  const double d = cs->spacing, dy = d * sqrt(3.0) / 2.0;
+  const double d = cs->spacing, dy = ps_geom_row_spacing(cs->lattice, d);
   double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
   ps_int n = 0, n_rows = 0;
   unsigned char *row = ps_calloc((size_t)cs->counts[1], 1, ctx);
@@ -190,10 +190,10 @@ static int setup_bc(ps_problem *pb, int ib, const ps_mesh_sets *sets, unsigned c
   const ps_bc *bc = &cs->bc[ib];
   int d = P->dim;
   PS_CHECK(entry_selects(pb, ib, sets, in_set, ctx));
-  double h = cs->spacing; /* the layer's thickness, where a traction needs it */
-  for (int k = 0; k < d; k++)
-    if (bc->traction_set[k] && bc->traction[k] != 0.0)
-      PS_CHECK(layer_thickness(pb, ib, in_set, &h, ctx));
+  int loads = 0; /* a traction: it needs the layer's thickness h */
+  for (int k = 0; k < d; k++) loads |= bc->traction_set[k] && bc->traction[k] != 0.0;
+  double h = cs->spacing;
+  if (loads) PS_CHECK(layer_thickness(pb, ib, in_set, &h, ctx));
   ps_int hits = 0;
   for (ps_int a = 0; a < P->n; a++) {
     if (!selected(P, a, &bc->sel, bc->sel.set[0] ? in_set : NULL)) continue;
@@ -410,7 +410,7 @@ static int estimate_counts(const ps_case *cs, int dim, int lattice, double reach
   else
     for (int k = 0; k < dim; k++) n *= (double)cs->counts[k];
   if (lattice) {
-    double cell = !strcmp(cs->lattice, "hex") ? sqrt(3.0) / 2 : 1.0;
+    double cell = ps_geom_row_spacing(cs->lattice, 1.0);
     nb = (dim == 2 ? M_PI * reach * reach : 4.0 / 3.0 * M_PI * pow(reach, 3)) / cell;
   } else {
     double f = cs->size_rule == PS_SIZE_EQ44 ? 1.0 : dim == 2 ? 0.92 : 0.52;

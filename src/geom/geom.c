@@ -146,6 +146,10 @@ int ps_particles_check(const ps_particles *p, ps_ctx *ctx) {
   return PS_OK;
 }
 
+double ps_geom_row_spacing(const char *lattice, double d) {
+  return strcmp(lattice, "hex") == 0 ? d * sqrt(3.0) / 2.0 : d;
+}
+
 int ps_geom_box(ps_particles *p, int dim, const ps_int counts[3], double d,
                 const char *lattice, double jitter, unsigned long seed,
                 ps_ctx *ctx) {
@@ -176,7 +180,7 @@ int ps_geom_box(ps_particles *p, int dim, const ps_int counts[3], double d,
     return ps_error(ctx, PS_ERR_NOMEM, "cannot allocate RNG");
   }
   gsl_rng_set(rng, seed);
-  double dy = hex ? d * sqrt(3.0) / 2.0 : d;
+  double dy = ps_geom_row_spacing(lattice, d);
   double vol = hex ? d * dy : pow(d, dim);
   ps_int a = 0;
   ps_int nz = dim == 3 ? counts[2] : 1;

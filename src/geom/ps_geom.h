@@ -79,6 +79,10 @@ int ps_geom_box(ps_particles *p, int dim, const ps_int counts[3], double d,
                 const char *lattice, double jitter, unsigned long seed,
                 ps_ctx *ctx);
 
+/* The distance between the rows of ps_geom_box's lattice of spacing d
+ * (m): d sqrt(3)/2 for "hex", d for "square". */
+double ps_geom_row_spacing(const char *lattice, double d);
+
 /* Parameters of the elliptic crack disk (section 10.2 of the paper). */
 typedef struct ps_disk_params {
   double c;          /* half crack length, m (paper: 1/24) */

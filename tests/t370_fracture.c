@@ -16,8 +16,11 @@
  *    1.5 s0 exactly the arms whose stretch exceeds s0 break, none in
  *    compression; with max_count the max_count arms of largest stretch;
  *    st->broken_energy is the sum of 1/2 k dl^2 of the broken arms (bond,
- *    to 1e-12); a broken state-model arm leaves the dilatation (theta of
- *    its particles equals the sum over the intact arms, 1e-12).
+ *    to 1e-12; state at nu = 1/3, whose dilatation term is zero: the sum
+ *    of 2 b kv dl^2, 1e-10); a broken state-model arm leaves the
+ *    dilatation (theta of its particles equals the sum over the intact
+ *    arms, 1e-12); the state model's arm energy at nu = 1/4 is the
+ *    energy lost when the arm alone breaks (1e-8).
  * 3. At nu = 1/3 in plane stress the state model stores the PMB bond
  *    model's energy (1e-10: K - 2G is zero only to round-off).
  * 4. Refusals: a critical stretch <= 0 and the energy criterion for the
@@ -244,8 +247,10 @@ static void mechanism(const ps_model_type *type) {
   ps_check(exact, "%s: broken exactly where s > s0", name);
   if (type == ps_model_bond)
     ps_check_rel(st.broken_energy, energy, 1e-12, "bond: broken_energy = sum 1/2 k dl^2");
-  else
-    ps_check(isnan(st.broken_energy), "state: broken_energy is n/a (no per-arm energy)");
+  else /* nu = 1/3: K = 2G, no dilatation term; the pair term 2 b kv e^2 */
+    ps_check_rel(st.broken_energy, energy * 4.0 * 6.0 * L.model.mat.G /
+                                       (M_PI * pow(L.model.mat.horizon, 4)), 1e-10,
+                 "state at nu = 1/3: broken_energy = sum 2 b kv dl^2 (b = 6G/(pi delta^4))");
   /* broken arms carry nothing and leave the dilatation */
   type->evaluate(&L.model, dl, &st, T, &E, &tan, &ctx);
   int zero = 1;
@@ -306,6 +311,60 @@ static void state_is_pmb(void) {
   unmake(&S);
 }
 
+/* The state model's arm energy (state_arm_energy) is what the stored
+ * energy loses when that arm alone breaks at fixed displacements, the
+ * dilatation term included: at nu = 1/4 (K - 2G = E/15 in plane stress:
+ * the term is not zero) under a strain that varies over the lattice (so
+ * that theta differs from particle to particle), Psi(intact) - Psi(arm i
+ * broken) against arm_energy(i) for every arm in tension (1e-8 of the
+ * arm's energy: a difference of two sums of the whole lattice's energy,
+ * some 1e3 times larger, in double precision). */
+static void state_arm_energy(void) {
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  ps_material mat = {.E = 72e9, .yield_strain = 2e-3, .nu = 0.25, .rho = 1.0,
+                     .plane = PS_PLANE_STRESS, .fracture = PS_FRACTURE_STRETCH,
+                     .critical_stretch = 1e-3};
+  lattice L;
+  if (make(&L, ps_model_state, 2, 9, mat, &ctx)) die(&ctx);
+  ps_int na = L.net.n_arm;
+  ps_arm_state st;
+  if (ps_arm_state_alloc(&st, na, &ctx)) die(&ctx);
+  double *dl = calloc((size_t)na, sizeof *dl), *T = calloc((size_t)na, sizeof *T);
+  /* u = (1e-4 x y / DX, 2e-3 y + 5e-4 x^2 / DX) in units of DX */
+  for (ps_int i = 0; i < na; i++) {
+    const double *xa = L.P.x + 2 * L.net.a[i], *xb = L.P.x + 2 * L.net.b[i];
+    double u[2][2];
+    const double *x[2] = {xa, xb};
+    for (int k = 0; k < 2; k++) {
+      u[k][0] = 1e-4 * x[k][0] * x[k][1] / DX;
+      u[k][1] = 2e-3 * x[k][1] + 5e-4 * x[k][0] * x[k][0] / DX;
+    }
+    double dx = xb[0] + u[1][0] - xa[0] - u[0][0], dy = xb[1] + u[1][1] - xa[1] - u[0][1];
+    dl[i] = hypot(dx, dy) - L.net.r0[i];
+  }
+  double E0, E1, worst = 0;
+  int n = 0;
+  for (ps_int i = 0; i < na; i++) {
+    if (!(L.model.arm_k[i] > 0)) continue;
+    ps_model_state->evaluate(&L.model, dl, &st, T, &E0, NULL, &ctx);
+    if (!(st.stretch[i] > 0)) continue;
+    double w = ps_model_state->arm_energy(&L.model, &st, i);
+    st.broken[i] = 1;
+    ps_model_state->evaluate(&L.model, dl, &st, T, &E1, NULL, &ctx);
+    st.broken[i] = 0;
+    worst = fmax(worst, fabs(E0 - E1 - w) / w);
+    n++;
+  }
+  ps_check(n > 100 && worst <= 1e-8,
+           "state, nu = 1/4: arm_energy = the energy lost when the arm alone breaks, worst "
+           "%.2e over %d arms in tension", worst, n);
+  free(dl);
+  free(T);
+  ps_arm_state_free(&st);
+  unmake(&L);
+}
+
 static void refusals(void) {
   ps_ctx ctx;
   ps_ctx_init(&ctx);
@@ -335,6 +394,7 @@ int main(void) {
   mechanism(ps_model_bond);
   mechanism(ps_model_state);
   state_is_pmb();
+  state_arm_energy();
   refusals();
   for (int k = 0; k < 3; k++) gsl_integration_workspace_free(ws[k]);
   return ps_check_summary();

@@ -67,6 +67,9 @@
 #    property of the discrete quasi-static path, not a bound of the
 #    material; the PASS line reports D/(G_c da) and B/(G_c da) (about 1.4
 #    and 1.1 today; the continuum would give 1).
+# 5. the same DCB under event control (path.control: event), where each
+#    arm breaks at s0 and not past it: B within (1 + 1e-3)^2 of the
+#    broken arms' energy at exactly s0 (check 5 below).
 srcdir=${srcdir:-.}
 P=./peristatic
 T=t385_tmp
@@ -134,15 +137,9 @@ arms="$T/arms.txt"
 ./tests/vtu_dump "$(ls "$out"/arms_*.vtu 2>/dev/null | tail -n 1)" > "$arms" ||
   ko "DCB: the final arms_*.vtu does not read"
 
-# the analysis: name value lines into $T/an.txt
-awk -v E="$E" -v nu="$NU" -v G="$GC" -v dx="$DX" -v m="$M" -v yc="$YC" -v a0="$A0" '
-BEGIN { pi = atan2(0, -1); K = E / (2 * (1 - nu)); d = m * dx
-        c = 12 * K / (pi * d * d * d); s0 = sqrt(pi * G / (3 * K * d))
-        # R: the crossing pairs of a unit length at s0, over G_c (see the header)
-        for (n = 1; n <= m; n++) for (i = -int(m); i <= m; i++) {
-          xi = sqrt(i * i + n * n); if (xi <= m) { npair += n; sxi += n * xi } }
-        R = 2 * sxi / (m * m * m * m) }
-FILENAME == ARGV[1] {
+# the arms file (tests/vtu_dump of arms_*.vtu), first on the awk command
+# line: points px, py; arm ends A, Bb; the broken flag br per arm
+arms_parse='FILENAME == ARGV[1] {
   if ($1 == "POINTS") { sec = "P"; np = 0; next }
   if ($1 == "CELLS") { sec = "C"; na = 0; next }
   if ($1 == "CELL_TYPES" || $1 == "POINT_DATA" || $1 == "CELL_DATA" || $1 == "FIELD") { sec = ""; next }
@@ -151,7 +148,16 @@ FILENAME == ARGV[1] {
   if (sec == "P") { px[np] = $1; py[np] = $2; np++ }
   else if (sec == "C") { A[na] = $2; Bb[na] = $3; na++ }
   else if (sec == "B") br[nb++] = $1
-  next }
+  next }'
+# the analysis: name value lines into $T/an.txt
+awk -v E="$E" -v nu="$NU" -v G="$GC" -v dx="$DX" -v m="$M" -v yc="$YC" -v a0="$A0" '
+BEGIN { pi = atan2(0, -1); K = E / (2 * (1 - nu)); d = m * dx
+        c = 12 * K / (pi * d * d * d); s0 = sqrt(pi * G / (3 * K * d))
+        # R: the crossing pairs of a unit length at s0, over G_c (see the header)
+        for (n = 1; n <= m; n++) for (i = -int(m); i <= m; i++) {
+          xi = sqrt(i * i + n * n); if (xi <= m) { npair += n; sxi += n * xi } }
+        R = 2 * sxi / (m * m * m * m) }
+'"$arms_parse"'
 FILENAME == ARGV[2] {
   n = split($0, f, ",")
   if (FNR == 1) { for (i = 1; i <= n; i++) hp[f[i]] = i; next }
@@ -239,5 +245,44 @@ if holds "$(v rB) >= $(v lower)"; then
   ok "DCB: D/(G_c da) = $(v rD) (trapezoid through the settled points: $(v rDtr)), B/(G_c da) = $(v rB) >= $(v lower) (lattice: $(v pairs) crossing arms per dx hold $(v R) G_c at s0; da = $(v da) m)"
 else
   ko "DCB: B/(G_c da) = $(v rB) below $(v lower) (D/(G_c da) = $(v rD), da = $(v da) m)"
+fi
+
+# 5. The same DCB under event control (path.control: event): every
+#    increment ends where the next arm reaches s0 (to event_tolerance
+#    1e-3), so each arm breaks at s0 and not past it: B, the broken arms'
+#    energy, lies between their energy at exactly s0 and (1 + 1e-3)^2
+#    times it (the arms' energy is quadratic in the stretch). Under load
+#    control above it is 1.11 times it.
+sed -e 's/^path:$/path:\n  control: event/' -e 's/max_load: 0.17/max_load: 0.17\n  event_tolerance: 1.0e-3/' \
+  "$T/dcb.yaml" > "$T/dcb-event.yaml"
+out="$T/dcb-event"
+if $P run -q -o "$out" "$T/dcb-event.yaml" >/dev/null 2>"$T/dcb-event.err"; then
+  ./tests/vtu_dump "$(ls "$out"/arms_*.vtu 2>/dev/null | tail -n 1)" > "$T/arms-event.txt"
+  awk -v E="$E" -v nu="$NU" -v G="$GC" -v dx="$DX" -v m="$M" '
+  BEGIN { pi = atan2(0, -1); K = E / (2 * (1 - nu)); d = m * dx
+          c = 12 * K / (pi * d * d * d); s0 = sqrt(pi * G / (3 * K * d)) }
+  '"$arms_parse"'
+  FILENAME == ARGV[2] {
+    n = split($0, f, ",")
+    if (FNR == 1) { for (i = 1; i <= n; i++) hp[f[i]] = i; next }
+    vol[f[hp["id"]]] = f[hp["volume"]]; next }
+  { n = split($0, f, ",")
+    if (FNR == 1) { for (i = 1; i <= n; i++) hh[f[i]] = i; next }
+    B = f[hh["broken_energy"]]; nh = f[hh["arms_broken"]]; if (f[hh["converged"]] != 1) unconv++ }
+  END {
+    for (k = 0; k < na; k++) if (br[k] == 1) {
+      a = A[k]; b = Bb[k]; xi = sqrt((px[a] - px[b]) ^ 2 + (py[a] - py[b]) ^ 2)
+      nbr++; Bmin += 0.5 * c * vol[a] * vol[b] * s0 * s0 * xi }
+    printf "%d %d %d %.6g %.6g %.6f\n", unconv + 0, nbr, nh, B, Bmin, B / Bmin }' \
+    "$T/arms-event.txt" "$out/particles.csv" "$out/history.csv" > "$T/event.txt"
+  read -r unconv nbr nh B Bmin ratio < "$T/event.txt"
+  if [ "$unconv" = 0 ] && [ "$nbr" = "$nh" ] && [ "$nbr" -ge 100 ] &&
+     awk -v r="$ratio" 'BEGIN { exit !(r >= 1 && r <= 1.001 ^ 2 * (1 + 1e-9)) }'; then
+    ok "DCB, event control: the $nbr broken arms hold B = $B J/m, $ratio times their energy at exactly s0 ($Bmin): within (1 + event_tolerance)^2"
+  else
+    ko "DCB, event control: $unconv unconverged, $nbr broken arms (history: $nh), B = $B against $Bmin J/m at s0 (ratio $ratio, want 1 to 1.001^2)"
+  fi
+else
+  ko "DCB, event control: exit non-zero: $(cat "$T/dcb-event.err")"
 fi
 summary

@@ -87,8 +87,9 @@ int main(void) {
   m.mat.break_length = 2 * r0;
   st.eps_p[0] = 1.5 * ey; /* plastic elongation 1.5 eps_y r0 */
   m.mat.delta = 1.5 * ey * 2 * r0 * (1 + 1e-9);
-  ps_check_rel(m.type->break_excess(&m, &st, 0), 1.5 * ey * 2 * r0 - m.mat.delta, 1e-12,
-               "strain rule: excess eps_p L - delta");
+  ps_check_rel(m.type->break_excess(&m, &st, 0),
+               (1.5 * ey * 2 * r0 - m.mat.delta) / m.mat.delta, 1e-12,
+               "strain rule: excess eps_p L / delta - 1");
   ps_check(ps_model_break_arms(&m, &st, 0, &nb, &ctx) == PS_OK && nb == 0 && !st.broken[0],
            "strain rule: no break while eps_p < delta / L");
   m.mat.delta = 1.5 * ey * 2 * r0 * (1 - 1e-9); /* twice the arm's plastic elongation */
@@ -110,8 +111,9 @@ int main(void) {
   m.mat.break_length = 4 * r0;
   st.eps_p[0] = 1.5 * ey;
   m.mat.delta = 2 * 1.5 * ey * r0 * (1 + 1e-9);
-  ps_check_rel(m.type->break_excess(&m, &st, 0), 1.5 * ey * 2 * r0 - m.mat.delta, 1e-12,
-               "toughness rule: excess eps_p sqrt(r0 L) - delta");
+  ps_check_rel(m.type->break_excess(&m, &st, 0),
+               (1.5 * ey * 2 * r0 - m.mat.delta) / m.mat.delta, 1e-12,
+               "toughness rule: excess eps_p sqrt(r0 L) / delta - 1");
   ps_check(ps_model_break_arms(&m, &st, 0, &nb, &ctx) == PS_OK && nb == 0 && !st.broken[0],
            "toughness rule: no break while eps_p r0 < delta sqrt(r0 / L)");
   m.mat.delta = 2 * 1.5 * ey * r0 * (1 - 1e-9);

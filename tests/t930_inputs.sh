@@ -173,6 +173,11 @@ sed -e 's/  model: bond/  model: state/' -e '/^  micromodulus/d' -e 's/{critical
 expect 1 "soft_state.yaml:29: material.fracture.softening_ratio is for the bond model" -- info "$T/soft_state.yaml"
 sed 's/  stop_load_drop: 0.05/  stop_load_drop: 0.05\n  control: dissipation/' "$N" > "$T/diss_brittle.yaml"
 expect 1 "diss_brittle.yaml:49: path.control dissipation needs arms that dissipate energy as they deform" -- info "$T/diss_brittle.yaml"
+# event control needs arms that break: the tension bar's fibre arms never do
+sed 's/^  load_step: 0.05/  control: event\n&/' "$srcdir/data/cases/tension-bar.yaml" > "$T/event_unbreakable.yaml"
+expect 1 "event_unbreakable.yaml:27: path.control event ends each increment where the next arm reaches its breaking criterion, but no arm of this fibre model can break: give material.delta" -- info "$T/event_unbreakable.yaml"
+sed 's/  stop_load_drop: 0.05/  stop_load_drop: 0.05\n  control: event\n  event_tolerance: 0/' "$N" > "$T/event_tol.yaml"
+expect 1 "event_tol.yaml:50: path.event_tolerance must be" -- info "$T/event_tol.yaml"
 
 # loading fields, names and path.steps (issue 21 item 5): the tension bar
 # with its path or its last boundary entry replaced

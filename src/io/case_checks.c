@@ -235,6 +235,25 @@ static int dissipation_check(ps_loader *L) {
                             : bond ? " without softening_ratio" : "");
 }
 
+/* path.control event follows arms to their breaking criterion: the
+ * material needs one (material.fracture, or the fibre model's delta: given,
+ * or on a disk delta_over_c c) */
+static int event_check(ps_loader *L) {
+  const ps_case *cs = L->cs;
+  const ps_material *m = &cs->mat;
+  if (cs->path.control != PS_CONTROL_EVENT) return PS_OK;
+  if (m->fracture != PS_FRACTURE_NONE || (m->delta > 0 && isfinite(m->delta)) ||
+      (cs->geometry == PS_GEOM_DISK && cs->delta_over_c > 0))
+    return PS_OK;
+  return ps_yaml_fail(L, L->line_control,
+                      "path.control event ends each increment where the next arm reaches "
+                      "its breaking criterion, but no arm of this %s model can break: give "
+                      "%s, or use load or arc_length",
+                      cs->model,
+                      !strcmp(cs->model, "fibre") ? "material.delta (or delta_over_c)"
+                                                  : "material.fracture");
+}
+
 /* The displacement fields of loading.boundary against dim: a gradient of
  * dim numbers, a hessian of dim rows, about of dim coordinates. */
 static int fields_check(ps_loader *L) {
@@ -298,7 +317,7 @@ static int mesh_check(ps_loader *L) {
  * control, nor with the keys it replaces; its last entry is max_load. */
 static int steps_check(ps_loader *L) {
   ps_path_opts *o = &L->cs->path;
-  static const char *const control[] = {"load", "arc_length", "dissipation"};
+  static const char *const control[] = {"load", "arc_length", "dissipation", "event"};
   if (!L->line_steps) return PS_OK;
   if (o->control != PS_CONTROL_LOAD)
     return ps_yaml_fail(L, L->line_steps,
@@ -394,7 +413,8 @@ int ps_case_cross_checks(ps_loader *L) {
                         "geometry.holes need geometry.type box or cloud (got %s)",
                         gname[cs->geometry]);
   if (fixed_poisson_check(L) != PS_OK || particle_counts_check(L) != PS_OK ||
-      model_keys_check(L) != PS_OK || dissipation_check(L) != PS_OK)
+      model_keys_check(L) != PS_OK || dissipation_check(L) != PS_OK ||
+      event_check(L) != PS_OK)
     return PS_ERR_INPUT;
   if (L->line_delta_over_c && cs->geometry != PS_GEOM_DISK)
     return ps_yaml_fail(

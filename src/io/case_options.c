@@ -96,7 +96,7 @@ const char *const ps_case_path_keys[] = {
     "stop_crack_tip", "stop_tip_advance", "stop_load_drop", "max_break_rounds",
     "max_arms_per_round", "round_tolerance", "control", "arc_length_max", "arc_length_psi",
     "arc_length_iterations", "max_arms_per_step", "dissipation_step", "dissipation_max",
-    "steps", NULL};
+    "event_tolerance", "steps", NULL};
 
 /* path.steps: a list of load factors > 0, each above the one before */
 static int get_steps(ps_loader *L, yaml_node_t *v, const char *name) {
@@ -151,7 +151,7 @@ int ps_case_on_path(ps_loader *L, void *arg, const char *key, const char *name,
   if (IS("round_tolerance"))
     return ps_yaml_real(L, v, name, 0.0, 1, 1.0, 1, &o->round_tolerance);
   if (IS("control")) { /* the order of enum ps_path_control */
-    static const char *const controls[] = {"load", "arc_length", "dissipation", NULL};
+    static const char *const controls[] = {"load", "arc_length", "dissipation", "event", NULL};
     L->line_control = line_of(v);
     return ps_yaml_choice(L, v, name, controls, &o->control);
   }
@@ -160,6 +160,8 @@ int ps_case_on_path(ps_loader *L, void *arg, const char *key, const char *name,
     return ps_yaml_int(L, v, name, 0, INT_MAX, &o->max_arms_per_step);
   if (IS("dissipation_step")) return ps_yaml_pos(L, v, name, &o->dissipation_step);
   if (IS("dissipation_max")) return ps_yaml_pos(L, v, name, &o->dissipation_max);
+  if (IS("event_tolerance"))
+    return ps_yaml_real(L, v, name, 0.0, 1, 1.0, 1, &o->event_tolerance);
   if (IS("arc_length_psi"))
     return ps_yaml_real(L, v, name, 0.0, 0, INFINITY, 0, &o->arc_length_psi);
   if (IS("arc_length_iterations"))

@@ -183,6 +183,10 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
              po->dissipation_step, po->dissipation_max);
     fnv(&h, b);
   }
+  if (po->control == PS_CONTROL_EVENT) {
+    snprintf(b, sizeof b, "event %.17g", po->event_tolerance);
+    fnv(&h, b);
+  }
   for (int i = 0; i < po->n_steps; i++) { /* newer key: only when set */
     snprintf(b, sizeof b, "step %.17g", po->steps[i]);
     fnv(&h, b);

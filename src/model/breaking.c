@@ -39,6 +39,15 @@ ps_int ps_model_count_past(const ps_model *m, const ps_arm_state *st) {
   return nc;
 }
 
+double ps_model_max_excess(const ps_model *m, const ps_arm_state *st) {
+  double (*excess)(const ps_model *, const ps_arm_state *, ps_int) = m->type->break_excess;
+  double g = -1.0;
+  if (!ps_material_breaks(&m->mat) || !excess) return g;
+  for (ps_int i = 0; i < m->net->n_arm; i++)
+    if (!st->broken[i]) g = fmax(g, excess(m, st, i));
+  return g;
+}
+
 int ps_model_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
                         ps_int *n_broken, ps_ctx *ctx) {
   const ps_network *net = m->net;

@@ -253,29 +253,30 @@ static int fibre_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
   return m->work ? PS_OK : PS_ERR_NOMEM;
 }
 
-/* How far an intact arm is past Eq. 118 (it breaks when positive); 0 for
- * a broken arm. material.break_rule:
- *   elongation (default): eps_p r0 - delta, the arm's own plastic
- *     elongation past delta (a plastic strain delta / r0 at breaking:
- *     shorter arms need more, the paper's necking argument, section 8);
- *   strain: eps_p L - delta with L = material.break_length the same for
- *     every arm, i.e. eps_p past the critical plastic strain delta / L,
+/* How far an intact arm is past Eq. 118, relative to delta: an elongation
+ * measure below over delta, less one (it breaks when positive; -1 for a
+ * broken arm). material.break_rule:
+ *   elongation (default): eps_p r0, the arm's own plastic elongation (a
+ *     plastic strain delta / r0 at breaking: shorter arms need more, the
+ *     paper's necking argument, section 8);
+ *   strain: eps_p L with L = material.break_length the same for every
+ *     arm, i.e. eps_p against the critical plastic strain delta / L,
  *     scaled by L so that an arm of length L gets the elongation rule's
- *     number exactly (the ordering of breaking rounds in metres too);
- *   toughness: eps_p sqrt(r0 L) - delta, i.e. eps_p r0 past delta
- *     sqrt(r0 / L), scaled by sqrt(L / r0) (again the elongation rule's
- *     number when r0 = L). An arm of length r0 at a crack tip spans a
- *     crack-face opening ~ K sqrt(r0) / E (elastic), so a limit
- *     elongation ~ sqrt(r0) is a fixed K whatever the arm length: the
- *     scaling s0 ~ 1 / sqrt(horizon) of a critical stretch from G_c
- *     (Silling & Askari 2005), arm by arm (doc/griffith.md). */
+ *     number exactly;
+ *   toughness: eps_p sqrt(r0 L), i.e. eps_p r0 against delta sqrt(r0 /
+ *     L), scaled by sqrt(L / r0) (again the elongation rule's number when
+ *     r0 = L). An arm of length r0 at a crack tip spans a crack-face
+ *     opening ~ K sqrt(r0) / E (elastic), so a limit elongation ~ sqrt(r0)
+ *     is a fixed K whatever the arm length: the scaling s0 ~ 1 /
+ *     sqrt(horizon) of a critical stretch from G_c (Silling & Askari
+ *     2005), arm by arm (doc/griffith.md). */
 static double fibre_break_excess(const ps_model *m, const ps_arm_state *st, ps_int i) {
-  if (st->broken[i]) return 0.0;
-  double ep = ps_arm_plastic_strain(st, i, m->mat.yield_rule);
-  if (m->mat.break_rule == PS_BREAK_STRAIN) return ep * m->mat.break_length - m->mat.delta;
+  if (st->broken[i]) return -1.0;
+  double ep = ps_arm_plastic_strain(st, i, m->mat.yield_rule), d = m->mat.delta;
+  if (m->mat.break_rule == PS_BREAK_STRAIN) return (ep * m->mat.break_length - d) / d;
   if (m->mat.break_rule == PS_BREAK_TOUGHNESS)
-    return ep * sqrt(m->net->r0[i] * m->mat.break_length) - m->mat.delta;
-  return ep * m->net->r0[i] - m->mat.delta;
+    return (ep * sqrt(m->net->r0[i] * m->mat.break_length) - d) / d;
+  return (ep * m->net->r0[i] - d) / d;
 }
 
 /* The plastic work of the step, G(N+2) eps_y |eps_p - eps_p,n| A r0 per

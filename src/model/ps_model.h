@@ -200,9 +200,11 @@ typedef struct ps_model_type {
   int (*evaluate)(const ps_model *m, const double *dl, ps_arm_state *st,
                   double *T, double *energy, ps_arm_tangent *tan, ps_ctx *ctx);
   /* How far arm i of the last evaluate is past the model's breaking
-   * criterion: > 0 breaks it, the larger the further (fibre: eps_p r0 -
-   * delta, Eq. 118; bond, state: s / s0 - 1). Read only when
-   * ps_material_breaks; 0 or less for a broken arm. */
+   * criterion, relative to the criterion's limit: the arm's measure over
+   * its limit, less one (fibre: eps_p r0 / delta - 1, Eq. 118; bond,
+   * state: s / s0 - 1), so > 0 breaks it, the larger the further, and
+   * path.control event finds the load at which the largest is 0. Read
+   * only when ps_material_breaks; -1 for a broken arm. */
   double (*break_excess)(const ps_model *m, const ps_arm_state *st, ps_int i);
   /* Optional (NULL: the energy does not split into arms): the stored
    * energy of intact arm i at the last evaluate, J (per unit thickness in
@@ -333,6 +335,11 @@ ps_int ps_model_count_past(const ps_model *m, const ps_arm_state *st);
  * arm is marked and *n_broken = 0). */
 int ps_model_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
                         ps_int *n_broken, ps_ctx *ctx);
+
+/* The largest break_excess over the intact arms of st (-1 when there is
+ * none, or when !ps_material_breaks): 0 at the load where the next arm
+ * reaches its criterion. */
+double ps_model_max_excess(const ps_model *m, const ps_arm_state *st);
 
 /* break_excess of the stretch-type criteria (bond, state): st->stretch[i]
  * / m->arm_s0[i] - 1 (tension only; -1 for a broken arm). */

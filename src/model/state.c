@@ -180,9 +180,29 @@ static int state_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
   return PS_OK;
 }
 
+/* The energy arm i holds at the last evaluate: what the stored energy
+ * loses when the arm alone leaves it at fixed displacements, its
+ * deviatoric term 2 b kv e^2 and, at each end a, V_a a (theta_a^2 -
+ * theta_a'^2) with theta_a' = theta_a - d ks_a e / V_a (the dilatation
+ * without the arm; 0 in 2D at nu = 1/3, where a = 0). Arms broken in the
+ * same pass are each counted against the dilatation before the pass. */
+static double state_arm_energy(const ps_model *m, const ps_arm_state *st, ps_int i) {
+  const ps_network *net = m->net;
+  state_constants c = constants(&m->mat, net->dim);
+  ps_int na = net->n_arm, end[2] = {net->a[i], net->b[i]};
+  double e = st->stretch[i] * net->r0[i], w = 2.0 * c.b * m->arm_k[i] * e * e;
+  for (int j = 0; j < 2; j++) {
+    double ks = m->arm_side ? m->arm_side[j ? na + i : i] : m->arm_k[i];
+    double V = m->R[end[j]], th = m->epsbar[end[j]], dth = c.d * ks * e / V;
+    w += V * c.a * (th * th - (th - dth) * (th - dth));
+  }
+  return w;
+}
+
 static const ps_model_type state_type = {.name = "state",
                                          .evaluate = state_evaluate,
                                          .break_excess = ps_model_stretch_excess,
+                                         .arm_energy = state_arm_energy,
                                          .prepare = state_prepare,
                                          .family_coupling = 1,
                                          .lattice = 1,

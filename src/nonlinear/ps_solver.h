@@ -159,6 +159,11 @@ int ps_solver_reject(ps_solver *s, ps_ctx *ctx);
  * (those the next breaking round would break). */
 ps_int ps_solver_count_past_criterion(const ps_solver *s);
 
+/* The largest relative excess over the breaking criterion of the intact
+ * arms in the last evaluation (ps_model_max_excess: > 0 past it, 0 at
+ * it; -1 with no criterion or no intact arm). */
+double ps_solver_max_excess(const ps_solver *s);
+
 /* One round of fracture: break the arms past the elongation limit (model
  * rule; with max_count > 0 only the max_count arms past it by the most)
  * and re-equilibrate at the same load; commits when converged. *n_broken

@@ -221,6 +221,10 @@ ps_int ps_solver_count_past_criterion(const ps_solver *s) {
   return ps_model_count_past(&s->pd->model, &s->pd->st);
 }
 
+double ps_solver_max_excess(const ps_solver *s) {
+  return ps_model_max_excess(&s->pd->model, &s->pd->st);
+}
+
 void ps_solver_restore(ps_solver *s) {
   ps_pd_restore(s->pd);
   memcpy(s->u, s->u_saved, (size_t)s->prob.n_dof * sizeof *s->u);

@@ -78,5 +78,6 @@ const ps_step_control_type *const ps_step_control_arc_length = &arc_type;
 const ps_step_control_type *ps_step_control_find(int control) {
   return control == PS_CONTROL_ARC_LENGTH    ? ps_step_control_arc_length
          : control == PS_CONTROL_DISSIPATION ? ps_step_control_dissipation
+         : control == PS_CONTROL_EVENT       ? ps_step_control_event
                                              : ps_step_control_load;
 }

@@ -26,6 +26,7 @@ void ps_path_opts_default(ps_path_opts *o) {
   o->max_arms_per_step = 0;
   o->dissipation_step = 0.0;
   o->dissipation_max = 0.0;
+  o->event_tolerance = 1e-3;
   o->steps = NULL;
   o->n_steps = 0;
 }
@@ -136,7 +137,12 @@ int ps_path_iterate(ps_path *p, ps_ctx *ctx) {
   if (p->end) return PS_OK;
   p->resumable = 0;
   p->rounds_interrupted = 0;
-  if (p->o.control != PS_CONTROL_LOAD) {
+  if (p->o.control == PS_CONTROL_EVENT) {
+    /* the arms of the last increment's event break; the controller's
+     * first solve is at that load */
+    PS_CHECK(ps_solver_break_in_place(p->s, 0, &nb, ctx));
+    p->broken_total += nb;
+  } else if (p->o.control != PS_CONTROL_LOAD) {
     /* the last increment's arms past the criterion break; one
      * re-equilibration at that load (Newton with its line search) puts
      * the next constrained step's start back in equilibrium, where the

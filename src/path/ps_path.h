@@ -103,6 +103,17 @@ extern const ps_step_control_type *const ps_step_control_arc_length;
  * model with material.fracture.softening_ratio). */
 extern const ps_step_control_type *const ps_step_control_dissipation;
 
+/* Event control (control_event.c): each increment ends at the load factor
+ * where the next arm reaches its breaking criterion (the largest relative
+ * excess in (0, event_tolerance]), found by Newton solves from the
+ * committed state at trial load factors (proportional guess, then regula
+ * falsi); those arms break at the start of the next increment without
+ * re-equilibrating, and its first solve is at the same load factor. The
+ * load factor falls where the damaged network cannot carry it (a
+ * snap-back). Increments that meet no criterion rise by at most
+ * load_step (halved on a failure). */
+extern const ps_step_control_type *const ps_step_control_event;
+
 /* The controller of path.control (enum ps_path_control). */
 const ps_step_control_type *ps_step_control_find(int control);
 

@@ -43,8 +43,9 @@ typedef struct ps_path_opts {
                                    criterion); 0: every round to
                                    solver.tolerance (default) */
   int control;                  /* the step controller: PS_CONTROL_LOAD
-                                   (default), PS_CONTROL_ARC_LENGTH or
-                                   PS_CONTROL_DISSIPATION */
+                                   (default), PS_CONTROL_ARC_LENGTH,
+                                   PS_CONTROL_DISSIPATION or
+                                   PS_CONTROL_EVENT */
   double arc_length_max;        /* arc-length: the largest arc length, in
                                    units of the load factor of the first
                                    (elastic) response; 0: load_step
@@ -69,6 +70,10 @@ typedef struct ps_path_opts {
   double dissipation_max;       /* dissipation control: the largest tau, J;
                                    0: 1/50 of the largest stored energy so
                                    far (default) */
+  double event_tolerance;       /* event control: an increment ends where
+                                   the largest relative excess over the
+                                   breaking criterion (break_excess) is in
+                                   (0, event_tolerance] (default 1e-3) */
   double *steps;                /* load control: the load factors to reach
                                    in turn (path.steps: > 0, increasing;
                                    max_load is the last), or NULL (default:
@@ -83,7 +88,8 @@ typedef struct ps_path_opts {
 enum ps_path_control {
   PS_CONTROL_LOAD = 0,
   PS_CONTROL_ARC_LENGTH = 1,
-  PS_CONTROL_DISSIPATION = 2
+  PS_CONTROL_DISSIPATION = 2,
+  PS_CONTROL_EVENT = 3
 };
 
 /* The defaults above, the only place they are written down (the case

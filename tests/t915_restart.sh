@@ -5,8 +5,10 @@
 # the wall time), particles.csv and summary.txt counts to the last bit:
 # under load control with yielding and breaking arms (a small disk),
 # arc-length control past a limit load (a perforated plate), dissipation
-# control of softening arms (a notched plate) and path.steps with named
-# entries' reactions (a box). A checkpoint of
+# control of softening arms (a notched plate), event control of brittle
+# arms (the same plate: the restart falls between an event and the
+# breaking of its arms) and path.steps with named entries' reactions (a
+# box). A checkpoint of
 # another case, a damaged one and a truncated one are refused (exit 1)
 # with the folder left as it was; output.checkpoint: false writes none.
 srcdir=${srcdir:-.}
@@ -47,9 +49,9 @@ cut_case() {
 }
 
 # 1. stopped by path.max_increments at k and restarted with the full case
-# (max_increments may differ): load, arc-length and dissipation control,
-# path.steps
-for c in disk:13 arc:17 soft:20 steps:5; do
+# (max_increments may differ): load, arc-length, dissipation and event
+# control, path.steps
+for c in disk:13 arc:17 soft:20 event:19 steps:5; do
   name=${c%%:*}
   k=${c#*:}
   $P run -q -t 1 -o "$T/$name-full" "$D/$name.yaml" || ko "$name: the uninterrupted run failed"

@@ -26,7 +26,8 @@
  * order), with prescribed dofs and a free body (a particle whose arms
  * all broke, held by a spring), and so does the coupling K_fp du_p of the
  * predictor; evaluations of forces alone in between do not change it.
- * And an arm crushed to zero length (crushed_arm below). */
+ * And an arm crushed to zero length (crushed_arm below), and a particle
+ * held by collinear arms only (loose_particle). */
 #include <gsl/gsl_eigen.h>
 #include <gsl/gsl_math.h>
 #include <gsl/gsl_rng.h>
@@ -504,6 +505,108 @@ static void crushed_arm(void) {
   teardown(&F);
 }
 
+/* smallest and largest eigenvalue of the symmetric n x n matrix Kd */
+static void eig_range(ps_int n, const double *Kd, double *lmin, double *lmax) {
+  gsl_matrix *M = gsl_matrix_alloc((size_t)n, (size_t)n);
+  for (ps_int r = 0; r < n; r++)
+    for (ps_int c = 0; c < n; c++) gsl_matrix_set(M, r, c, Kd[r * n + c]);
+  gsl_vector *ev = gsl_vector_alloc((size_t)n);
+  gsl_eigen_symm_workspace *w = gsl_eigen_symm_alloc((size_t)n);
+  gsl_eigen_symm(M, ev, w);
+  *lmin = gsl_vector_min(ev);
+  *lmax = gsl_vector_max(ev);
+  gsl_eigen_symm_free(w);
+  gsl_vector_free(ev);
+  gsl_matrix_free(M);
+}
+
+/* A particle held by one arm (or collinear arms: a crack face's sliver):
+ * on the network at rest (no tensions), the particle nearest the centre
+ * keeps only its shortest arm, of direction q. No arm resists its motion
+ * across q, so without a spring the free tangent is singular (smallest
+ * eigenvalue below 1e-13 of the largest: round-off); ps_system_eval marks
+ * it loose in the d - 1 directions across q (projector I - q q^T to 1e-12,
+ * no other particle loose), the spring makes the tangent positive definite (smallest
+ * eigenvalue above 1e-9 of the largest: the lattice's own conditioning),
+ * and the matrix-free product carries the same spring (1e-13). */
+static void loose_particle(const ps_model_type *type, int dim, int plane, double nu,
+                           const char *label) {
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  fixture F;
+  setup(&F, type, PS_YIELD_TOTAL, dim, plane, nu, &ctx);
+  int d = dim;
+  ps_int nd = F.sys.n_dof, a = 0;
+  double c[3] = {3.5e-3, 3.0e-3, 2.5e-3}, best = INFINITY;
+  for (ps_int p = 0; p < F.P.n; p++) {
+    double r = 0;
+    for (int k = 0; k < d; k++) r += (F.P.x[p * d + k] - c[k]) * (F.P.x[p * d + k] - c[k]);
+    if (r < best) { best = r; a = p; }
+  }
+  /* its shortest arm is the one left (the network is jittered: no two
+   * arms are collinear) */
+  ps_int keep = F.net.fam_arm[F.net.fam_ptr[a]];
+  for (ps_int k = F.net.fam_ptr[a]; k < F.net.fam_ptr[a + 1]; k++) {
+    ps_int i = F.net.fam_arm[k];
+    if (F.net.r0[i] < F.net.r0[keep]) keep = i;
+  }
+  for (ps_int k = F.net.fam_ptr[a]; k < F.net.fam_ptr[a + 1]; k++)
+    F.st.broken[F.net.fam_arm[k]] = F.net.fam_arm[k] != keep;
+  double q[3];
+  for (int k = 0; k < d; k++)
+    q[k] = (F.P.x[F.net.b[keep] * d + k] - F.P.x[F.net.a[keep] * d + k]) / F.net.r0[keep];
+  unsigned char *fixed = calloc((size_t)nd, 1);
+  for (ps_int p = 0; p < F.P.n; p++)
+    for (int k = 0; k < d; k++) fixed[p * d + k] = F.P.x[p * d] < 2.0e-3;
+  ps_system S;
+  if (ps_system_create(&S, &F.net, fixed, &ctx)) abort();
+  double *u = calloc((size_t)nd, sizeof *u), *f = calloc((size_t)nd, sizeof *f), E;
+  if (ps_system_eval(&S, &F.model, &F.st, F.P.x, u, f, &E, PS_EVAL_TANGENT, &ctx)) abort();
+  /* the marks */
+  int others = 0;
+  for (ps_int p = 0; p < F.P.n; p++) others += p != a && S.free_body[p];
+  double perr = 0;
+  for (int be = 0; be < d; be++)
+    for (int al = 0; al < d; al++)
+      perr = fmax(perr, fabs(S.free_proj[d * d * a + be * d + al] - ((al == be) - q[al] * q[be])));
+  ps_check(S.free_body[a] == d - 1 && others == 0 && perr <= 1e-12,
+           "%s: particle %lld hanging on one arm: loose in %d direction(s) (want %d), "
+           "projector I - q q^T to %.1e, %d other loose particles",
+           label, (long long)a, S.free_body[a], d - 1, perr, others);
+  /* the free tangent with and without the spring */
+  ps_int nf = S.n_free;
+  double *Kd = calloc((size_t)(nf * nf), sizeof *Kd), lmin, lmax, l0min, l0max;
+  dense(&S.A, nf, Kd);
+  eig_range(nf, Kd, &lmin, &lmax);
+  for (int be = 0; be < d; be++)
+    for (int al = 0; al < d; al++) {
+      ps_int r = S.free_of_dof[a * d + al], cc = S.free_of_dof[a * d + be];
+      Kd[r * nf + cc] -= S.spring * S.free_proj[d * d * a + be * d + al];
+    }
+  eig_range(nf, Kd, &l0min, &l0max);
+  ps_check(S.spring > 0 && lmin > 1e-9 * lmax && fabs(l0min) < 1e-13 * l0max,
+           "%s: the tangent without the spring is singular (smallest eigenvalue %.2e of the "
+           "largest), with it positive definite (%.2e)",
+           label, l0min / l0max, lmin / lmax);
+  /* the matrix-free product */
+  double *x = calloc((size_t)nd, sizeof *x), *y = calloc((size_t)nd, sizeof *y);
+  double *yref = calloc((size_t)nd, sizeof *yref);
+  for (ps_int j = 0; j < nd; j++) x[j] = sin(1.0 + 7.0 * (double)j);
+  ps_system_apply(&S, x, y);
+  kfull_product(&S, x, yref);
+  ps_check_le(rel_diff(nd, y, yref), 1e-13,
+              "matrix-free K x with the loose particle's spring = Kfull x");
+  free(x);
+  free(y);
+  free(yref);
+  free(Kd);
+  free(u);
+  free(f);
+  free(fixed);
+  ps_system_free(&S);
+  teardown(&F);
+}
+
 int main(void) {
   const int T = PS_YIELD_TOTAL, D = PS_YIELD_DEVIATORIC;
   run_case(ps_model_fibre, T, 2, PS_PLANE_STRAIN, 0.3, "fibre, 2D plane strain nu=0.3");
@@ -538,5 +641,9 @@ int main(void) {
   run_case_cloud(ps_model_threebody, T, 2, PS_PLANE_STRESS, 0.25, 1,
                  "threebody on a cloud, plane stress nu=0.25, fracture");
   crushed_arm();
+  loose_particle(ps_model_bond, 2, PS_PLANE_STRESS, 1.0 / 3.0, "bond 2D");
+  loose_particle(ps_model_fibre, 2, PS_PLANE_STRAIN, 0.3, "fibre 2D");
+  loose_particle(ps_model_state, 3, PS_SOLID_3D, 0.27, "state 3D");
+  loose_particle(ps_model_bond, 3, PS_SOLID_3D, 0.25, "bond 3D");
   return ps_check_summary();
 }

@@ -1,7 +1,7 @@
 /* assemble.c: the tangent of the last evaluation as a matrix, for a
  * factorisation:
  *   K = sum_arms [ D q q^T + (T/l)(I - q q^T) ] (x) [[1,-1],[-1,1]]
- *     + sum_a (c_a g_a g_a^T + c2_a h_a h_a^T) + spring on free bodies,
+ *     + sum_a (c_a g_a g_a^T + c2_a h_a h_a^T) + spring P_a on loose particles,
  * scattered into Kfull through the slot maps of pattern.c (no search),
  * then the free upper triangle gathered into A. */
 #include "assembly_internal.h"
@@ -42,10 +42,14 @@ static inline ps_int diag_pos(const ps_system *s, ps_int a, int k) {
   return ps_asm_kpos(s, a, s->slot_diag[a], k, k);
 }
 
-/* A particle whose arms have all broken is a free body: a spring (N/m)
- * keeps the tangent nonsingular; it carries no force, so the particle
- * stays where it is. */
-void ps_asm_finish_tangent(ps_system *s, const unsigned char *free_body, double spring) {
+/* A particle is loose in the directions its intact arms do not span
+ * (every direction once they have all broken; mark_free_bodies in
+ * evaluate.c): a spring (N/m) along them, spring P_a on a's diagonal
+ * block with P_a the projector free_proj, keeps the tangent nonsingular;
+ * it carries no force, so it moves no converged state, and the particle
+ * stays where it is in those directions. */
+void ps_asm_finish_tangent(ps_system *s, const unsigned char *free_body, const double *free_proj,
+                           double spring) {
   const ps_network *net = s->net;
   int d = s->dim;
   if (spring < 0) {
@@ -53,9 +57,13 @@ void ps_asm_finish_tangent(ps_system *s, const unsigned char *free_body, double 
     for (ps_int a = 0; a < net->n_particle; a++)
       for (int k = 0; k < d; k++) spring = fmax(spring, s->Kfull[diag_pos(s, a, k)]);
   }
-  for (ps_int a = 0; a < net->n_particle; a++)
-    if (free_body[a])
-      for (int k = 0; k < d; k++) s->Kfull[diag_pos(s, a, k)] += spring;
+  for (ps_int a = 0; a < net->n_particle; a++) {
+    if (!free_body[a]) continue;
+    const double *P = &free_proj[(ps_int)d * d * a];
+    for (int be = 0; be < d; be++)
+      for (int al = 0; al < d; al++)
+        s->Kfull[ps_asm_kpos(s, a, s->slot_diag[a], al, be)] += spring * P[be * d + al];
+  }
   for (ps_int k = 0; k < s->A.p[s->n_free]; k++) s->A.x[k] = s->Kfull[s->A_src[k]];
 }
 
@@ -87,7 +95,7 @@ int ps_system_assemble(ps_system *s, ps_ctx *ctx) {
   ps_asm_assemble_arms(s, s, s->tan.D);
   for (ps_int c = 0; c < s->net->n_particle; c++)
     for (int term = 0; term < 2; term++) add_family_term(s, c, term);
-  ps_asm_finish_tangent(s, s->free_body, s->spring);
+  ps_asm_finish_tangent(s, s->free_body, s->free_proj, s->spring);
   s->assembled = 1;
   return PS_OK;
 }

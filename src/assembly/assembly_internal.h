@@ -74,10 +74,11 @@ static inline double ps_asm_family_term(const ps_system *s, ps_int c, int term, 
  * (geometry src->tq, src->tTl) with arm stiffnesses D[n_arm] */
 void ps_asm_assemble_arms(ps_system *dst, const ps_system *src, const double *D);
 
-/* assemble.c: finish Kfull (a spring on each free body's diagonal; spring
+/* assemble.c: finish Kfull (spring P_a on each loose particle's diagonal block; spring
  * < 0: the largest diagonal entry of Kfull) and gather the free upper
  * triangle into s->A */
-void ps_asm_finish_tangent(ps_system *s, const unsigned char *free_body, double spring);
+void ps_asm_finish_tangent(ps_system *s, const unsigned char *free_body, const double *free_proj,
+                           double spring);
 
 /* operator.c: diag[n_dof] = the diagonal of the tangent K (no springs) */
 void ps_asm_tangent_diagonal(const ps_system *s, double *diag);

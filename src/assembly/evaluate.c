@@ -6,10 +6,11 @@
  * when asked, the tangent's data: the model's stiffnesses (D, c, w, c2,
  * w2), the arm geometry q and T/l, the family gradients
  *   g_a = sum_{i in family a} w_{a,i} dl_i/dy
- * of the rank-one terms, the free bodies and their spring. The loops over
+ * of the rank-one terms, the loose particles and their spring. The loops over
  * arms and particles run in s->parts parts on the system's team. */
 #include "assembly_internal.h"
 
+#include <gsl/gsl_eigen.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -187,17 +188,92 @@ static void gradient_part(void *arg, int part) {
     }
 }
 
-/* free_body[a] = 1 for a particle whose arms have all broken; returns
- * how many there are */
+/* The directions in which no intact arm holds a particle. B_a = the sum
+ * over a's intact arms of their stiffness blocks (D q q^T + (T/l)(I - q
+ * q^T), plus the rotation part of a model with arm rotations): the
+ * particle's own block of K but for the family terms, which lie in the
+ * span of the same arms. An eigenvector of B_a whose eigenvalue is at
+ * most PS_LOOSE_TOL of B_a's largest in magnitude is a direction in which
+ * K's column of a is (to that tolerance) zero: a mechanism of one
+ * particle, e.g. one held by collinear arms with no tension on a crack
+ * face. Every direction is loose once all arms have broken. The screen:
+ * when B_a - PS_LOOSE_TOL trace(B_a) I has a Cholesky factor, every
+ * eigenvalue exceeds PS_LOOSE_TOL trace(B_a) >= PS_LOOSE_TOL |lambda|_max,
+ * and a is held. */
+#define PS_LOOSE_TOL 1e-10
+
+/* 1 when the symmetric d x d matrix M is positive definite (Cholesky) */
+static int small_posdef(int d, const double *M) {
+  double L[9] = {0};
+  for (int j = 0; j < d; j++) {
+    double dj = M[j * d + j];
+    for (int k = 0; k < j; k++) dj -= L[j * d + k] * L[j * d + k];
+    if (!(dj > 0)) return 0;
+    L[j * d + j] = sqrt(dj);
+    for (int i = j + 1; i < d; i++) {
+      double v = M[j * d + i];
+      for (int k = 0; k < j; k++) v -= L[i * d + k] * L[j * d + k];
+      L[i * d + j] = v / L[j * d + j];
+    }
+  }
+  return 1;
+}
+
+/* the eigenvalues lam[e] and unit eigenvectors vec[e d .. e d + d - 1]
+ * of the symmetric d x d matrix S (GSL's Jacobi rotations: no workspace to
+ * allocate) */
+static void sym_eigen(int d, const double *S, double *lam, double *vec) {
+  double a[9], ev[9];
+  memcpy(a, S, (size_t)(d * d) * sizeof *a);
+  gsl_matrix_view A = gsl_matrix_view_array(a, (size_t)d, (size_t)d);
+  gsl_matrix_view V = gsl_matrix_view_array(ev, (size_t)d, (size_t)d);
+  gsl_vector_view L = gsl_vector_view_array(lam, (size_t)d);
+  unsigned int nrot = 0;
+  gsl_eigen_jacobi(&A.matrix, &L.vector, &V.matrix, 100, &nrot);
+  for (int e = 0; e < d; e++)
+    for (int i = 0; i < d; i++) vec[e * d + i] = ev[i * d + e];
+}
+
+/* free_body[a] and free_proj (the number of loose directions of a and the
+ * projector onto them) from the tangent's arm data; returns how many
+ * particles have any */
 static ps_int mark_free_bodies(ps_system *s, const ps_arm_state *st) {
   const ps_network *net = s->net;
+  const int d = s->dim;
   ps_int any_free = 0;
   for (ps_int a = 0; a < net->n_particle; a++) {
-    int intact = 0;
-    for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1] && !intact; k++)
-      intact = !st->broken[net->fam_arm[k]];
-    s->free_body[a] = (unsigned char)!intact;
-    any_free += !intact;
+    double B[9] = {0}, kmat[9], *P = &s->free_proj[(ps_int)d * d * a];
+    int n = 0;
+    for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
+      ps_int i = net->fam_arm[k];
+      if (st->broken[i]) continue;
+      ps_asm_arm_block(d, &s->tq[(ps_int)d * i], s->tan.D[i], s->tTl[i], kmat);
+      if (s->tr) ps_asm_arm_block_rot(&s->tr[2 * i], s->tan.Dr[i], s->tM[i], kmat);
+      for (int m = 0; m < d * d; m++) B[m] += kmat[m];
+      n++;
+    }
+    memset(P, 0, (size_t)(d * d) * sizeof *P);
+    s->free_body[a] = 0;
+    double tr = 0.0, lam[3], vec[9], S[9];
+    for (int k = 0; k < d; k++) tr += B[k * d + k];
+    if (n > 0) {
+      for (int be = 0; be < d; be++)
+        for (int al = 0; al < d; al++) S[be * d + al] = 0.5 * (B[be * d + al] + B[al * d + be]);
+      for (int k = 0; k < d; k++) S[k * d + k] -= PS_LOOSE_TOL * tr;
+      if (tr > 0 && small_posdef(d, S)) continue; /* held */
+      for (int k = 0; k < d; k++) S[k * d + k] += PS_LOOSE_TOL * tr;
+      sym_eigen(d, S, lam, vec);
+    }
+    double big = 0.0;
+    for (int e = 0; n > 0 && e < d; e++) big = fmax(big, fabs(lam[e]));
+    for (int e = 0; e < d; e++) {
+      if (n > 0 && fabs(lam[e]) > PS_LOOSE_TOL * big) continue;
+      for (int be = 0; be < d; be++)
+        for (int al = 0; al < d; al++)
+          P[be * d + al] += n > 0 ? vec[e * d + al] * vec[e * d + be] : (double)(al == be && al == e);
+      s->free_body[a]++;
+    }
+    any_free += s->free_body[a] > 0;
   }
   return any_free;
 }
@@ -328,13 +404,13 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
     return PS_OK;
   }
 
-  /* the tangent's geometry is kept (phase 1); its free bodies and family
+  /* the tangent's geometry is kept (phase 1); its loose particles and family
    * gradients */
   if (s->M) force_vectors(s);
   ps_int any_free = mark_free_bodies(s, st);
   PS_CHECK(family_storage(s, ctx));
   ps_team_run(s->team, s->parts, gradient_part, &job);
-  /* the free bodies' spring: the stiffest diagonal entry of K */
+  /* the loose particles' spring: the stiffest diagonal entry of K */
   s->spring = 0.0;
   if (any_free) {
     double *diag = s->yw;

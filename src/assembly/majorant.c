@@ -38,7 +38,7 @@ int ps_system_assemble_majorant(ps_system *pre, const ps_system *K, ps_ctx *ctx)
       }
     }
   ps_asm_assemble_arms(pre, K, D);
-  ps_asm_finish_tangent(pre, K->free_body, -1.0);
+  ps_asm_finish_tangent(pre, K->free_body, K->free_proj, -1.0);
   pre->assembled = 1;
   return PS_OK;
 }

@@ -2,7 +2,7 @@
  * matrix, as CG uses it:
  *   y = sum_arms [ (D - T/l) q (q . (x_b - x_a)) + (T/l)(x_b - x_a) ] at b
  *       (minus at a)
- *     + sum_a (c_a g_a (g_a . x) + c2_a h_a (h_a . x))  + spring x (free bodies),
+ *     + sum_a (c_a g_a (g_a . x) + c2_a h_a (h_a . x))  + spring P_a x_a (loose particles),
  * O(arms + family members) per product instead of the two-horizon
  * matrix's nonzeros; in s->parts parts on the system's team (shares of
  * the arms and of the families). Also the diagonal of K. */
@@ -137,9 +137,15 @@ void ps_system_apply(const ps_system *s, const double *x, double *y) {
   ps_team_run(s->team, s->parts, apply_part, &j);
   ps_asm_add_parts(s, y, s->yw_part);
   if (s->spring > 0)
-    for (ps_int a = 0; a < s->net->n_particle; a++)
-      if (s->free_body[a])
-        for (int k = 0; k < d; k++) y[a * d + k] += s->spring * x[a * d + k];
+    for (ps_int a = 0; a < s->net->n_particle; a++) {
+      if (!s->free_body[a]) continue;
+      const double *P = &s->free_proj[(ps_int)d * d * a];
+      for (int al = 0; al < d; al++) {
+        double Px = 0.0;
+        for (int be = 0; be < d; be++) Px += P[be * d + al] * x[a * d + be];
+        y[a * d + al] += s->spring * Px;
+      }
+    }
 }
 
 /* y[n_free] = the free rows of K s->xw (through s->yw) */

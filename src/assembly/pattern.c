@@ -62,6 +62,7 @@ void ps_system_free(ps_system *s) {
   free(s->tq);
   free(s->tTl);
   free(s->free_body);
+  free(s->free_proj);
   free(s->xw);
   free(s->yw);
   free(s->yw_part);
@@ -262,6 +263,7 @@ static int work_arrays(ps_system *s, ps_ctx *ctx) {
   ALLOC(s->tq, (ps_int)d * net->n_arm);
   ALLOC(s->tTl, net->n_arm);
   ALLOC(s->free_body, net->n_particle);
+  ALLOC(s->free_proj, (ps_int)d * d * net->n_particle);
   ALLOC(s->xw, s->n_dof);
   ALLOC(s->yw, s->n_dof);
   s->parts = PS_PARTS_DEFAULT;
@@ -352,6 +354,7 @@ int ps_system_state_list(ps_system *s, ps_state_list *l, ps_ctx *ctx) {
   PS_CHECK(ps_state_add(l, "sys.tq", s->tq, d * na * dbl, ctx));
   PS_CHECK(ps_state_add(l, "sys.tTl", s->tTl, na * dbl, ctx));
   PS_CHECK(ps_state_add(l, "sys.free_body", s->free_body, np, ctx));
+  PS_CHECK(ps_state_add(l, "sys.free_proj", s->free_proj, d * d * np * dbl, ctx));
   PS_CHECK(ps_state_add(l, "sys.spring", &s->spring, sizeof s->spring, ctx));
   for (int term = 0; term < 2; term++)
     if (s->G[term])

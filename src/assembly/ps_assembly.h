@@ -83,11 +83,15 @@ typedef struct ps_system {
    * PS_EVAL_TANGENT), kept through later evaluations of forces alone:
    * the model's stiffnesses tan, and the arm geometry tq (directions,
    * [dim n_arm]) and tTl (T/l, N/m^2 per unit thickness in 2D; 0 for a
-   * broken arm), the free bodies (particles whose arms have all broken)
-   * and their spring (N/m); the family gradients are in G */
+   * broken arm), the loose particles and their spring (N/m); the family
+   * gradients are in G. A particle is loose in the directions its intact
+   * arms do not span (all of them once every arm has broken; the one
+   * across a line of collinear arms): free_body[a] is the number of those
+   * directions (0: held), free_proj the projector onto them. */
   ps_arm_tangent tan;
   double *tq, *tTl;
   unsigned char *free_body; /* [n_particle] */
+  double *free_proj;        /* [dim dim n_particle], column-major blocks */
   double spring;
   int assembled;            /* Kfull and A hold that tangent */
   double *xw, *yw;          /* [n_dof] work of the matrix-free product */
@@ -181,7 +185,7 @@ int ps_system_eval(ps_system *sys, const ps_model *model, ps_arm_state *st,
 int ps_system_assemble(ps_system *sys, ps_ctx *ctx);
 
 /* y[n_dof] = K x[n_dof] with the tangent K of the last evaluation with one
- * (all dofs, the free bodies' springs included), matrix-free: arm terms
+ * (all dofs, the loose particles' springs included), matrix-free: arm terms
  * and rank-one family terms, O(arms + family members), without the
  * two-horizon matrix (doc/performance.md). In sys->parts parts on
  * sys->team's threads; the parts' sums go through sys->yw_part, so two

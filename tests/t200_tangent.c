@@ -27,8 +27,10 @@
  * all broke, held by a spring), and so does the coupling K_fp du_p of the
  * predictor; evaluations of forces alone in between do not change it.
  * And an arm crushed to zero length (crushed_arm below), and a particle
- * held by collinear arms only (loose_particle). */
+ * held by collinear arms only (loose_particle), and a fragment of three
+ * particles cut off (loose_group). */
 #include <gsl/gsl_eigen.h>
+#include <gsl/gsl_linalg.h>
 #include <gsl/gsl_math.h>
 #include <gsl/gsl_rng.h>
 #include <math.h>
@@ -505,6 +507,21 @@ static void crushed_arm(void) {
   teardown(&F);
 }
 
+/* the particle nearest the point c */
+static ps_int nearest_particle(const ps_particles *P, const double *c) {
+  ps_int a = 0;
+  double best = INFINITY;
+  for (ps_int p = 0; p < P->n; p++) {
+    double r = 0;
+    for (int k = 0; k < P->dim; k++) r += (P->x[p * P->dim + k] - c[k]) * (P->x[p * P->dim + k] - c[k]);
+    if (r < best) {
+      best = r;
+      a = p;
+    }
+  }
+  return a;
+}
+
 /* smallest and largest eigenvalue of the symmetric n x n matrix Kd */
 static void eig_range(ps_int n, const double *Kd, double *lmin, double *lmax) {
   gsl_matrix *M = gsl_matrix_alloc((size_t)n, (size_t)n);
@@ -536,13 +553,8 @@ static void loose_particle(const ps_model_type *type, int dim, int plane, double
   fixture F;
   setup(&F, type, PS_YIELD_TOTAL, dim, plane, nu, &ctx);
   int d = dim;
-  ps_int nd = F.sys.n_dof, a = 0;
-  double c[3] = {3.5e-3, 3.0e-3, 2.5e-3}, best = INFINITY;
-  for (ps_int p = 0; p < F.P.n; p++) {
-    double r = 0;
-    for (int k = 0; k < d; k++) r += (F.P.x[p * d + k] - c[k]) * (F.P.x[p * d + k] - c[k]);
-    if (r < best) { best = r; a = p; }
-  }
+  const double c[3] = {3.5e-3, 3.0e-3, 2.5e-3};
+  ps_int nd = F.sys.n_dof, a = nearest_particle(&F.P, c);
   /* its shortest arm is the one left (the network is jittered: no two
    * arms are collinear) */
   ps_int keep = F.net.fam_arm[F.net.fam_ptr[a]];
@@ -607,6 +619,124 @@ static void loose_particle(const ps_model_type *type, int dim, int plane, double
   teardown(&F);
 }
 
+/* a loose group: three particles joined by their three arms, every other
+ * arm of theirs broken (a fragment cut off by cracks), on the network at
+ * rest, nothing of theirs prescribed. Each particle is held (2D: two
+ * arms that span the plane), but the fragment's rigid motion costs
+ * nothing: without springs the free tangent K0 is singular (smallest
+ * eigenvalue below 1e-13 of the largest); ps_system_eval supports it
+ * (its first particle in every direction, more across the line to the
+ * second: d (d + 1) / 2 directions at least), no particle outside it is
+ * marked, and K = K0 + springs is positive definite (above 1e-9). The
+ * springs are a determinate support: for a self-equilibrated right-hand
+ * side r = K0 z (z arbitrary), du = K^-1 r satisfies K0 du = r (to 1e-9
+ * relative: the springs carry no force), so a Newton step inside a
+ * fragment is K0's, less its rigid motion. */
+static void loose_group(const ps_model_type *type, int dim, int plane, double nu,
+                        const char *label) {
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  fixture F;
+  setup(&F, type, PS_YIELD_TOTAL, dim, plane, nu, &ctx);
+  int d = dim;
+  const double c[3] = {4.5e-3, 3.0e-3, 2.5e-3};
+  ps_int nd = F.sys.n_dof, a = nearest_particle(&F.P, c), tri[3] = {-1, -1, -1};
+  ps_int keep[3] = {-1, -1, -1};
+  /* the shortest pair of a's arms a-b, a-c whose ends b, c share an arm */
+  double best = INFINITY;
+  for (ps_int k1 = F.net.fam_ptr[a]; k1 < F.net.fam_ptr[a + 1]; k1++)
+    for (ps_int k2 = k1 + 1; k2 < F.net.fam_ptr[a + 1]; k2++) {
+      ps_int i1 = F.net.fam_arm[k1], i2 = F.net.fam_arm[k2];
+      ps_int b = F.net.a[i1] == a ? F.net.b[i1] : F.net.a[i1];
+      ps_int cc = F.net.a[i2] == a ? F.net.b[i2] : F.net.a[i2];
+      for (ps_int k3 = F.net.fam_ptr[b]; k3 < F.net.fam_ptr[b + 1]; k3++) {
+        ps_int i3 = F.net.fam_arm[k3];
+        if ((F.net.a[i3] == cc || F.net.b[i3] == cc) &&
+            F.net.r0[i1] + F.net.r0[i2] + F.net.r0[i3] < best) {
+          best = F.net.r0[i1] + F.net.r0[i2] + F.net.r0[i3];
+          tri[0] = a, tri[1] = b, tri[2] = cc;
+          keep[0] = i1, keep[1] = i2, keep[2] = i3;
+        }
+      }
+    }
+  if (tri[1] < 0) {
+    ps_check(0, "%s: no triangle of arms at particle %lld", label, (long long)a);
+    teardown(&F);
+    return;
+  }
+  for (int t = 0; t < 3; t++)
+    for (ps_int k = F.net.fam_ptr[tri[t]]; k < F.net.fam_ptr[tri[t] + 1]; k++) {
+      ps_int i = F.net.fam_arm[k];
+      F.st.broken[i] = i != keep[0] && i != keep[1] && i != keep[2];
+    }
+  unsigned char *fixed = calloc((size_t)nd, 1);
+  for (ps_int p = 0; p < F.P.n; p++)
+    for (int k = 0; k < d; k++) fixed[p * d + k] = F.P.x[p * d] < 2.0e-3;
+  ps_system S;
+  if (ps_system_create(&S, &F.net, fixed, &ctx)) abort();
+  double *u = calloc((size_t)nd, sizeof *u), *f = calloc((size_t)nd, sizeof *f), E;
+  if (ps_system_eval(&S, &F.model, &F.st, F.P.x, u, f, &E, PS_EVAL_TANGENT, &ctx)) abort();
+  int others = 0, dirs = 0;
+  for (ps_int p = 0; p < F.P.n; p++) {
+    int in = p == tri[0] || p == tri[1] || p == tri[2];
+    if (in) dirs += S.free_body[p];
+    else others += S.free_body[p] != 0;
+  }
+  ps_check(dirs >= d * (d + 1) / 2 && others == 0,
+           "%s: the fragment of particles %lld, %lld, %lld is supported in %d directions "
+           "(at least %d), %d particles outside it marked",
+           label, (long long)tri[0], (long long)tri[1], (long long)tri[2], dirs,
+           d * (d + 1) / 2, others);
+  ps_int nf = S.n_free;
+  double *K = calloc((size_t)(nf * nf), sizeof *K), *K0 = calloc((size_t)(nf * nf), sizeof *K0);
+  double lmin, lmax, l0min, l0max;
+  dense(&S.A, nf, K);
+  memcpy(K0, K, (size_t)(nf * nf) * sizeof *K);
+  for (ps_int p = 0; p < F.P.n; p++) {
+    if (!S.free_body[p]) continue;
+    for (int be = 0; be < d; be++)
+      for (int al = 0; al < d; al++) {
+        ps_int r = S.free_of_dof[p * d + al], cq = S.free_of_dof[p * d + be];
+        if (r >= 0 && cq >= 0) K0[r * nf + cq] -= S.spring * S.free_proj[d * d * p + be * d + al];
+      }
+  }
+  eig_range(nf, K, &lmin, &lmax);
+  eig_range(nf, K0, &l0min, &l0max);
+  ps_check(lmin > 1e-9 * lmax && fabs(l0min) < 1e-13 * l0max,
+           "%s: the tangent without the springs is singular (smallest eigenvalue %.2e of the "
+           "largest), with them positive definite (%.2e)",
+           label, l0min / l0max, lmin / lmax);
+  /* the springs carry no force under a self-equilibrated load */
+  double *z = calloc((size_t)nf, sizeof *z), *r = calloc((size_t)nf, sizeof *r);
+  double *du = calloc((size_t)nf, sizeof *du), num = 0, den = 0;
+  for (ps_int k = 0; k < nf; k++) z[k] = cos(3.0 + 5.0 * (double)k);
+  for (ps_int i = 0; i < nf; i++)
+    for (ps_int k = 0; k < nf; k++) r[i] += K0[i * nf + k] * z[k];
+  gsl_matrix_view Kv = gsl_matrix_view_array(K, (size_t)nf, (size_t)nf);
+  gsl_vector_view rv = gsl_vector_view_array(r, (size_t)nf), xv = gsl_vector_view_array(du, (size_t)nf);
+  gsl_linalg_cholesky_decomp1(&Kv.matrix);
+  gsl_linalg_cholesky_solve(&Kv.matrix, &rv.vector, &xv.vector);
+  for (ps_int i = 0; i < nf; i++) {
+    double y = 0;
+    for (ps_int k = 0; k < nf; k++) y += K0[i * nf + k] * du[k];
+    num += (y - r[i]) * (y - r[i]);
+    den += r[i] * r[i];
+  }
+  ps_check(sqrt(num / den) <= 1e-9,
+           "%s: K^-1 of a self-equilibrated load solves K0 du = r (%.1e, want <= 1e-9)", label,
+           sqrt(num / den));
+  free(z);
+  free(r);
+  free(du);
+  free(K);
+  free(K0);
+  free(u);
+  free(f);
+  free(fixed);
+  ps_system_free(&S);
+  teardown(&F);
+}
+
 int main(void) {
   const int T = PS_YIELD_TOTAL, D = PS_YIELD_DEVIATORIC;
   run_case(ps_model_fibre, T, 2, PS_PLANE_STRAIN, 0.3, "fibre, 2D plane strain nu=0.3");
@@ -645,5 +775,8 @@ int main(void) {
   loose_particle(ps_model_fibre, 2, PS_PLANE_STRAIN, 0.3, "fibre 2D");
   loose_particle(ps_model_state, 3, PS_SOLID_3D, 0.27, "state 3D");
   loose_particle(ps_model_bond, 3, PS_SOLID_3D, 0.25, "bond 3D");
+  loose_group(ps_model_bond, 2, PS_PLANE_STRESS, 1.0 / 3.0, "fragment, bond 2D");
+  loose_group(ps_model_fibre, 2, PS_PLANE_STRAIN, 0.3, "fragment, fibre 2D");
+  loose_group(ps_model_bond, 3, PS_SOLID_3D, 0.25, "fragment, bond 3D");
   return ps_check_summary();
 }

@@ -24,6 +24,7 @@ expect 1 "cloud_bad.txt:4:" -- run "$D/cloud_bad.yaml"
 expect 1 "no supports in direction y" -- run -o "$T/x" "$D/no_support_y.yaml"
 expect 1 "particle 36 .* has no arms" -- run -o "$T/x" "$D/cloud_loose.yaml"
 expect 1 "not properly supported: .*particle 4[0-4] at (0.50[0-2], 0.50[0-2]), dof [xy]" -- run -o "$T/x" "$D/cloud_island.yaml"
+expect 1 "not properly supported: particle 36 at (0.5, 0.5), dof x is not held at rest" -- run -o "$T/x" "$D/cloud_island_free.yaml"
 expect 1 "nothing loads the model" -- run -o "$T/x" "$D/no_load.yaml"
 expect 1 "bond_nu.yaml: material.nu = 0.3: bond-based peridynamics has nu = 1/3" -- run -o "$T/x" "$D/bond_nu.yaml"
 

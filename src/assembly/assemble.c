@@ -89,6 +89,19 @@ static void add_family_term(ps_system *s, ps_int c, int term) {
   }
 }
 
+ps_int ps_system_first_loose(const ps_system *s) {
+  int d = s->dim;
+  for (ps_int a = 0; a < s->net->n_particle; a++) {
+    if (!s->free_body[a]) continue;
+    /* a loose direction with a component along a free dof (one along
+     * prescribed dofs alone holds nothing that moves) */
+    const double *P = &s->free_proj[(ps_int)d * d * a];
+    for (int k = 0; k < d; k++)
+      if (s->free_of_dof[a * d + k] >= 0 && P[k * d + k] > 1e-12) return a;
+  }
+  return -1;
+}
+
 int ps_system_assemble(ps_system *s, ps_ctx *ctx) {
   (void)ctx;
   if (s->assembled) return PS_OK;

@@ -278,6 +278,129 @@ static ps_int mark_free_bodies(ps_system *s, const ps_arm_state *st) {
   return any_free;
 }
 
+/* the root of a's group (union-find with path halving) */
+static ps_int group_root(ps_int *parent, ps_int a) {
+  while (parent[a] != a) {
+    parent[a] = parent[parent[a]];
+    a = parent[a];
+  }
+  return a;
+}
+
+/* add n n^T (n = v / |v|, v != 0) to particle a's spring directions */
+static void add_direction(ps_system *s, ps_int a, const double *v) {
+  int d = s->dim;
+  double nn = 0.0;
+  for (int k = 0; k < d; k++) nn += v[k] * v[k];
+  if (!(nn > 0)) return;
+  double *P = &s->free_proj[(ps_int)d * d * a];
+  for (int be = 0; be < d; be++)
+    for (int al = 0; al < d; al++) P[be * d + al] += v[al] * v[be] / nn;
+  if (s->free_body[a] < d) s->free_body[a]++;
+}
+
+/* Loose groups: particles joined by intact arms into a piece that holds
+ * no prescribed dof (a fragment cut off by cracks) move as a rigid body at
+ * no cost, d (d (d + 1) / 2 in all) rigid modes that make K singular
+ * although each particle is held. The spring then also acts as a
+ * statically determinate support of each such group of two or more
+ * particles: in every direction at its first particle p0, across p0-p1 at
+ * the particle p1 farthest from p0 and, in 3D, normal to the plane p0 p1
+ * p2 at the particle p2 farthest from the line p0 p1 (reference
+ * positions X). A determinate support carries no force under a
+ * self-equilibrated load, and the internal forces of a free piece are
+ * one, so Newton's steps inside the piece are those of K, less its rigid
+ * motion. Nothing is marked in a network with no prescribed dof at all.
+ * Returns the number of groups supported. */
+static ps_int mark_loose_groups(ps_system *s, const ps_arm_state *st, const double *X) {
+  const ps_network *net = s->net;
+  const int d = s->dim;
+  const ps_int n = net->n_particle;
+  ps_int *root = s->group, *size = s->group_size, *pick = s->group_pick, marked = 0;
+  double *far = s->group_far;
+  for (ps_int a = 0; a < n; a++) root[a] = a;
+  for (ps_int i = 0; i < net->n_arm; i++) {
+    if (st->broken[i]) continue;
+    ps_int ra = group_root(root, net->a[i]), rb = group_root(root, net->b[i]);
+    if (ra != rb) root[ra > rb ? ra : rb] = ra < rb ? ra : rb; /* the smaller index roots */
+  }
+  /* root[a]: a's group's root, its smallest index (p0); size[r]: its
+   * particles, or -1 once one of them has a prescribed dof */
+  for (ps_int a = 0; a < n; a++) {
+    root[a] = group_root(root, a);
+    size[a] = 0;
+  }
+  for (ps_int a = 0; a < n; a++) {
+    ps_int r = root[a];
+    if (size[r] >= 0) size[r]++;
+    for (int k = 0; k < d; k++)
+      if (s->free_of_dof[a * d + k] < 0) size[r] = -1;
+  }
+  /* nothing when no group is anchored: a body with no prescribed dof at
+   * all keeps its exact (singular) tangent */
+  int any = 0, anchored = 0;
+  for (ps_int r = 0; r < n; r++) {
+    any |= root[r] == r && size[r] >= 2;
+    anchored |= root[r] == r && size[r] < 0;
+  }
+  if (!any || !anchored) return 0;
+  /* pick[2 r]: p1, the particle farthest from p0; pick[2 r + 1]: p2 (3D),
+   * the particle farthest from the line p0 p1 */
+  double e[3] = {0}, v[3], w[3];
+  for (int pass = 0; pass < d - 1; pass++) {
+    for (ps_int r = 0; r < n; r++) {
+      pick[2 * r + pass] = -1;
+      far[r] = 0.0;
+    }
+    for (ps_int a = 0; a < n; a++) {
+      ps_int r = root[a];
+      if (size[r] < 2) continue;
+      double dist = 0.0;
+      for (int k = 0; k < d; k++) v[k] = X[a * d + k] - X[r * d + k];
+      if (pass == 0) {
+        for (int k = 0; k < d; k++) dist += v[k] * v[k];
+      } else { /* |(p1 - p0) x (a - p0)|^2 */
+        if (pick[2 * r] < 0) continue;
+        for (int k = 0; k < 3; k++) e[k] = X[pick[2 * r] * 3 + k] - X[r * 3 + k];
+        ps_cross3(e, v, w);
+        for (int k = 0; k < 3; k++) dist += w[k] * w[k];
+      }
+      if (dist > far[r]) {
+        far[r] = dist;
+        pick[2 * r + pass] = a;
+      }
+    }
+  }
+  static const double axes[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (ps_int r = 0; r < n; r++) {
+    if (root[r] != r || size[r] < 2 || pick[2 * r] < 0) continue;
+    ps_int p1 = pick[2 * r], p2 = d == 3 ? pick[2 * r + 1] : -1;
+    for (int k = 0; k < d; k++) add_direction(s, r, axes[k]);
+    for (int k = 0; k < d; k++) e[k] = X[p1 * d + k] - X[r * d + k];
+    marked++;
+    if (d == 2) { /* across p0-p1 at p1 */
+      v[0] = -e[1];
+      v[1] = e[0];
+      add_direction(s, p1, v);
+      continue;
+    }
+    /* 3D: across e at p1 (e x t and e x (e x t), t the axis least along
+     * e), the normal of the plane p0 p1 p2 at p2 */
+    int m = fabs(e[0]) <= fabs(e[1]) ? (fabs(e[0]) <= fabs(e[2]) ? 0 : 2)
+                                     : (fabs(e[1]) <= fabs(e[2]) ? 1 : 2);
+    ps_cross3(e, axes[m], v);
+    ps_cross3(e, v, w);
+    add_direction(s, p1, v);
+    add_direction(s, p1, w);
+    if (p2 >= 0) {
+      for (int k = 0; k < 3; k++) v[k] = X[p2 * 3 + k] - X[r * 3 + k];
+      ps_cross3(e, v, w);
+      add_direction(s, p2, w);
+    }
+  }
+  return marked;
+}
+
 /* G[term] for each rank-one term some particle has (allocated on first
  * use); PS_ERR_INPUT when the pattern has no room for family terms */
 static int family_storage(ps_system *s, ps_ctx *ctx) {
@@ -408,6 +531,7 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
    * gradients */
   if (s->M) force_vectors(s);
   ps_int any_free = mark_free_bodies(s, st);
+  any_free += mark_loose_groups(s, st, X);
   PS_CHECK(family_storage(s, ctx));
   ps_team_run(s->team, s->parts, gradient_part, &job);
   /* the loose particles' spring: the stiffest diagonal entry of K */

@@ -63,6 +63,10 @@ void ps_system_free(ps_system *s) {
   free(s->tTl);
   free(s->free_body);
   free(s->free_proj);
+  free(s->group);
+  free(s->group_size);
+  free(s->group_pick);
+  free(s->group_far);
   free(s->xw);
   free(s->yw);
   free(s->yw_part);
@@ -264,6 +268,10 @@ static int work_arrays(ps_system *s, ps_ctx *ctx) {
   ALLOC(s->tTl, net->n_arm);
   ALLOC(s->free_body, net->n_particle);
   ALLOC(s->free_proj, (ps_int)d * d * net->n_particle);
+  ALLOC(s->group, net->n_particle);
+  ALLOC(s->group_size, net->n_particle);
+  ALLOC(s->group_pick, 2 * net->n_particle);
+  ALLOC(s->group_far, net->n_particle);
   ALLOC(s->xw, s->n_dof);
   ALLOC(s->yw, s->n_dof);
   s->parts = PS_PARTS_DEFAULT;

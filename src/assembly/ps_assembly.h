@@ -86,12 +86,17 @@ typedef struct ps_system {
    * broken arm), the loose particles and their spring (N/m); the family
    * gradients are in G. A particle is loose in the directions its intact
    * arms do not span (all of them once every arm has broken; the one
-   * across a line of collinear arms): free_body[a] is the number of those
-   * directions (0: held), free_proj the projector onto them. */
+   * across a line of collinear arms), and a fragment's particles where
+   * its determinate support acts (evaluate.c): free_body[a] is the number
+   * of those directions (0: held; at most dim), free_proj the sum of n
+   * n^T over them, the spring's direction matrix. */
   ps_arm_tangent tan;
   double *tq, *tTl;
   unsigned char *free_body; /* [n_particle] */
   double *free_proj;        /* [dim dim n_particle], column-major blocks */
+  ps_int *group, *group_size, *group_pick; /* work of the loose groups:
+                               [n_particle] x 2, [2 n_particle] */
+  double *group_far;        /* [n_particle] */
   double spring;
   int assembled;            /* Kfull and A hold that tangent */
   double *xw, *yw;          /* [n_dof] work of the matrix-free product */
@@ -183,6 +188,13 @@ int ps_system_eval(ps_system *sys, const ps_model *model, ps_arm_state *st,
  * (nothing to do after PS_EVAL_TANGENT). Returns PS_OK (a model with
  * family terms on a pattern without them is caught by ps_system_eval). */
 int ps_system_assemble(ps_system *sys, ps_ctx *ctx);
+
+/* The first particle (lowest index) that the last evaluation with a
+ * tangent found loose in a direction along which it can move (its arms
+ * do not hold it there, or it lies in a piece with no prescribed dof
+ * while another piece has one: free_body, with a component on a free
+ * dof), or -1 when every particle is held. */
+ps_int ps_system_first_loose(const ps_system *sys);
 
 /* y[n_dof] = K x[n_dof] with the tangent K of the last evaluation with one
  * (all dofs, the loose particles' springs included), matrix-free: arm terms

@@ -10,12 +10,6 @@ static double dot3(const double *a, const double *b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-static void cross3(const double *a, const double *b, double *c) {
-  c[0] = a[1] * b[2] - a[2] * b[1];
-  c[1] = a[2] * b[0] - a[0] * b[2];
-  c[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 /* The plane of the points v[0..n) but v[skip] (skip < 0: all): o the
  * centroid of the points, s their largest distance from it, and Newell's
  * area vector A = 1/2 sum_i (v_i - o) x (v_(i+1) - o) over the polygon
@@ -37,7 +31,7 @@ static double plane_of(const double (*v)[3], int n, int skip, double o[3], doubl
     double a[3] = {p[0] - o[0], p[1] - o[1], p[2] - o[2]};
     double b[3] = {q[0] - o[0], q[1] - o[1], q[2] - o[2]};
     double c[3];
-    cross3(a, b, c);
+    ps_cross3(a, b, c);
     for (int k = 0; k < 3; k++) A[k] += 0.5 * c[k];
     *s = fmax(*s, sqrt(dot3(a, a)));
   }
@@ -106,10 +100,10 @@ int ps_crack_polygon(ps_crack *cr, int n, const double (*v)[3], int *bad, ps_ctx
     if (fabs(cr->nrm[k]) < fabs(cr->nrm[ax])) ax = k;
   double t[3] = {0, 0, 0};
   t[ax] = 1;
-  cross3(cr->nrm, t, cr->e2);
+  ps_cross3(cr->nrm, t, cr->e2);
   double l2 = sqrt(dot3(cr->e2, cr->e2));
   for (int k = 0; k < 3; k++) cr->e2[k] /= l2;
-  cross3(cr->e2, cr->nrm, cr->e1);
+  ps_cross3(cr->e2, cr->nrm, cr->e1);
   for (int i = 0; i < n; i++) {
     double d[3] = {v[i][0] - cr->o[0], v[i][1] - cr->o[1], v[i][2] - cr->o[2]};
     cr->uv[i][0] = dot3(d, cr->e1);

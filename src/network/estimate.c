@@ -101,7 +101,7 @@ static double pattern_bytes(int d, double n, double arms, double pairs, double n
   double dofs = d * n, values = pattern_only ? 0 : 1;
   return dofs * (9 + 16 * free_fraction + 32 * values) /* dof maps, A.p, work */
          + n * 57                             /* pointers, marks, slots, coefs */
-         + n * 8.0 * d * d * values           /* loose particles' projectors */
+         + n * (8.0 * d * d + 40) * values    /* loose particles and groups */
          + 16 * (2 * arms + n)                /* family members and their arms */
          + pairs * (8 + 8.0 * d * d * values) /* bidx, Kfull */
          + arms * (16 + (72 + 16.0 * d) * values) /* slots; lengths, directions,

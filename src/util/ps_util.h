@@ -258,4 +258,11 @@ int ps_cpu_count(void);
 #define PS_ALWAYS_INLINE inline
 #endif
 
+/* c = a x b (3-vectors; c must not alias a or b) */
+static inline void ps_cross3(const double *a, const double *b, double *c) {
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
 #endif

@@ -581,10 +581,12 @@ static void loose_particle(const ps_model_type *type, int dim, int plane, double
   for (int be = 0; be < d; be++)
     for (int al = 0; al < d; al++)
       perr = fmax(perr, fabs(S.free_proj[d * d * a + be * d + al] - ((al == be) - q[al] * q[be])));
-  ps_check(S.free_body[a] == d - 1 && others == 0 && perr <= 1e-12,
+  ps_check(S.free_body[a] == d - 1 && others == 0 && perr <= 1e-12 && S.loose_max == 1 &&
+               S.fragments_max == 0,
            "%s: particle %lld hanging on one arm: loose in %d direction(s) (want %d), "
-           "projector I - q q^T to %.1e, %d other loose particles",
-           label, (long long)a, S.free_body[a], d - 1, perr, others);
+           "projector I - q q^T to %.1e, %d other loose particles (counted %lld, fragments %lld)",
+           label, (long long)a, S.free_body[a], d - 1, perr, others, (long long)S.loose_max,
+           (long long)S.fragments_max);
   /* the free tangent with and without the spring */
   ps_int nf = S.n_free;
   double *Kd = calloc((size_t)(nf * nf), sizeof *Kd), lmin, lmax, l0min, l0max;
@@ -682,11 +684,11 @@ static void loose_group(const ps_model_type *type, int dim, int plane, double nu
     if (in) dirs += S.free_body[p];
     else others += S.free_body[p] != 0;
   }
-  ps_check(dirs >= d * (d + 1) / 2 && others == 0,
+  ps_check(dirs >= d * (d + 1) / 2 && others == 0 && S.fragments_max == 1,
            "%s: the fragment of particles %lld, %lld, %lld is supported in %d directions "
-           "(at least %d), %d particles outside it marked",
+           "(at least %d), %d particles outside it marked, %lld fragment(s) counted",
            label, (long long)tri[0], (long long)tri[1], (long long)tri[2], dirs,
-           d * (d + 1) / 2, others);
+           d * (d + 1) / 2, others, (long long)S.fragments_max);
   ps_int nf = S.n_free;
   double *K = calloc((size_t)(nf * nf), sizeof *K), *K0 = calloc((size_t)(nf * nf), sizeof *K0);
   double lmin, lmax, l0min, l0max;

@@ -531,7 +531,11 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
    * gradients */
   if (s->M) force_vectors(s);
   ps_int any_free = mark_free_bodies(s, st);
-  any_free += mark_loose_groups(s, st, X);
+  ps_int fragments = mark_loose_groups(s, st, X), loose = 0;
+  any_free += fragments;
+  for (ps_int a = 0; a < net->n_particle; a++) loose += s->free_body[a] != 0;
+  if (loose > s->loose_max) s->loose_max = loose;
+  if (fragments > s->fragments_max) s->fragments_max = fragments;
   PS_CHECK(family_storage(s, ctx));
   ps_team_run(s->team, s->parts, gradient_part, &job);
   /* the loose particles' spring: the stiffest diagonal entry of K */

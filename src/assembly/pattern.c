@@ -364,6 +364,8 @@ int ps_system_state_list(ps_system *s, ps_state_list *l, ps_ctx *ctx) {
   PS_CHECK(ps_state_add(l, "sys.free_body", s->free_body, np, ctx));
   PS_CHECK(ps_state_add(l, "sys.free_proj", s->free_proj, d * d * np * dbl, ctx));
   PS_CHECK(ps_state_add(l, "sys.spring", &s->spring, sizeof s->spring, ctx));
+  PS_CHECK(ps_state_add(l, "sys.loose_max", &s->loose_max, sizeof s->loose_max, ctx));
+  PS_CHECK(ps_state_add(l, "sys.fragments_max", &s->fragments_max, sizeof s->fragments_max, ctx));
   for (int term = 0; term < 2; term++)
     if (s->G[term])
       PS_CHECK(ps_state_add(l, term ? "sys.G1" : "sys.G0", s->G[term],

@@ -97,6 +97,9 @@ typedef struct ps_system {
   ps_int *group, *group_size, *group_pick; /* work of the loose groups:
                                [n_particle] x 2, [2 n_particle] */
   double *group_far;        /* [n_particle] */
+  ps_int loose_max;         /* the most particles with free_body != 0, and */
+  ps_int fragments_max;     /* the most fragments supported, at one
+                               evaluation with a tangent so far */
   double spring;
   int assembled;            /* Kfull and A hold that tangent */
   double *xw, *yw;          /* [n_dof] work of the matrix-free product */

@@ -157,6 +157,8 @@ static const value_spec summary_keys[] = {
     {"newton_stagnated", V_I64, 0, S(stagnated), 0},
     {"line_search_cuts", V_I64, 0, S(line_search_cuts), 0},
     {"newton_handovers", V_I64, 0, S(handovers), 0},
+    {"loose_particles_max", V_I64, 0, S(loose_particles), 0},
+    {"fragments_max", V_I64, 0, S(fragments), 0},
     {"threads", V_INT, 0, S(threads), 0},
     {"parts", V_INT, 0, S(parts), 0},
     {"preconditioner_serial_share", V_F, 3, S(serial_share), 0},

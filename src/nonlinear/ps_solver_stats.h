@@ -26,6 +26,10 @@ typedef struct ps_solver_stats {
   ps_int handovers;           /* adaptive CG solves that went on with the
                                  fixed rule at max_iterations */
   ps_int line_search_cuts;    /* backtracking steps of the line search */
+  ps_int loose_particles;     /* the most particles the tangent's spring
+                                 held at once (arms all broken, arms that
+                                 do not span, fragments' supports) */
+  ps_int fragments;           /* the most fragments supported at once */
   ps_int n_free;              /* free dofs */
   int threads;                /* threads of the run's CG */
   int parts;                  /* the parts of its loops (solver.parts) */

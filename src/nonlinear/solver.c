@@ -737,6 +737,8 @@ void ps_solver_get_stats(const ps_solver *s, ps_solver_stats *st) {
   st->stagnated = s->n_stagnated;
   st->handovers = s->n_handovers;
   st->line_search_cuts = s->n_line_search_cuts;
+  st->loose_particles = s->pd->sys.loose_max;
+  st->fragments = s->pd->sys.fragments_max;
   st->n_free = s->prob.n_free;
   st->threads = ps_team_size(s->team);
   st->parts = s->opts.parts;

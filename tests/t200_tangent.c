@@ -125,6 +125,21 @@ static void dense(const ps_csc *A, ps_int nd, double *Kd) {
     }
 }
 
+/* smallest and largest eigenvalue of the symmetric n x n matrix Kd */
+static void eig_range(ps_int n, const double *Kd, double *lmin, double *lmax) {
+  gsl_matrix *M = gsl_matrix_alloc((size_t)n, (size_t)n);
+  for (ps_int r = 0; r < n; r++)
+    for (ps_int c = 0; c < n; c++) gsl_matrix_set(M, r, c, Kd[r * n + c]);
+  gsl_vector *ev = gsl_vector_alloc((size_t)n);
+  gsl_eigen_symm_workspace *w = gsl_eigen_symm_alloc((size_t)n);
+  gsl_eigen_symm(M, ev, w);
+  *lmin = gsl_vector_min(ev);
+  *lmax = gsl_vector_max(ev);
+  gsl_eigen_symm_free(w);
+  gsl_vector_free(ev);
+  gsl_matrix_free(M);
+}
+
 /* P = the majorant of the tangent last assembled in F->sys (at the same
  * state), dense [nd x nd]; returns the smallest eigenvalue of P - Kd
  * relative to max |P|, and P in Pd */
@@ -137,18 +152,14 @@ static double majorant_gap(fixture *F, const double *Kd, double *Pd, ps_ctx *ctx
   if (ps_system_assemble_majorant(&pre, &F->sys, ctx)) abort();
   dense(&pre.A, nd, Pd);
   ps_system_free(&pre);
-  double pmax = 0;
-  for (ps_int k = 0; k < nd * nd; k++) pmax = fmax(pmax, fabs(Pd[k]));
-  gsl_matrix *M = gsl_matrix_alloc((size_t)nd, (size_t)nd);
-  for (ps_int r = 0; r < nd; r++)
-    for (ps_int c = 0; c < nd; c++) gsl_matrix_set(M, r, c, Pd[r * nd + c] - Kd[r * nd + c]);
-  gsl_vector *ev = gsl_vector_alloc((size_t)nd);
-  gsl_eigen_symm_workspace *w = gsl_eigen_symm_alloc((size_t)nd);
-  gsl_eigen_symm(M, ev, w);
-  double lmin = gsl_vector_min(ev);
-  gsl_eigen_symm_free(w);
-  gsl_vector_free(ev);
-  gsl_matrix_free(M);
+  double pmax = 0, lmin, lmax;
+  double *M = calloc((size_t)(nd * nd), sizeof *M);
+  for (ps_int k = 0; k < nd * nd; k++) {
+    pmax = fmax(pmax, fabs(Pd[k]));
+    M[k] = Pd[k] - Kd[k];
+  }
+  eig_range(nd, M, &lmin, &lmax);
+  free(M);
   return lmin / pmax;
 }
 
@@ -176,19 +187,25 @@ static double rel_diff(ps_int n, const double *a, const double *b) {
   return den > 0 ? sqrt(num / den) : sqrt(num);
 }
 
+/* S = a system on F's network with the particles at x < 2 mm prescribed */
+static void clamp_left(fixture *F, ps_system *S, ps_ctx *ctx) {
+  int d = F->net.dim;
+  unsigned char *fixed = calloc((size_t)(d * F->P.n), 1);
+  for (ps_int a = 0; a < F->P.n; a++)
+    for (int k = 0; k < d; k++) fixed[a * d + k] = F->P.x[a * d] < 2.0e-3;
+  if (ps_system_create(S, &F->net, fixed, ctx)) abort();
+  free(fixed);
+}
+
 /* The matrix-free tangent against the assembled one at the state (u, F->st),
  * on a system with the particles at x < 2 mm prescribed and particle 1 a
  * free body */
 static void check_matrix_free(fixture *F, double *u, const char *label, ps_ctx *ctx) {
-  int d = F->net.dim;
   ps_int nd = F->sys.n_dof;
-  unsigned char *fixed = calloc((size_t)nd, 1);
-  for (ps_int a = 0; a < F->P.n; a++)
-    for (int k = 0; k < d; k++) fixed[a * d + k] = F->P.x[a * d] < 2.0e-3;
   for (ps_int k = F->net.fam_ptr[1]; k < F->net.fam_ptr[2]; k++)
     F->st.broken[F->net.fam_arm[k]] = 1;
   ps_system S;
-  if (ps_system_create(&S, &F->net, fixed, ctx)) abort();
+  clamp_left(F, &S, ctx);
   double *f = calloc((size_t)nd, sizeof *f), *x = calloc((size_t)nd, sizeof *x);
   double *y = calloc((size_t)nd, sizeof *y), *yref = calloc((size_t)nd, sizeof *y);
   double *u2 = calloc((size_t)nd, sizeof *u2), E;
@@ -213,7 +230,7 @@ static void check_matrix_free(fixture *F, double *u, const char *label, ps_ctx *
   ps_csc_symv(&S.A, xf, yf_ref);
   double e_full = rel_diff(nd, y, yref), e_free = rel_diff(nf, yf, yf_ref);
   /* the coupling of prescribed increments */
-  for (ps_int j = 0; j < nd; j++) x[j] = fixed[j] ? x[j] : 0.0;
+  for (ps_int j = 0; j < nd; j++) x[j] = S.fixed[j] ? x[j] : 0.0;
   kfull_product(&S, x, yref);
   for (ps_int k = 0; k < nf; k++) yf_ref[k] = yref[S.dof_of_free[k]];
   ps_system_coupling(&S, x, yf);
@@ -224,7 +241,6 @@ static void check_matrix_free(fixture *F, double *u, const char *label, ps_ctx *
            "%.1e; free body spring %.3g N/m)",
            label, e_full, e_free, e_coupling, S.spring);
   ps_system_free(&S);
-  free(fixed);
   free(f);
   free(x);
   free(y);
@@ -522,19 +538,20 @@ static ps_int nearest_particle(const ps_particles *P, const double *c) {
   return a;
 }
 
-/* smallest and largest eigenvalue of the symmetric n x n matrix Kd */
-static void eig_range(ps_int n, const double *Kd, double *lmin, double *lmax) {
-  gsl_matrix *M = gsl_matrix_alloc((size_t)n, (size_t)n);
-  for (ps_int r = 0; r < n; r++)
-    for (ps_int c = 0; c < n; c++) gsl_matrix_set(M, r, c, Kd[r * n + c]);
-  gsl_vector *ev = gsl_vector_alloc((size_t)n);
-  gsl_eigen_symm_workspace *w = gsl_eigen_symm_alloc((size_t)n);
-  gsl_eigen_symm(M, ev, w);
-  *lmin = gsl_vector_min(ev);
-  *lmax = gsl_vector_max(ev);
-  gsl_eigen_symm_free(w);
-  gsl_vector_free(ev);
-  gsl_matrix_free(M);
+
+/* Kd[nf x nf] (the free tangent of S, dense) less the springs of S's
+ * loose particles: the spring-free tangent */
+static void remove_springs(const ps_system *S, double *Kd) {
+  int d = S->dim;
+  ps_int nf = S->n_free;
+  for (ps_int p = 0; p < S->net->n_particle; p++) {
+    if (!S->free_body[p]) continue;
+    for (int be = 0; be < d; be++)
+      for (int al = 0; al < d; al++) {
+        ps_int r = S->free_of_dof[p * d + al], c = S->free_of_dof[p * d + be];
+        if (r >= 0 && c >= 0) Kd[r * nf + c] -= S->spring * S->free_proj[d * d * p + be * d + al];
+      }
+  }
 }
 
 /* A particle held by one arm (or collinear arms: a crack face's sliver):
@@ -567,11 +584,8 @@ static void loose_particle(const ps_model_type *type, int dim, int plane, double
   double q[3];
   for (int k = 0; k < d; k++)
     q[k] = (F.P.x[F.net.b[keep] * d + k] - F.P.x[F.net.a[keep] * d + k]) / F.net.r0[keep];
-  unsigned char *fixed = calloc((size_t)nd, 1);
-  for (ps_int p = 0; p < F.P.n; p++)
-    for (int k = 0; k < d; k++) fixed[p * d + k] = F.P.x[p * d] < 2.0e-3;
   ps_system S;
-  if (ps_system_create(&S, &F.net, fixed, &ctx)) abort();
+  clamp_left(&F, &S, &ctx);
   double *u = calloc((size_t)nd, sizeof *u), *f = calloc((size_t)nd, sizeof *f), E;
   if (ps_system_eval(&S, &F.model, &F.st, F.P.x, u, f, &E, PS_EVAL_TANGENT, &ctx)) abort();
   /* the marks */
@@ -592,11 +606,7 @@ static void loose_particle(const ps_model_type *type, int dim, int plane, double
   double *Kd = calloc((size_t)(nf * nf), sizeof *Kd), lmin, lmax, l0min, l0max;
   dense(&S.A, nf, Kd);
   eig_range(nf, Kd, &lmin, &lmax);
-  for (int be = 0; be < d; be++)
-    for (int al = 0; al < d; al++) {
-      ps_int r = S.free_of_dof[a * d + al], cc = S.free_of_dof[a * d + be];
-      Kd[r * nf + cc] -= S.spring * S.free_proj[d * d * a + be * d + al];
-    }
+  remove_springs(&S, Kd);
   eig_range(nf, Kd, &l0min, &l0max);
   ps_check(S.spring > 0 && lmin > 1e-9 * lmax && fabs(l0min) < 1e-13 * l0max,
            "%s: the tangent without the spring is singular (smallest eigenvalue %.2e of the "
@@ -616,7 +626,6 @@ static void loose_particle(const ps_model_type *type, int dim, int plane, double
   free(Kd);
   free(u);
   free(f);
-  free(fixed);
   ps_system_free(&S);
   teardown(&F);
 }
@@ -671,11 +680,8 @@ static void loose_group(const ps_model_type *type, int dim, int plane, double nu
       ps_int i = F.net.fam_arm[k];
       F.st.broken[i] = i != keep[0] && i != keep[1] && i != keep[2];
     }
-  unsigned char *fixed = calloc((size_t)nd, 1);
-  for (ps_int p = 0; p < F.P.n; p++)
-    for (int k = 0; k < d; k++) fixed[p * d + k] = F.P.x[p * d] < 2.0e-3;
   ps_system S;
-  if (ps_system_create(&S, &F.net, fixed, &ctx)) abort();
+  clamp_left(&F, &S, &ctx);
   double *u = calloc((size_t)nd, sizeof *u), *f = calloc((size_t)nd, sizeof *f), E;
   if (ps_system_eval(&S, &F.model, &F.st, F.P.x, u, f, &E, PS_EVAL_TANGENT, &ctx)) abort();
   int others = 0, dirs = 0;
@@ -694,14 +700,7 @@ static void loose_group(const ps_model_type *type, int dim, int plane, double nu
   double lmin, lmax, l0min, l0max;
   dense(&S.A, nf, K);
   memcpy(K0, K, (size_t)(nf * nf) * sizeof *K);
-  for (ps_int p = 0; p < F.P.n; p++) {
-    if (!S.free_body[p]) continue;
-    for (int be = 0; be < d; be++)
-      for (int al = 0; al < d; al++) {
-        ps_int r = S.free_of_dof[p * d + al], cq = S.free_of_dof[p * d + be];
-        if (r >= 0 && cq >= 0) K0[r * nf + cq] -= S.spring * S.free_proj[d * d * p + be * d + al];
-      }
-  }
+  remove_springs(&S, K0);
   eig_range(nf, K, &lmin, &lmax);
   eig_range(nf, K0, &l0min, &l0max);
   ps_check(lmin > 1e-9 * lmax && fabs(l0min) < 1e-13 * l0max,
@@ -734,7 +733,6 @@ static void loose_group(const ps_model_type *type, int dim, int plane, double nu
   free(K0);
   free(u);
   free(f);
-  free(fixed);
   ps_system_free(&S);
   teardown(&F);
 }

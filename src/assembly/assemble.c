@@ -94,10 +94,15 @@ ps_int ps_system_first_loose(const ps_system *s) {
   for (ps_int a = 0; a < s->net->n_particle; a++) {
     if (!s->free_body[a]) continue;
     /* a loose direction with a component along a free dof (one along
-     * prescribed dofs alone holds nothing that moves) */
+     * prescribed dofs alone holds nothing that moves): the free dof most
+     * along them */
     const double *P = &s->free_proj[(ps_int)d * d * a];
+    int kmax = -1;
     for (int k = 0; k < d; k++)
-      if (s->free_of_dof[a * d + k] >= 0 && P[k * d + k] > 1e-12) return a;
+      if (s->free_of_dof[a * d + k] >= 0 && P[k * d + k] > 1e-12 &&
+          (kmax < 0 || P[k * d + k] > P[kmax * d + kmax]))
+        kmax = k;
+    if (kmax >= 0) return a * d + kmax;
   }
   return -1;
 }

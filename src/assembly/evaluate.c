@@ -234,6 +234,25 @@ static void sym_eigen(int d, const double *S, double *lam, double *vec) {
     for (int i = 0; i < d; i++) vec[e * d + i] = ev[i * d + e];
 }
 
+/* add v v^T / nn to particle a's spring directions: n n^T for the
+ * direction n = v / |v| with nn = |v|^2 (1 for a unit v) */
+static void add_direction(ps_system *s, ps_int a, const double *v, double nn) {
+  int d = s->dim;
+  double *P = &s->free_proj[(ps_int)d * d * a];
+  for (int be = 0; be < d; be++)
+    for (int al = 0; al < d; al++) P[be * d + al] += v[al] * v[be] / nn;
+  if (s->free_body[a] < d) s->free_body[a]++;
+}
+
+/* add_direction along v != 0 of any length */
+static void add_direction_along(ps_system *s, ps_int a, const double *v) {
+  double nn = 0.0;
+  for (int k = 0; k < s->dim; k++) nn += v[k] * v[k];
+  if (nn > 0) add_direction(s, a, v, nn);
+}
+
+static const double axes[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+
 /* free_body[a] and free_proj (the number of loose directions of a and the
  * projector onto them) from the tangent's arm data; returns how many
  * particles have any */
@@ -254,25 +273,22 @@ static ps_int mark_free_bodies(ps_system *s, const ps_arm_state *st) {
     }
     memset(P, 0, (size_t)(d * d) * sizeof *P);
     s->free_body[a] = 0;
-    double tr = 0.0, lam[3], vec[9], S[9];
+    if (n == 0) { /* a free body: every direction */
+      for (int k = 0; k < d; k++) add_direction(s, a, axes[k], 1.0);
+      any_free++;
+      continue;
+    }
+    double tr = 0.0, lam[3], vec[9], S[9], big = 0.0;
     for (int k = 0; k < d; k++) tr += B[k * d + k];
-    if (n > 0) {
-      for (int be = 0; be < d; be++)
-        for (int al = 0; al < d; al++) S[be * d + al] = 0.5 * (B[be * d + al] + B[al * d + be]);
-      for (int k = 0; k < d; k++) S[k * d + k] -= PS_LOOSE_TOL * tr;
-      if (tr > 0 && small_posdef(d, S)) continue; /* held */
-      for (int k = 0; k < d; k++) S[k * d + k] += PS_LOOSE_TOL * tr;
-      sym_eigen(d, S, lam, vec);
-    }
-    double big = 0.0;
-    for (int e = 0; n > 0 && e < d; e++) big = fmax(big, fabs(lam[e]));
-    for (int e = 0; e < d; e++) {
-      if (n > 0 && fabs(lam[e]) > PS_LOOSE_TOL * big) continue;
-      for (int be = 0; be < d; be++)
-        for (int al = 0; al < d; al++)
-          P[be * d + al] += n > 0 ? vec[e * d + al] * vec[e * d + be] : (double)(al == be && al == e);
-      s->free_body[a]++;
-    }
+    for (int be = 0; be < d; be++)
+      for (int al = 0; al < d; al++) S[be * d + al] = 0.5 * (B[be * d + al] + B[al * d + be]);
+    for (int k = 0; k < d; k++) S[k * d + k] -= PS_LOOSE_TOL * tr;
+    if (tr > 0 && small_posdef(d, S)) continue; /* held */
+    for (int k = 0; k < d; k++) S[k * d + k] += PS_LOOSE_TOL * tr;
+    sym_eigen(d, S, lam, vec);
+    for (int e = 0; e < d; e++) big = fmax(big, fabs(lam[e]));
+    for (int e = 0; e < d; e++)
+      if (fabs(lam[e]) <= PS_LOOSE_TOL * big) add_direction(s, a, &vec[e * d], 1.0);
     any_free += s->free_body[a] > 0;
   }
   return any_free;
@@ -287,22 +303,10 @@ static ps_int group_root(ps_int *parent, ps_int a) {
   return a;
 }
 
-/* add n n^T (n = v / |v|, v != 0) to particle a's spring directions */
-static void add_direction(ps_system *s, ps_int a, const double *v) {
-  int d = s->dim;
-  double nn = 0.0;
-  for (int k = 0; k < d; k++) nn += v[k] * v[k];
-  if (!(nn > 0)) return;
-  double *P = &s->free_proj[(ps_int)d * d * a];
-  for (int be = 0; be < d; be++)
-    for (int al = 0; al < d; al++) P[be * d + al] += v[al] * v[be] / nn;
-  if (s->free_body[a] < d) s->free_body[a]++;
-}
-
 /* Loose groups: particles joined by intact arms into a piece that holds
  * no prescribed dof (a fragment cut off by cracks) move as a rigid body at
- * no cost, d (d (d + 1) / 2 in all) rigid modes that make K singular
- * although each particle is held. The spring then also acts as a
+ * no cost: its d (d + 1) / 2 rigid modes make K singular although each
+ * particle is held. The spring then also acts as a
  * statically determinate support of each such group of two or more
  * particles: in every direction at its first particle p0, across p0-p1 at
  * the particle p1 farthest from p0 and, in 3D, normal to the plane p0 p1
@@ -371,17 +375,16 @@ static ps_int mark_loose_groups(ps_system *s, const ps_arm_state *st, const doub
       }
     }
   }
-  static const double axes[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   for (ps_int r = 0; r < n; r++) {
     if (root[r] != r || size[r] < 2 || pick[2 * r] < 0) continue;
     ps_int p1 = pick[2 * r], p2 = d == 3 ? pick[2 * r + 1] : -1;
-    for (int k = 0; k < d; k++) add_direction(s, r, axes[k]);
+    for (int k = 0; k < d; k++) add_direction(s, r, axes[k], 1.0);
     for (int k = 0; k < d; k++) e[k] = X[p1 * d + k] - X[r * d + k];
     marked++;
     if (d == 2) { /* across p0-p1 at p1 */
       v[0] = -e[1];
       v[1] = e[0];
-      add_direction(s, p1, v);
+      add_direction_along(s, p1, v);
       continue;
     }
     /* 3D: across e at p1 (e x t and e x (e x t), t the axis least along
@@ -390,12 +393,12 @@ static ps_int mark_loose_groups(ps_system *s, const ps_arm_state *st, const doub
                                      : (fabs(e[1]) <= fabs(e[2]) ? 1 : 2);
     ps_cross3(e, axes[m], v);
     ps_cross3(e, v, w);
-    add_direction(s, p1, v);
-    add_direction(s, p1, w);
+    add_direction_along(s, p1, v);
+    add_direction_along(s, p1, w);
     if (p2 >= 0) {
       for (int k = 0; k < 3; k++) v[k] = X[p2 * 3 + k] - X[r * 3 + k];
       ps_cross3(e, v, w);
-      add_direction(s, p2, w);
+      add_direction_along(s, p2, w);
     }
   }
   return marked;

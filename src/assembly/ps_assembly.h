@@ -196,7 +196,8 @@ int ps_system_assemble(ps_system *sys, ps_ctx *ctx);
  * tangent found loose in a direction along which it can move (its arms
  * do not hold it there, or it lies in a piece with no prescribed dof
  * while another piece has one: free_body, with a component on a free
- * dof), or -1 when every particle is held. */
+ * dof): the dof of its free component most along those directions (for
+ * ps_system_dof_name), or -1 when every particle is held. */
 ps_int ps_system_first_loose(const ps_system *sys);
 
 /* y[n_dof] = K x[n_dof] with the tangent K of the last evaluation with one

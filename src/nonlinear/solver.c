@@ -182,21 +182,14 @@ int ps_solver_create(ps_solver **out, const ps_particles *P,
   PS_CHECK_GOTO(ps_nl_eval(s, s->u, s->f, &s->energy, 1, ctx));
   ps_int loose = ps_system_first_loose(&s->pd->sys);
   if (loose >= 0) {
-    const ps_system *sys = &s->pd->sys;
-    int d = sys->dim, kmax = -1;
-    const double *Pl = &sys->free_proj[(ps_int)d * d * loose];
-    for (int k = 0; k < d; k++) /* the free dof most along a loose direction */
-      if (sys->free_of_dof[(ps_int)d * loose + k] >= 0 &&
-          (kmax < 0 || Pl[k * d + k] > Pl[kmax * d + kmax]))
-        kmax = k;
     char name[160];
-    ps_system_dof_name(sys, P->x, (ps_int)d * loose + kmax, name, sizeof name);
+    ps_system_dof_name(&s->pd->sys, P->x, loose, name, sizeof name);
     status = ps_error(ctx, PS_ERR_INPUT,
                       "the model is not properly supported: %s is not held at rest (its "
                       "arms do not span the %s there, or it lies in a piece of the body "
                       "with no support); check the geometry (cracks that cut a piece off) "
                       "and loading.boundary",
-                      name, d == 3 ? "space" : "plane");
+                      name, P->dim == 3 ? "space" : "plane");
     goto cleanup;
   }
   status = ps_nl_factor_tangent(s, ctx);

@@ -26,13 +26,6 @@ static void arc_init(void *state, const ps_path_opts *o) {
   c->broken_seen = 0;
 }
 
-/* not used (the step chooses the load factor): the current one */
-static double arc_target(void *state, double lambda, const ps_path_opts *o) {
-  (void)state;
-  (void)o;
-  return lambda;
-}
-
 static double arc_cut(void *state, const ps_path_opts *o) {
   arc_state *c = state;
   (void)o;
@@ -70,7 +63,7 @@ static int arc_step(void *state, ps_solver *s, const ps_path_opts *o, double *la
 }
 
 static const ps_step_control_type arc_type = {"arc_length", sizeof(arc_state), arc_init,
-                                              arc_target,   arc_cut,           arc_accept,
+                                              NULL,   arc_cut,           arc_accept,
                                               arc_step};
 
 const ps_step_control_type *const ps_step_control_arc_length = &arc_type;

@@ -36,11 +36,6 @@ static void diss_init(void *state, const ps_path_opts *o) {
   c->good_in_a_row = 2;
 }
 
-static double diss_target(void *state, double lambda, const ps_path_opts *o) {
-  diss_state *c = state;
-  return ps_step_control_arc_length->target(c->arc, lambda, o);
-}
-
 static double diss_cut(void *state, const ps_path_opts *o) {
   diss_state *c = state;
   if (!c->dissipating) return ps_step_control_arc_length->cut(c->arc, o);
@@ -93,7 +88,7 @@ static int diss_step(void *state, ps_solver *s, const ps_path_opts *o, double *l
 }
 
 static const ps_step_control_type diss_type = {"dissipation", sizeof(diss_state), diss_init,
-                                               diss_target,   diss_cut,           diss_accept,
+                                               NULL,   diss_cut,           diss_accept,
                                                diss_step};
 
 const ps_step_control_type *const ps_step_control_dissipation = &diss_type;

@@ -47,13 +47,6 @@ static void event_init(void *state, const ps_path_opts *o) {
   c->good_in_a_row = 2;
 }
 
-/* not used (the step chooses the load factor): the current one */
-static double event_target(void *state, double lambda, const ps_path_opts *o) {
-  (void)state;
-  (void)o;
-  return lambda;
-}
-
 static double event_cut(void *state, const ps_path_opts *o) {
   event_state *c = state;
   (void)o;
@@ -157,7 +150,7 @@ static int event_step(void *state, ps_solver *s, const ps_path_opts *o, double *
 }
 
 static const ps_step_control_type event_type = {"event",      sizeof(event_state), event_init,
-                                                event_target, event_cut,           event_accept,
+                                                NULL, event_cut,           event_accept,
                                                 event_step};
 
 const ps_step_control_type *const ps_step_control_event = &event_type;

@@ -57,7 +57,9 @@ typedef struct ps_step_control_type {
   const char *name;
   size_t size;
   void (*init)(void *state, const ps_path_opts *o);
-  /* the load factor of the next attempt from the current one, lambda */
+  /* the load factor of the next attempt from the current one, lambda
+   * (NULL for a controller with a step, whose load factor follows from
+   * its constraint) */
   double (*target)(void *state, double lambda, const ps_path_opts *o);
   /* the attempt failed: the increment of the next one (the path stalls
    * when it is below o->min_step) */

@@ -156,6 +156,15 @@ fi
 # the peak reaction (increments, Newton iterations, factorisations)
 [ "${BENCH_QUICK:-0}" = 1 ] ||
   run_file "$top/data/cases/notched-plate-softening.yaml" notched-softening-dissipation fracture cholmod true 1
+# and the PMB notched plate (60 x 60) under event control, each arm
+# breaking at its critical stretch (path.control: event; the load-control
+# row notched-pmb-3600 above is the same plate)
+if [ "${BENCH_QUICK:-0}" != 1 ]; then
+  fe="$work/notched-pmb-event.yaml"
+  sed -e 's/^path:$/path:\n  control: event/' "$(notched pmb 60)" > "$fe"
+  grep -q '^  control: event$' "$fe" || { echo "bench: cannot set event control" >&2; exit 1; }
+  run_file "$fe" notched-pmb-event-3600 fracture cholmod true 1
+fi
 if [ "${BENCH_LARGE:-0}" = 1 ]; then
   # the paper's disk at its size (20k particles, data/cases/paper-griffith.yaml)
   # run to fracture at delta = c/3250, the sweep's first run

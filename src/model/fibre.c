@@ -14,7 +14,9 @@
  * default, the paper's model; ps_moduli.h, doc/moduli.md) every half-arm
  * weight A_ab becomes A_ab phi_a(n_ab), phi from the fourth moment of a's
  * family (weights A_ab r0, target V_a/(N+2) I_4, so that a's stiffness
- * under any homogeneous strain is the continuum's 2G I + (K - 2G/N) 1 1):
+ * under any homogeneous strain is the continuum's 2G I + (K - 2G/N) 1 1)
+ * and, on 2D clouds, with the arms' forces under it balanced in the
+ * interior (ps_moduli_balance: the homogeneous state is an equilibrium):
  * the formulas above with the corrected weights, kept in m->arm_side
  * ([i] A'_ab, [n_arm + i] A'_ba); NULL: the network's A_ab, A_ba. */
 #include "ps_model.h"
@@ -224,22 +226,26 @@ static int fibre_correct(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
                     "material.surface_correction: the fibre model's correction needs the "
                     "particles");
   double *w = ps_calloc((size_t)(2 * na), sizeof *w, ctx);
+  double *k = ps_calloc((size_t)(2 * na), sizeof *k, ctx);
   double *t = ps_calloc((size_t)np, sizeof *t, ctx);
   m->arm_side = ps_calloc((size_t)(2 * na), sizeof *m->arm_side, ctx);
   int status = PS_ERR_NOMEM;
-  if (w && t && m->arm_side) {
+  if (w && k && t && m->arm_side) {
     for (ps_int i = 0; i < na; i++) {
+      k[i] = net->A_ab[i];
+      k[na + i] = net->A_ba[i];
       w[i] = net->A_ab[i] * net->r0[i];
       w[na + i] = net->A_ba[i] * net->r0[i];
     }
     for (ps_int a = 0; a < np; a++) t[a] = P->volume[a] / (net->dim + 2);
-    status = ps_moduli_factors(P, net, 4, w, t, m->arm_side, NULL, ctx);
+    status = ps_moduli_balance(P, net, w, k, t, m->arm_side, NULL, ctx);
     for (ps_int i = 0; status == PS_OK && i < na; i++) {
       m->arm_side[i] *= net->A_ab[i];
       m->arm_side[na + i] *= net->A_ba[i];
     }
   }
   free(w);
+  free(k);
   free(t);
   return status;
 }

@@ -47,6 +47,11 @@ typedef struct ps_moduli_stats {
   ps_int n_partial; /* particles whose change was cut back at the floor */
   ps_int n_singular;/* particles whose moment matrix is singular: phi = 1 */
   double phi_min, phi_max; /* over the half-arms with w > 0 */
+  ps_int n_balanced; /* particles whose force moment is balanced
+                        (ps_moduli_balance; 0 when it kept the local
+                        factors of a 3D cloud or gave up) */
+  int balance_passes;/* solves made; negative: the balance was given up
+                        and the local factors kept */
 } ps_moduli_stats;
 
 /* 1 when the fibre or state model applies the moduli correction:
@@ -61,6 +66,43 @@ int ps_moduli_correction_on(const ps_material *mat);
  * PS_OK or PS_ERR_INPUT (order not 2 or 4, dim not 2 or 3). */
 int ps_moduli_factors(const ps_particles *P, const ps_network *net, int order,
                       const double *w, const double *target, double *phi,
+                      ps_moduli_stats *stats, ps_ctx *ctx);
+
+/* ps_moduli_balance puts a particle on the surface (a free face, a hole
+ * or a crack) when the first moment of its half-arm weights, |sum_b w_b
+ * n_b|, exceeds this share of their sum sum_b w_b: the outermost row of a
+ * square lattice has about 0.55 and the next 0.2 (fibre, alpha 5.1), the
+ * interior of a square lattice jittered by 0.2 spacings stays below 0.14. */
+#define PS_MODULI_SURFACE 0.3
+
+/* The factors of ps_moduli_factors (order 4) made to balance the forces
+ * as well, for a model whose arm force under a homogeneous strain eps is
+ * s_ab f(n.eps.n, tr eps) n with the arm's stiffness s_ab = k_ab phi_ab +
+ * k_ba phi_ba (the fibre model: k = A; once every energy moment is
+ * matched its mean strain is tr eps / N everywhere). On an irregular cloud
+ * the sum of these forces at a particle is not zero, so the homogeneous
+ * state is not an equilibrium: the network relaxes and is softer than its
+ * particles' energies say (doc/moduli.md). Here the factors of the
+ * matched particles are the least change sum w (phi - 1)^2 such that
+ * every matched particle's energy moment is its target and every balanced
+ * particle c (matched, with no particle on the surface, PS_MODULI_SURFACE,
+ * within two arms) has sum_b s_cb n n n = 0: the third moment, whose trace
+ * is the first, so that the force vanishes for every eps. That is one
+ * sparse symmetric positive definite system over all particles (its
+ * Lagrange multipliers, 9 a particle in 2D; CHOLMOD). Factors below the
+ * floor are held at it and the system solved again (an active set, at
+ * most 8 solves). The local factors are kept, with stats->balance_passes
+ * 0, where they balance every balanced particle already (a lattice: bit
+ * for bit) and on 3D clouds (the system's factor is too large there:
+ * doc/moduli.md); with balance_passes < 0 where the system is singular,
+ * its solution inaccurate (a constraint off by more than 1e-8) or 8
+ * solves leave a factor below the floor. The factors of unmatched
+ * particles are ps_moduli_factors'. w, k: [2 n_arm] half-arm weights as
+ * ps_moduli_factors' w; target as there; out phi. Returns PS_OK,
+ * PS_ERR_INPUT (dim not 2 or 3), PS_ERR_NOMEM or a fatal status of the
+ * linear solver. */
+int ps_moduli_balance(const ps_particles *P, const ps_network *net, const double *w,
+                      const double *k, const double *target, double *phi,
                       ps_moduli_stats *stats, ps_ctx *ctx);
 
 #endif

@@ -204,19 +204,9 @@ static void gradient_part(void *arg, int part) {
 
 /* 1 when the symmetric d x d matrix M is positive definite (Cholesky) */
 static int small_posdef(int d, const double *M) {
-  double L[9] = {0};
-  for (int j = 0; j < d; j++) {
-    double dj = M[j * d + j];
-    for (int k = 0; k < j; k++) dj -= L[j * d + k] * L[j * d + k];
-    if (!(dj > 0)) return 0;
-    L[j * d + j] = sqrt(dj);
-    for (int i = j + 1; i < d; i++) {
-      double v = M[j * d + i];
-      for (int k = 0; k < j; k++) v -= L[i * d + k] * L[j * d + k];
-      L[i * d + j] = v / L[j * d + j];
-    }
-  }
-  return 1;
+  double L[9];
+  memcpy(L, M, (size_t)(d * d) * sizeof *L);
+  return ps_dense_cholesky(d, L, 0.0);
 }
 
 /* the eigenvalues lam[e] and unit eigenvectors vec[e d .. e d + d - 1]

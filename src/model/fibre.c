@@ -15,7 +15,7 @@
  * weight A_ab becomes A_ab phi_a(n_ab), phi from the fourth moment of a's
  * family (weights A_ab r0, target V_a/(N+2) I_4, so that a's stiffness
  * under any homogeneous strain is the continuum's 2G I + (K - 2G/N) 1 1)
- * and, on 2D clouds, with the arms' forces under it balanced in the
+ * and, on clouds, with the arms' forces under it balanced in the
  * interior (ps_moduli_balance: the homogeneous state is an equilibrium):
  * the formulas above with the corrected weights, kept in m->arm_side
  * ([i] A'_ab, [n_arm + i] A'_ba); NULL: the network's A_ab, A_ba. */
@@ -238,7 +238,14 @@ static int fibre_correct(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
       w[na + i] = net->A_ba[i] * net->r0[i];
     }
     for (ps_int a = 0; a < np; a++) t[a] = P->volume[a] / (net->dim + 2);
-    status = ps_moduli_balance(P, net, w, k, t, m->arm_side, NULL, ctx);
+    ps_moduli_stats st;
+    status = ps_moduli_balance(P, net, 4, w, k, t, m->arm_side, &st, ctx);
+    if (status == PS_OK && st.balance_passes < 0)
+      ps_log(ctx, 1,
+             "# warning: material.surface_correction: the fibre model's forces could not be "
+             "balanced on this cloud (%d solves); each particle keeps its own energy match, "
+             "and the moduli may be up to ~1.5%% soft (doc/moduli.md)\n",
+             -st.balance_passes);
     for (ps_int i = 0; status == PS_OK && i < na; i++) {
       m->arm_side[i] *= net->A_ab[i];
       m->arm_side[na + i] *= net->A_ba[i];

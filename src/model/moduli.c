@@ -59,36 +59,6 @@ static void eval_monomials(int N, int nm, int e[MAXMONO][3], const double *n, do
   for (int j = 0; j < nm; j++) m[j] = pw[0][e[j][0]] * pw[1][e[j][1]] * pw[2][e[j][2]];
 }
 
-/* Cholesky of the nm x nm symmetric A (lower triangle, in place) and the
- * solve of A x = r (r overwritten by x); 0 when a pivot is below tol */
-static int cholesky_solve(int nm, double A[MAXMONO][MAXMONO], double *r) {
-  double dmax = 0.0;
-  for (int i = 0; i < nm; i++) dmax = fmax(dmax, A[i][i]);
-  if (!(dmax > 0)) return 0;
-  for (int j = 0; j < nm; j++) {
-    double s = A[j][j];
-    for (int k = 0; k < j; k++) s -= A[j][k] * A[j][k];
-    if (!(s > 1e-12 * dmax)) return 0;
-    A[j][j] = sqrt(s);
-    for (int i = j + 1; i < nm; i++) {
-      double t = A[i][j];
-      for (int k = 0; k < j; k++) t -= A[i][k] * A[j][k];
-      A[i][j] = t / A[j][j];
-    }
-  }
-  for (int i = 0; i < nm; i++) { /* L y = r */
-    double t = r[i];
-    for (int k = 0; k < i; k++) t -= A[i][k] * r[k];
-    r[i] = t / A[i][i];
-  }
-  for (int i = nm - 1; i >= 0; i--) { /* L^T x = y */
-    double t = r[i];
-    for (int k = i + 1; k < nm; k++) t -= A[k][i] * r[k];
-    r[i] = t / A[i][i];
-  }
-  return 1;
-}
-
 /* the reference direction of arm i seen from its end p, into n */
 static void direction(const ps_particles *P, const ps_network *net, ps_int i, ps_int p,
                       double *n) {
@@ -110,11 +80,11 @@ static int local_factors(const ps_particles *P, const ps_network *net, int order
   int nm = monomials(N, order, e);
   double c[MAXMONO];
   for (int j = 0; j < nm; j++) c[j] = iso_component(e[j]);
-  ps_moduli_stats s = {0, 0, 0, INFINITY, -INFINITY, 0, 0};
+  ps_moduli_stats s = {0, 0, 0, INFINITY, -INFINITY, 0, 0, 0};
   ps_int na = net->n_arm;
   for (ps_int k = 0; k < 2 * na; k++) phi[k] = 1.0;
   for (ps_int a = 0; a < net->n_particle; a++) {
-    double A[MAXMONO][MAXMONO], r[MAXMONO], m[MAXMONO], n[3];
+    double A[MAXMONO * MAXMONO], r[MAXMONO], m[MAXMONO], n[3];
     memset(A, 0, sizeof A);
     for (int j = 0; j < nm; j++) r[j] = target[a] * c[j];
     int any = 0;
@@ -127,16 +97,17 @@ static int local_factors(const ps_particles *P, const ps_network *net, int order
       eval_monomials(N, nm, e, n, m);
       for (int j = 0; j < nm; j++) {
         r[j] -= wb * m[j];
-        for (int l = 0; l <= j; l++) A[j][l] += wb * m[j] * m[l];
+        for (int l = 0; l <= j; l++) A[j * nm + l] += wb * m[j] * m[l];
       }
     }
     if (code) code[a] = 0;
     if (!any) continue;
-    if (!cholesky_solve(nm, A, r)) {
+    if (!ps_dense_cholesky(nm, A, 1e-12)) {
       s.n_singular++;
       if (code) code[a] = 3;
       continue;
     }
+    ps_dense_cholesky_solve(nm, A, r);
     /* the change per half-arm, and how far it may go above the floor */
     double tau = 1.0;
     for (int pass = 0; pass < 2; pass++)
@@ -173,24 +144,26 @@ int ps_moduli_factors(const ps_particles *P, const ps_network *net, int order,
 
 /* ---- the force balance (ps_moduli_balance) ----
  * Unknowns: the changes d_h = phi_h - 1 of the free half-arms (those of
- * matched particles). Rows per particle p: its energy moment (nE = 5 or
- * 15 monomials of degree 4, when p is matched) and its force moment (nF =
- * 4 or 10 monomials of degree 3, when p is balanced). Half-arm h of
- * particle a on arm (a, b), direction n from a, has the column
- *   E_a: w_h m4(n),  F_a: k_h m3(n),  F_b: -k_h m3(n)
- * (m3(-n) = -m3(n)). The least change sum w_h d_h^2 under C d = r is d =
+ * matched particles). Rows per particle p: its energy moment (nE
+ * monomials mE of degree p = order: 5 or 15 for p = 4, 3 or 6 for p = 2;
+ * when p is matched) and its force moment (nF monomials mF of degree p - 1:
+ * 4 or 10, 2 or 3; when p is balanced). Half-arm h of particle a on arm
+ * (a, b), direction n from a, has the column
+ *   E_a: w_h mE(n),  F_a: k_h mF(n),  F_b: -k_h mF(n)
+ * (mF(-n) = -mF(n), the degree being odd). The least change sum w_h d_h^2 under C d = r is d =
  * W^-1 C^T lambda with (C W^-1 C^T) lambda = r, a sparse symmetric
  * positive definite system whose blocks follow the arms (particle p's
  * rows next to each other): factored by CHOLMOD. */
 
 typedef struct {
   int N, nE, nF;
-  int e4[MAXMONO][3], e3[MAXMONO][3];
-  double c4[MAXMONO];
+  int eE[MAXMONO][3], eF[MAXMONO][3];
+  double cE[MAXMONO];
   ps_int *row0;  /* [np + 1] first row of each particle's block */
-  ps_int *coff;  /* [2 n_arm + np]: per family entry (upper neighbour) the
-                    offset of its block in the columns of the family's
-                    particle; [2 n_arm + q] the diagonal block's offset */
+  ps_int *coff;  /* [2 n_arm + np]: per family entry of a neighbour with a
+                    lower number, the offset of its block in the columns
+                    of the family's particle; [2 n_arm + q] the diagonal
+                    block's offset */
 } balance_layout;
 
 static inline int rows_of(const unsigned char *matched, const unsigned char *bal, ps_int p,
@@ -203,25 +176,161 @@ static inline int rows_of(const unsigned char *matched, const unsigned char *bal
  * balanced) and to b's F rows (vb[nF]) */
 static void half_arm_column(const balance_layout *L, const double *n, double w, double k,
                             double *va, double *vb) {
-  double m4[MAXMONO], m3[MAXMONO];
-  eval_monomials(L->N, L->nE, (int(*)[3])L->e4, n, m4);
-  eval_monomials(L->N, L->nF, (int(*)[3])L->e3, n, m3);
-  for (int j = 0; j < L->nE; j++) va[j] = w * m4[j];
+  double mE[MAXMONO], mF[MAXMONO];
+  eval_monomials(L->N, L->nE, (int(*)[3])L->eE, n, mE);
+  eval_monomials(L->N, L->nF, (int(*)[3])L->eF, n, mF);
+  for (int j = 0; j < L->nE; j++) va[j] = w * mE[j];
   for (int j = 0; j < L->nF; j++) {
-    va[L->nE + j] = k * m3[j];
-    vb[j] = -k * m3[j];
+    va[L->nE + j] = k * mF[j];
+    vb[j] = -k * mF[j];
   }
 }
 
+/* half-arm h's column, restricted to its particle a's rows (ua[ka], at
+ * row ra) and to the other end b's F rows (vb[kb], at row rb); free: a
+ * column of the system (a matched, h not pinned) */
+typedef struct {
+  ps_int a, b, ra, rb;
+  int ka, kb, free;
+  double va[2 * MAXMONO], vb[MAXMONO], *ua;
+} half_arm;
+
+static void half_arm_get(const ps_particles *P, const ps_network *net, const double *w,
+                         const double *k, const unsigned char *matched,
+                         const unsigned char *bal, const unsigned char *pinned,
+                         const balance_layout *L, ps_int h, half_arm *c) {
+  ps_int na = net->n_arm, i = h < na ? h : h - na;
+  double nv[3];
+  c->a = h < na ? net->a[i] : net->b[i];
+  c->b = h < na ? net->b[i] : net->a[i];
+  direction(P, net, i, c->a, nv);
+  half_arm_column(L, nv, w[h], k[h], c->va, c->vb);
+  c->ua = c->va + (matched[c->a] == 1 ? 0 : L->nE); /* a's rows in order */
+  c->ra = L->row0[c->a];
+  c->ka = (int)(L->row0[c->a + 1] - c->ra);
+  c->kb = bal[c->b] ? L->nF : 0;
+  c->rb = L->row0[c->b] + (matched[c->b] == 1 ? L->nE : 0);
+  c->free = matched[c->a] == 1 && !pinned[h];
+}
+
+/* the column of half-arm c dotted with x (a vector over the rows) */
+static double column_dot(const half_arm *c, const double *x) {
+  double t = 0.0;
+  for (int j = 0; j < c->ka; j++) t += c->ua[j] * x[c->ra + j];
+  for (int j = 0; j < c->kb; j++) t += c->vb[j] * x[c->rb + j];
+  return t;
+}
+
+/* y = S x = C W^-1 C^T x over the free half-arms (matrix-free) */
+static void balance_apply(const ps_particles *P, const ps_network *net, const double *w,
+                          const double *k, const unsigned char *matched,
+                          const unsigned char *bal, const unsigned char *pinned,
+                          const balance_layout *L, const double *x, double *y) {
+  memset(y, 0, (size_t)L->row0[net->n_particle] * sizeof *y);
+  for (ps_int h = 0; h < 2 * net->n_arm; h++) {
+    if (!(w[h] > 0)) continue;
+    half_arm c;
+    half_arm_get(P, net, w, k, matched, bal, pinned, L, h, &c);
+    if (!c.free) continue;
+    double t = column_dot(&c, x) / w[h];
+    for (int j = 0; j < c.ka; j++) y[c.ra + j] += t * c.ua[j];
+    for (int j = 0; j < c.kb; j++) y[c.rb + j] += t * c.vb[j];
+  }
+}
+
+/* S lambda = r by conjugate gradients preconditioned by S's diagonal
+ * blocks (one a particle), to ||r - S lambda|| <= 1e-13 ||r||. PS_OK,
+ * PS_NOT_POSDEF (a block or the operator is not positive definite, or no
+ * convergence in 20,000 iterations), PS_ERR_NOMEM. */
+static int balance_pcg(const ps_particles *P, const ps_network *net, const double *w,
+                       const double *k, const unsigned char *matched, const unsigned char *bal,
+                       const unsigned char *pinned, const balance_layout *L, const double *r,
+                       double *lam, int *its, ps_ctx *ctx) {
+  ps_int np = net->n_particle, n = L->row0[np];
+  ps_int *boff = ps_calloc((size_t)np + 1, sizeof *boff, ctx);
+  double *D = NULL, *res = NULL, *z = NULL, *pv = NULL, *q = NULL;
+  int status = PS_ERR_NOMEM;
+  if (!boff) goto done;
+  for (ps_int p = 0; p < np; p++) {
+    ps_int kp = L->row0[p + 1] - L->row0[p];
+    boff[p + 1] = boff[p] + kp * kp;
+  }
+  D = ps_calloc((size_t)boff[np] + 1, sizeof *D, ctx);
+  res = ps_calloc((size_t)n, sizeof *res, ctx);
+  z = ps_calloc((size_t)n, sizeof *z, ctx);
+  pv = ps_calloc((size_t)n, sizeof *pv, ctx);
+  q = ps_calloc((size_t)n, sizeof *q, ctx);
+  if (!D || !res || !z || !pv || !q) goto done;
+  /* the diagonal blocks: a's rows with themselves, b's F rows likewise */
+  for (ps_int h = 0; h < 2 * net->n_arm; h++) {
+    if (!(w[h] > 0)) continue;
+    half_arm c;
+    half_arm_get(P, net, w, k, matched, bal, pinned, L, h, &c);
+    if (!c.free) continue;
+    double *Da = D + boff[c.a], *Db = D + boff[c.b];
+    int kb_all = (int)(L->row0[c.b + 1] - L->row0[c.b]), sh = (int)(c.rb - L->row0[c.b]);
+    for (int s = 0; s < c.ka; s++)
+      for (int t = 0; t < c.ka; t++) Da[s * c.ka + t] += c.ua[s] * c.ua[t] / w[h];
+    for (int s = 0; s < c.kb; s++)
+      for (int t = 0; t < c.kb; t++) Db[(sh + s) * kb_all + sh + t] += c.vb[s] * c.vb[t] / w[h];
+  }
+  status = PS_NOT_POSDEF;
+  for (ps_int p = 0; p < np; p++)
+    if (!ps_dense_cholesky((int)(L->row0[p + 1] - L->row0[p]), D + boff[p], 0.0)) goto done;
+  double rr0 = 0.0, rz = 0.0;
+  for (ps_int j = 0; j < n; j++) lam[j] = 0.0, res[j] = r[j], rr0 += r[j] * r[j];
+  *its = 0;
+  status = PS_OK;
+  if (rr0 == 0.0) goto done;
+  for (int it = 0;; it++) {
+    memcpy(z, res, (size_t)n * sizeof *z);
+    for (ps_int p = 0; p < np; p++)
+      ps_dense_cholesky_solve((int)(L->row0[p + 1] - L->row0[p]), D + boff[p], z + L->row0[p]);
+    double rz_new = 0.0;
+    for (ps_int j = 0; j < n; j++) rz_new += res[j] * z[j];
+    double beta = it ? rz_new / rz : 0.0;
+    rz = rz_new;
+    for (ps_int j = 0; j < n; j++) pv[j] = z[j] + beta * pv[j];
+    balance_apply(P, net, w, k, matched, bal, pinned, L, pv, q);
+    double pq = 0.0, rr = 0.0;
+    for (ps_int j = 0; j < n; j++) pq += pv[j] * q[j];
+    if (!(pq > 0)) {
+      status = PS_NOT_POSDEF;
+      goto done;
+    }
+    double alpha = rz / pq;
+    for (ps_int j = 0; j < n; j++) {
+      lam[j] += alpha * pv[j];
+      res[j] -= alpha * q[j];
+      rr += res[j] * res[j];
+    }
+    *its = it + 1;
+    if (rr <= 1e-26 * rr0) break;
+    if (it >= 20000) {
+      status = PS_NOT_POSDEF;
+      goto done;
+    }
+  }
+done:
+  free(boff);
+  free(D);
+  free(res);
+  free(z);
+  free(pv);
+  free(q);
+  return status;
+}
+
 /* one solve of the balance system for the rows selected by matched (1)
- * and bal; phi (in: the local factors; out: the balanced ones of the
- * matched particles). PS_OK, PS_NOT_POSDEF (the system is singular: no
+ * and bal, by CHOLMOD (ls) or, when ls is NULL, by balance_pcg; phi (in:
+ * the local factors, pinned ones at the floor; out: the balanced ones of
+ * the free half-arms). PS_OK, PS_NOT_POSDEF (the system is singular: no
  * change made), or a fatal status. */
 static int balance_solve(const ps_particles *P, const ps_network *net, const double *w,
                          const double *k, const double *target, const unsigned char *matched,
                          const unsigned char *bal, const unsigned char *pinned, double *phi,
-                         balance_layout *L, ps_linsolve *ls, ps_ctx *ctx) {
-  int nE = L->nE, nF = L->nF;
+                         balance_layout *L, ps_linsolve *ls, int *its, ps_ctx *ctx) {
+  int nE = L->nE;
   ps_int np = net->n_particle, na = net->n_arm;
   const ps_int *fp = net->fam_ptr, *fa = net->fam_arm;
   /* rows and block offsets */
@@ -230,121 +339,110 @@ static int balance_solve(const ps_particles *P, const ps_network *net, const dou
   for (ps_int p = 0; p < np; p++) row0[p + 1] = row0[p] + rows_of(matched, bal, p, L);
   ps_int n = row0[np];
   if (n == 0) return PS_OK;
-  for (ps_int q = 0; q < np; q++) {
-    ps_int off = 0, f = fp[q];
-    for (; f < fp[q + 1]; f++) {
-      ps_int i = fa[f], o = net->a[i] == q ? net->b[i] : net->a[i];
-      if (o > q) break;
-      coff[f] = off;
-      off += rows_of(matched, bal, o, L);
-    }
-    coff[2 * na + q] = off;
-  }
-  /* the CSC pattern: column (q, s) holds q's upper neighbours' rows, then
-   * q's own rows 0..s */
   ps_csc S = {n, NULL, NULL, NULL};
-  double *r = NULL, *lam = NULL;
+  double *r = ps_calloc((size_t)n, sizeof *r, ctx), *lam = ps_calloc((size_t)n, sizeof *lam, ctx);
   int status = PS_ERR_NOMEM;
-  S.p = ps_calloc((size_t)n + 1, sizeof *S.p, ctx);
-  if (!S.p) goto done;
-  for (ps_int q = 0; q < np; q++) {
-    ps_int kq = row0[q + 1] - row0[q];
-    for (ps_int s = 0; s < kq; s++) S.p[row0[q] + s + 1] = coff[2 * na + q] + s + 1;
+  if (!r || !lam) goto done;
+  /* the right-hand side: the targets less the current sums (fixed
+   * half-arms at their phi, free ones at 1) */
+  for (ps_int p = 0; p < np; p++)
+    if (matched[p] == 1)
+      for (int j = 0; j < nE; j++) r[row0[p] + j] = target[p] * L->cE[j];
+  for (ps_int h = 0; h < 2 * na; h++) {
+    if (!(w[h] > 0)) continue;
+    half_arm c;
+    half_arm_get(P, net, w, k, matched, bal, pinned, L, h, &c);
+    double ph = c.free ? 1.0 : phi[h];
+    for (int j = 0; j < c.ka; j++) r[c.ra + j] -= ph * c.ua[j];
+    for (int j = 0; j < c.kb; j++) r[c.rb + j] -= ph * c.vb[j];
   }
-  for (ps_int j = 0; j < n; j++) S.p[j + 1] += S.p[j];
-  ps_int nnz = S.p[n];
-  S.i = ps_calloc((size_t)nnz, sizeof *S.i, ctx);
-  S.x = ps_calloc((size_t)nnz, sizeof *S.x, ctx);
-  r = ps_calloc((size_t)n, sizeof *r, ctx);
-  lam = ps_calloc((size_t)n, sizeof *lam, ctx);
-  if (!S.i || !S.x || !r || !lam) goto done;
-  for (ps_int q = 0; q < np; q++) {
-    ps_int kq = row0[q + 1] - row0[q];
-    for (ps_int s = 0; s < kq; s++) {
-      ps_int c = S.p[row0[q] + s];
-      for (ps_int f = fp[q]; f < fp[q + 1]; f++) {
+  if (!ls) {
+    status = balance_pcg(P, net, w, k, matched, bal, pinned, L, r, lam, its, ctx);
+    if (status != PS_OK) goto done;
+  } else {
+    for (ps_int q = 0; q < np; q++) {
+      ps_int off = 0, f = fp[q];
+      for (; f < fp[q + 1]; f++) {
         ps_int i = fa[f], o = net->a[i] == q ? net->b[i] : net->a[i];
         if (o > q) break;
-        for (ps_int t = row0[o]; t < row0[o + 1]; t++) S.i[c++] = t;
+        coff[f] = off;
+        off += rows_of(matched, bal, o, L);
       }
-      for (ps_int t = 0; t <= s; t++) S.i[c++] = row0[q] + t;
+      coff[2 * na + q] = off;
     }
-  }
-  /* S += v v^T / w over the free half-arms; the right-hand side */
-  for (ps_int p = 0; p < np; p++) {
-    if (matched[p] == 1)
-      for (int j = 0; j < nE; j++) r[row0[p] + j] = target[p] * L->c4[j];
-  }
-  for (ps_int i = 0; i < na; i++)
-    for (int side = 0; side < 2; side++) {
-      ps_int h = side * na + i, a = side ? net->b[i] : net->a[i];
-      ps_int b = side ? net->a[i] : net->b[i];
-      if (!(w[h] > 0)) continue;
-      double nv[3], va[2 * MAXMONO], vb[MAXMONO];
-      direction(P, net, i, a, nv);
-      half_arm_column(L, nv, w[h], k[h], va, vb);
-      int ea = matched[a] == 1 ? nE : 0; /* a's rows: va[0..ea) then F */
-      double *ua = va + (ea ? 0 : nE);   /* a's rows in order */
-      int ka = row0[a + 1] - row0[a], kb = bal[b] ? nF : 0;
-      ps_int rb = row0[b] + (matched[b] == 1 ? nE : 0); /* b's F rows */
-      /* the right-hand side: minus the current sums (phi of fixed
-       * half-arms as they are, free ones at 1) */
-      int free_h = matched[a] == 1 && !pinned[h];
-      double ph = free_h ? 1.0 : phi[h];
-      for (int j = 0; j < ka; j++) r[row0[a] + j] -= ph * ua[j];
-      for (int j = 0; j < kb; j++) r[rb + j] -= ph * vb[j];
-      if (!free_h) continue; /* a fixed half-arm: no column */
-      double iw = 1.0 / w[h];
-      /* diagonal blocks */
-      for (int s = 0; s < ka; s++) {
-        ps_int c = S.p[row0[a] + s] + coff[2 * na + a];
-        for (int t = 0; t <= s; t++) S.x[c + t] += ua[t] * ua[s] * iw;
-      }
-      for (int s = 0; s < kb; s++) {
-        ps_int col = rb + s, c = S.p[col] + coff[2 * na + b];
-        for (int t = 0; t <= s; t++) S.x[c + (rb - row0[b]) + t] += vb[t] * vb[s] * iw;
-      }
-      /* the off-diagonal block between a's rows and b's F rows */
-      if (kb) {
-        ps_int hi = a < b ? b : a, f = fp[hi];
-        while (fa[f] != i) f++;
-        if (a < b) { /* rows of a in the columns of b's F rows */
-          for (int s = 0; s < kb; s++) {
-            ps_int c = S.p[rb + s] + coff[f];
-            for (int t = 0; t < ka; t++) S.x[c + t] += ua[t] * vb[s] * iw;
-          }
-        } else { /* rows of b (its F rows) in the columns of a's rows */
-          ps_int sh = rb - row0[b];
-          for (int s = 0; s < ka; s++) {
-            ps_int c = S.p[row0[a] + s] + coff[f] + sh;
-            for (int t = 0; t < kb; t++) S.x[c + t] += vb[t] * ua[s] * iw;
-          }
+    /* the CSC pattern: column (q, s) holds the rows of q's neighbours
+     * with lower numbers, then q's own rows 0..s */
+    S.p = ps_calloc((size_t)n + 1, sizeof *S.p, ctx);
+    if (!S.p) goto done;
+    for (ps_int q = 0; q < np; q++) {
+      ps_int kq = row0[q + 1] - row0[q];
+      for (ps_int s = 0; s < kq; s++) S.p[row0[q] + s + 1] = coff[2 * na + q] + s + 1;
+    }
+    for (ps_int j = 0; j < n; j++) S.p[j + 1] += S.p[j];
+    ps_int nnz = S.p[n];
+    S.i = ps_calloc((size_t)nnz, sizeof *S.i, ctx);
+    S.x = ps_calloc((size_t)nnz, sizeof *S.x, ctx);
+    if (!S.i || !S.x) goto done;
+    for (ps_int q = 0; q < np; q++) {
+      ps_int kq = row0[q + 1] - row0[q];
+      for (ps_int s = 0; s < kq; s++) {
+        ps_int c = S.p[row0[q] + s];
+        for (ps_int f = fp[q]; f < fp[q + 1]; f++) {
+          ps_int i = fa[f], o = net->a[i] == q ? net->b[i] : net->a[i];
+          if (o > q) break;
+          for (ps_int t = row0[o]; t < row0[o + 1]; t++) S.i[c++] = t;
         }
+        for (ps_int t = 0; t <= s; t++) S.i[c++] = row0[q] + t;
       }
     }
-  ps_int bad = -1;
-  status = ps_linsolve_factor(ls, &S, &bad, ctx);
-  if (status == PS_SINGULAR) status = PS_NOT_POSDEF;
-  if (status != PS_OK) goto done;
-  status = ps_linsolve_solve(ls, r, lam, ctx);
-  if (status != PS_OK) goto done;
+    /* S += v v^T / w over the free half-arms */
+    for (ps_int h = 0; h < 2 * na; h++) {
+      if (!(w[h] > 0)) continue;
+      half_arm c;
+      half_arm_get(P, net, w, k, matched, bal, pinned, L, h, &c);
+      if (!c.free) continue;
+      ps_int a = c.a, b = c.b, i = h < na ? h : h - na;
+      double iw = 1.0 / w[h];
+      for (int s = 0; s < c.ka; s++) { /* a's rows */
+        ps_int col = S.p[c.ra + s] + coff[2 * na + a];
+        for (int t = 0; t <= s; t++) S.x[col + t] += c.ua[t] * c.ua[s] * iw;
+      }
+      ps_int sh = c.rb - row0[b]; /* b's F rows within b's block */
+      for (int s = 0; s < c.kb; s++) {
+        ps_int col = S.p[c.rb + s] + coff[2 * na + b] + sh;
+        for (int t = 0; t <= s; t++) S.x[col + t] += c.vb[t] * c.vb[s] * iw;
+      }
+      if (!c.kb) continue;
+      /* the block between a's rows and b's F rows, in the column block of
+       * the higher particle, at the lower one's offset coff[f] */
+      ps_int hi = a < b ? b : a, f = fp[hi];
+      while (fa[f] != i) f++;
+      if (a < b)
+        for (int s = 0; s < c.kb; s++) {
+          ps_int col = S.p[c.rb + s] + coff[f];
+          for (int t = 0; t < c.ka; t++) S.x[col + t] += c.ua[t] * c.vb[s] * iw;
+        }
+      else
+        for (int s = 0; s < c.ka; s++) {
+          ps_int col = S.p[c.ra + s] + coff[f] + sh;
+          for (int t = 0; t < c.kb; t++) S.x[col + t] += c.vb[t] * c.ua[s] * iw;
+        }
+    }
+    ps_int bad = -1;
+    status = ps_linsolve_factor(ls, &S, &bad, ctx);
+    if (status == PS_SINGULAR) status = PS_NOT_POSDEF;
+    if (status != PS_OK) goto done;
+    status = ps_linsolve_solve(ls, r, lam, ctx);
+    if (status != PS_OK) goto done;
+  }
   /* d_h = (column . lambda) / w_h */
-  for (ps_int i = 0; i < na; i++)
-    for (int side = 0; side < 2; side++) {
-      ps_int h = side * na + i, a = side ? net->b[i] : net->a[i];
-      ps_int b = side ? net->a[i] : net->b[i];
-      if (!(w[h] > 0) || matched[a] != 1 || pinned[h]) continue;
-      double nv[3], va[2 * MAXMONO], vb[MAXMONO], d = 0.0;
-      direction(P, net, i, a, nv);
-      half_arm_column(L, nv, w[h], k[h], va, vb);
-      int ka = row0[a + 1] - row0[a];
-      for (int j = 0; j < ka; j++) d += va[j] * lam[row0[a] + j];
-      if (bal[b]) {
-        ps_int rb = row0[b] + (matched[b] == 1 ? nE : 0);
-        for (int j = 0; j < nF; j++) d += vb[j] * lam[rb + j];
-      }
-      phi[h] = 1.0 + d / w[h];
-    }
+  for (ps_int h = 0; h < 2 * na; h++) {
+    if (!(w[h] > 0)) continue;
+    half_arm c;
+    half_arm_get(P, net, w, k, matched, bal, pinned, L, h, &c);
+    if (!c.free) continue;
+    phi[h] = 1.0 + column_dot(&c, lam) / w[h];
+  }
 done:
   free(S.p);
   free(S.i);
@@ -355,9 +453,9 @@ done:
 }
 
 /* The largest residual of the constraints under the factors phi: over the
- * matched particles (code 1) the energy moment's, |sum_b w_b phi_b m4 -
+ * matched particles (code 1) the energy moment's, |sum_b w_b phi_b mE -
  * t_a c| / t_a, when energy != 0, and over the balanced ones the force
- * moment's, |sum_b s_cb m3| / sum_b |s_cb| */
+ * moment's, |sum_b s_cb mF| / sum_b |s_cb| */
 static double residual(const ps_particles *P, const ps_network *net, const double *w,
                        const double *k, const double *target, const double *phi,
                        const unsigned char *code, const unsigned char *bal, int energy,
@@ -373,51 +471,65 @@ static double residual(const ps_particles *P, const ps_network *net, const doubl
       direction(P, net, i, c, n);
       if (bal[c]) {
         double sc = k[i] * phi[i] + k[na + i] * phi[na + i];
-        eval_monomials(L->N, L->nF, (int(*)[3])L->e3, n, m);
+        eval_monomials(L->N, L->nF, (int(*)[3])L->eF, n, m);
         for (int j = 0; j < L->nF; j++) T[j] += sc * m[j];
         sum += fabs(sc);
       }
       if (e && w[h] > 0) {
-        eval_monomials(L->N, L->nE, (int(*)[3])L->e4, n, m);
+        eval_monomials(L->N, L->nE, (int(*)[3])L->eE, n, m);
         for (int j = 0; j < L->nE; j++) M[j] += w[h] * phi[h] * m[j];
       }
     }
     for (int j = 0; bal[c] && j < L->nF; j++) worst = fmax(worst, fabs(T[j]) / sum);
     for (int j = 0; e && j < L->nE; j++)
-      worst = fmax(worst, fabs(M[j] - target[c] * L->c4[j]) / target[c]);
+      worst = fmax(worst, fabs(M[j] - target[c] * L->cE[j]) / target[c]);
   }
   return worst;
 }
 
-int ps_moduli_balance(const ps_particles *P, const ps_network *net, const double *w,
-                      const double *k, const double *target, double *phi,
+int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
+                      const double *w, const double *k, const double *target, double *phi,
                       ps_moduli_stats *stats, ps_ctx *ctx) {
   int N = net->dim;
-  if (N != 2 && N != 3)
-    return ps_error(ctx, PS_ERR_INPUT, "moduli correction: %d dimensions", N);
+  if ((order != 2 && order != 4) || (N != 2 && N != 3))
+    return ps_error(ctx, PS_ERR_INPUT, "moduli correction: order %d in %d dimensions", order,
+                    N);
   ps_int np = net->n_particle, na = net->n_arm;
   balance_layout L;
   L.N = N;
-  L.nE = monomials(N, 4, L.e4);
-  L.nF = monomials(N, 3, L.e3);
-  for (int j = 0; j < L.nE; j++) L.c4[j] = iso_component(L.e4[j]);
+  L.nE = monomials(N, order, L.eE);
+  L.nF = monomials(N, order - 1, L.eF);
+  for (int j = 0; j < L.nE; j++) L.cE[j] = iso_component(L.eE[j]);
   unsigned char *code = ps_calloc((size_t)np, 1, ctx), *bal = ps_calloc((size_t)np, 1, ctx);
   unsigned char *cut = ps_calloc((size_t)np, 1, ctx), *pinned = ps_calloc((size_t)(2 * na), 1, ctx);
+  double *ks = ps_calloc((size_t)(2 * na), sizeof *ks, ctx);
   double *local = ps_calloc((size_t)(2 * na), sizeof *local, ctx);
   L.row0 = ps_calloc((size_t)np + 1, sizeof *L.row0, ctx);
   L.coff = ps_calloc((size_t)(2 * na + np), sizeof *L.coff, ctx);
   ps_moduli_stats s;
   ps_linsolve ls;
   int status = PS_ERR_NOMEM, lsok = 0;
-  if (!code || !bal || !cut || !pinned || !local || !L.row0 || !L.coff) goto done;
-  status = local_factors(P, net, 4, w, target, local, &s, code, ctx);
+  if (!code || !bal || !cut || !pinned || !ks || !local || !L.row0 || !L.coff) goto done;
+  status = local_factors(P, net, order, w, target, local, &s, code, ctx);
   if (status != PS_OK) goto done;
+  double lbar = 0.0; /* the mean arm length, rounded to a power of two */
+  for (ps_int i = 0; i < na; i++) lbar += net->r0[i] / (double)na;
+  lbar = lbar > 0 ? exp2(round(log2(lbar))) : 1.0;
+  for (ps_int h = 0; h < 2 * na; h++) ks[h] = k[h] * lbar;
   /* surface particles: a family that a free surface, a hole or a crack
    * cuts off has a large first moment. A family is cut when its particle
    * or a neighbour is on the surface (a surface within reach), and a
    * particle is balanced when it is matched and neither its family nor a
    * neighbour's is cut: on a lattice every arm of a balanced particle then
-   * joins two complete families, whose local factors balance it already */
+   * joins two complete families, whose local factors balance it already.
+   * (A neighbour only partly matched, at the floor, has a mean strain
+   * near but not equal to tr eps / N: there the balance of the arm forces
+   * is exact and that of the family term approximate. Requiring matched
+   * neighbours would leave much of a 3D cloud's interior unbalanced.)
+   * The F rows are scaled by the mean arm length rounded to a power of
+   * two, so that they carry the E rows' unit (w = k r0): the multipliers'
+   * system is then as well conditioned in micrometres as in metres, and
+   * the scaling is exact (the solution is the same) */
   for (ps_int a = 0; a < np; a++) {
     double m0 = 0.0, m1[3] = {0, 0, 0}, n[3];
     for (ps_int f = net->fam_ptr[a]; f < net->fam_ptr[a + 1]; f++) {
@@ -440,19 +552,13 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, const double
   for (ps_int a = 0; a < np; a++) {
     bal[a] = code[a] == 1 && !cut[a];
     for (ps_int f = net->fam_ptr[a]; bal[a] && f < net->fam_ptr[a + 1]; f++) {
-      ps_int i = net->fam_arm[f];
-      if (cut[net->a[i] == a ? net->b[i] : net->a[i]]) bal[a] = 0;
+      ps_int i = net->fam_arm[f], o = net->a[i] == a ? net->b[i] : net->a[i];
+      if (cut[o]) bal[a] = 0;
     }
   }
   /* nothing to do where the local factors balance every balanced particle
    * already (a lattice: the same factors, bit for bit) */
-  /* in 3D the system's factor is too large (25 rows a particle, ~100
-   * neighbours: 212 s and 5.4 GB for a jittered box of 4,500 particles,
-   * against 6 s for the whole run without it): 3D clouds keep the local
-   * factors, n_balanced = 0 */
-  int already = residual(P, net, w, k, target, local, code, bal, 0, &L) <= 1e-12;
-  if (already || N == 3) {
-    if (!already) memset(bal, 0, (size_t)np);
+  if (residual(P, net, w, ks, target, local, code, bal, 0, &L) <= 1e-12) {
     memcpy(phi, local, (size_t)(2 * na) * sizeof *phi);
     s.n_balanced = 0;
     for (ps_int a = 0; a < np; a++) s.n_balanced += bal[a];
@@ -463,7 +569,10 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, const double
   }
   /* the bound phi >= floor by an active set: a free half-arm whose factor
    * falls below it is held at the floor and the system solved again (the
-   * same pattern: one analysis) */
+   * same pattern: one analysis). In 2D by CHOLMOD; in 3D (25 rows a
+   * particle, ~100 neighbours) its factor is too large (a jittered box of
+   * 4,500 particles: 212 s and 5.4 GB), so by CG (balance_pcg: 10 s,
+   * 0.9 GB) */
   status = ps_linsolve_create(&ls, ps_linsolve_cholmod, ctx);
   if (status != PS_OK) goto done;
   lsok = 1;
@@ -471,9 +580,12 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, const double
     memcpy(phi, local, (size_t)(2 * na) * sizeof *phi);
     for (ps_int h = 0; h < 2 * na; h++)
       if (pinned[h]) phi[h] = PS_MODULI_FLOOR;
-    status = balance_solve(P, net, w, k, target, code, bal, pinned, phi, &L, &ls, ctx);
-    int ok = status == PS_OK && residual(P, net, w, k, target, phi, code, bal, 1, &L) <= 1e-8;
-    if (status != PS_OK && status != PS_NOT_POSDEF) goto done;
+    int its = 0;
+    status = balance_solve(P, net, w, ks, target, code, bal, pinned, phi, &L, N == 2 ? &ls : NULL,
+                           &its, ctx);
+    s.balance_iterations += its;
+    int ok = status == PS_OK && residual(P, net, w, ks, target, phi, code, bal, 1, &L) <= 1e-8;
+    if (status != PS_OK && status != PS_NOT_POSDEF && status != PS_ERR_NOMEM) goto done;
     status = PS_OK;
     int low = 0;
     for (ps_int h = 0; ok && h < 2 * na; h++) {
@@ -483,7 +595,8 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, const double
     }
     s.balance_passes = pass;
     if (ok && !low) break;
-    if (!ok || pass == 8) { /* singular, inaccurate or still below: the local factors */
+    if (!ok || pass == 8) { /* singular, out of memory, inaccurate or still below: the
+                               local factors */
       memcpy(phi, local, (size_t)(2 * na) * sizeof *phi);
       s.balance_passes = -pass;
       break;
@@ -505,6 +618,7 @@ done:
   free(bal);
   free(cut);
   free(pinned);
+  free(ks);
   free(local);
   free(L.row0);
   free(L.coff);

@@ -48,10 +48,10 @@ typedef struct ps_moduli_stats {
   ps_int n_singular;/* particles whose moment matrix is singular: phi = 1 */
   double phi_min, phi_max; /* over the half-arms with w > 0 */
   ps_int n_balanced; /* particles whose force moment is balanced
-                        (ps_moduli_balance; 0 when it kept the local
-                        factors of a 3D cloud or gave up) */
+                        (ps_moduli_balance) */
   int balance_passes;/* solves made; negative: the balance was given up
                         and the local factors kept */
+  ps_int balance_iterations; /* CG iterations of those solves (3D) */
 } ps_moduli_stats;
 
 /* 1 when the fibre or state model applies the moduli correction:
@@ -75,34 +75,42 @@ int ps_moduli_factors(const ps_particles *P, const ps_network *net, int order,
  * interior of a square lattice jittered by 0.2 spacings stays below 0.14. */
 #define PS_MODULI_SURFACE 0.3
 
-/* The factors of ps_moduli_factors (order 4) made to balance the forces
- * as well, for a model whose arm force under a homogeneous strain eps is
- * s_ab f(n.eps.n, tr eps) n with the arm's stiffness s_ab = k_ab phi_ab +
- * k_ba phi_ba (the fibre model: k = A; once every energy moment is
- * matched its mean strain is tr eps / N everywhere). On an irregular cloud
- * the sum of these forces at a particle is not zero, so the homogeneous
- * state is not an equilibrium: the network relaxes and is softer than its
- * particles' energies say (doc/moduli.md). Here the factors of the
- * matched particles are the least change sum w (phi - 1)^2 such that
- * every matched particle's energy moment is its target and every balanced
- * particle c (matched, with no particle on the surface, PS_MODULI_SURFACE,
- * within two arms) has sum_b s_cb n n n = 0: the third moment, whose trace
- * is the first, so that the force vanishes for every eps. That is one
- * sparse symmetric positive definite system over all particles (its
- * Lagrange multipliers, 9 a particle in 2D; CHOLMOD). Factors below the
- * floor are held at it and the system solved again (an active set, at
- * most 8 solves). The local factors are kept, with stats->balance_passes
- * 0, where they balance every balanced particle already (a lattice: bit
- * for bit) and on 3D clouds (the system's factor is too large there:
- * doc/moduli.md); with balance_passes < 0 where the system is singular,
- * its solution inaccurate (a constraint off by more than 1e-8) or 8
- * solves leave a factor below the floor. The factors of unmatched
- * particles are ps_moduli_factors'. w, k: [2 n_arm] half-arm weights as
- * ps_moduli_factors' w; target as there; out phi. Returns PS_OK,
- * PS_ERR_INPUT (dim not 2 or 3), PS_ERR_NOMEM or a fatal status of the
- * linear solver. */
-int ps_moduli_balance(const ps_particles *P, const ps_network *net, const double *w,
-                      const double *k, const double *target, double *phi,
+/* The factors of ps_moduli_factors made to balance the forces as well.
+ * For a model whose arm force under a homogeneous strain eps is, order 4,
+ * s_ab f(n.eps.n, tr eps) n, or, order 2, s_ab g(tr eps) n, with the
+ * arm's stiffness s_ab = k_ab phi_ab + k_ba phi_ba (the fibre model,
+ * order 4: k = A; the state model, order 4 for its deviatoric part: k =
+ * ks xi, order 2 for its dilatation: k = ks), once every energy moment is
+ * matched (so that the mean strain or the dilatation is tr eps / N or tr
+ * eps everywhere). On an irregular cloud the sum of these forces at a
+ * particle is not zero, so the homogeneous state is not an equilibrium:
+ * the network relaxes and is softer than its particles' energies say
+ * (doc/moduli.md). Here the factors of the matched particles are the
+ * least change sum w (phi - 1)^2 such that every matched particle's
+ * energy moment is its target and every balanced particle c (matched,
+ * with no particle on the surface, PS_MODULI_SURFACE, within two arms)
+ * has a zero moment of degree order - 1, sum_b s_cb n^(x)(order - 1) = 0
+ * (order 4: the third moment, whose trace is the first), so that the
+ * force vanishes for every eps. That is one sparse symmetric positive
+ * definite system over all particles (its Lagrange multipliers, 9 a
+ * particle in 2D, 25 in 3D at order 4), factored by CHOLMOD in 2D and
+ * solved by conjugate gradients in 3D, where the factor is too large (CG
+ * preconditioned by each particle's diagonal block, to a relative
+ * residual of 1e-13). Factors below the floor are held at it and the
+ * system solved again (an active set, at most 8 solves). The local
+ * factors are kept, with stats->balance_passes 0, where they balance
+ * every balanced particle already (a lattice: bit for bit); with
+ * balance_passes < 0 where the system is singular (or CG does not
+ * converge in 20,000 iterations), does not fit in memory, its solution is
+ * inaccurate (a constraint off by more than 1e-8) or 8 solves leave a
+ * factor below the floor. The force rows are scaled by the mean arm
+ * length (a power of two), so the result does not depend on the unit of
+ * length. The factors of unmatched particles are ps_moduli_factors'. w,
+ * k: [2 n_arm] half-arm weights as ps_moduli_factors' w; order and target
+ * as there; out phi. Returns PS_OK, PS_ERR_INPUT (order not 2 or 4, dim
+ * not 2 or 3), PS_ERR_NOMEM or a fatal status of the linear solver. */
+int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
+                      const double *w, const double *k, const double *target, double *phi,
                       ps_moduli_stats *stats, ps_ctx *ctx);
 
 #endif

@@ -31,7 +31,9 @@
  * psi (degree 2) on the dilatation, whose ks xi must have the second
  * moment V_a/d delta; then kv_i = (ks_{i,a} phi_a + ks_{i,b} phi_b)/2 and
  * m->arm_side = ks psi (always allocated), and every particle's stiffness
- * under homogeneous strain is the continuum's. */
+ * under homogeneous strain is the continuum's; on clouds both sets of
+ * factors also balance the arm forces under it in the interior
+ * (ps_moduli_balance: the homogeneous state is an equilibrium). */
 #include "ps_model.h"
 #include "ps_moduli.h"
 
@@ -69,30 +71,48 @@ static int state_correct(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
   double *w = ps_calloc((size_t)(2 * na), sizeof *w, ctx);
   double *phi = ps_calloc((size_t)(2 * na), sizeof *phi, ctx);
   double *t = ps_calloc((size_t)np, sizeof *t, ctx);
+  double *kf = ps_calloc((size_t)(2 * na), sizeof *kf, ctx);
   const double *side = m->arm_side; /* NULL: both sides are arm_k */
   if (!m->arm_side) m->arm_side = ps_calloc((size_t)(2 * na), sizeof *m->arm_side, ctx);
   int status = PS_ERR_NOMEM;
-  if (!ks || !w || !phi || !t || !m->arm_side) goto done;
+  ps_moduli_stats st[2];
+  if (!ks || !w || !phi || !t || !kf || !m->arm_side) goto done;
   for (ps_int k = 0; k < 2 * na; k++) {
     ps_int i = k < na ? k : k - na;
     ks[k] = side ? side[k] : m->arm_k[i];
   }
-  /* the deviatoric part: weights ks xi^2, fourth moment G V_a/(2b) I_4 */
-  for (ps_int k = 0; k < 2 * na; k++) {
-    double xi = net->r0[k < na ? k : k - na];
-    w[k] = ks[k] * xi * xi;
+  /* the deviatoric part: weights ks xi^2, fourth moment G V_a/(2b) I_4;
+   * its arm force 4 b kv e, e = xi n.eps.n, is balanced by the third
+   * moment of kv xi = (ks_a phi_a + ks_b phi_b) xi / 2 */
+  for (ps_int h = 0; h < 2 * na; h++) {
+    double xi = net->r0[h < na ? h : h - na];
+    w[h] = ks[h] * xi * xi;
+    kf[h] = ks[h] * xi;
   }
   for (ps_int a = 0; a < np; a++) t[a] = m->mat.G * P->volume[a] / (2.0 * c.b);
-  status = ps_moduli_factors(P, net, 4, w, t, phi, NULL, ctx);
+  status = ps_moduli_balance(P, net, 4, w, kf, t, phi, &st[0], ctx);
   if (status != PS_OK) goto done;
   for (ps_int i = 0; i < na; i++) m->arm_k[i] = 0.5 * (ks[i] * phi[i] + ks[na + i] * phi[na + i]);
-  /* the dilatation: weights ks xi, second moment V_a/d delta */
-  for (ps_int k = 0; k < 2 * na; k++) w[k] = ks[k] * net->r0[k < na ? k : k - na];
+  /* the dilatation: weights ks xi, second moment V_a/d delta; its arm
+   * force 2 a d (ks'_a + ks'_b) tr eps is balanced by the first moment of
+   * ks'_a + ks'_b, ks' = ks psi */
+  for (ps_int h = 0; h < 2 * na; h++) {
+    w[h] = ks[h] * net->r0[h < na ? h : h - na];
+    kf[h] = ks[h];
+  }
   for (ps_int a = 0; a < np; a++) t[a] = P->volume[a] / c.d;
-  status = ps_moduli_factors(P, net, 2, w, t, phi, NULL, ctx);
+  status = ps_moduli_balance(P, net, 2, w, kf, t, phi, &st[1], ctx);
   if (status != PS_OK) goto done;
-  for (ps_int k = 0; k < 2 * na; k++) m->arm_side[k] = ks[k] * phi[k];
+  for (ps_int h = 0; h < 2 * na; h++) m->arm_side[h] = ks[h] * phi[h];
+  for (int q = 0; q < 2; q++)
+    if (st[q].balance_passes < 0)
+      ps_log(ctx, 1,
+             "# warning: material.surface_correction: the state model's %s forces could not "
+             "be balanced on this cloud (%d solves); each particle keeps its own energy "
+             "match (doc/moduli.md)\n",
+             q ? "dilatation" : "deviatoric", -st[q].balance_passes);
 done:
+  free(kf);
   free(ks);
   free(w);
   free(phi);

@@ -258,6 +258,16 @@ int ps_cpu_count(void);
 #define PS_ALWAYS_INLINE inline
 #endif
 
+/* Cholesky factor L (A = L L^T) of the m x m symmetric matrix A
+ * (row-major; its lower triangle is read and overwritten by L, the
+ * upper left as it was). Returns 1, or 0 when a pivot is not above tol
+ * times A's largest diagonal entry (tol 0: not positive). For the small
+ * dense blocks of a particle or a family (at most a few dozen rows). */
+int ps_dense_cholesky(int m, double *A, double tol);
+
+/* x = A^-1 x with the factor L of ps_dense_cholesky */
+void ps_dense_cholesky_solve(int m, const double *L, double *x);
+
 /* c = a x b (3-vectors; c must not alias a or b) */
 static inline void ps_cross3(const double *a, const double *b, double *c) {
   c[0] = a[1] * b[2] - a[2] * b[1];

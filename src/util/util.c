@@ -6,6 +6,7 @@
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <math.h>
 #include <string.h>
 #include <sys/resource.h>
 #include <time.h>
@@ -162,4 +163,35 @@ void ps_state_list_free(ps_state_list *l) {
   free(l->item);
   l->item = NULL;
   l->n = l->cap = 0;
+}
+
+int ps_dense_cholesky(int m, double *A, double tol) {
+  double dmax = 0.0;
+  for (int i = 0; i < m; i++) dmax = fmax(dmax, A[i * m + i]);
+  if (tol > 0 && !(dmax > 0)) return 0;
+  for (int j = 0; j < m; j++) {
+    double d = A[j * m + j];
+    for (int q = 0; q < j; q++) d -= A[j * m + q] * A[j * m + q];
+    if (!(d > tol * dmax)) return 0;
+    A[j * m + j] = sqrt(d);
+    for (int i = j + 1; i < m; i++) {
+      double t = A[i * m + j];
+      for (int q = 0; q < j; q++) t -= A[i * m + q] * A[j * m + q];
+      A[i * m + j] = t / A[j * m + j];
+    }
+  }
+  return 1;
+}
+
+void ps_dense_cholesky_solve(int m, const double *L, double *x) {
+  for (int i = 0; i < m; i++) {
+    double t = x[i];
+    for (int q = 0; q < i; q++) t -= L[i * m + q] * x[q];
+    x[i] = t / L[i * m + i];
+  }
+  for (int i = m - 1; i >= 0; i--) {
+    double t = x[i];
+    for (int q = i + 1; q < m; q++) t -= L[q * m + i] * x[q];
+    x[i] = t / L[i * m + i];
+  }
 }

@@ -16,6 +16,8 @@
 
 #include "../linsolve/ps_linsolve.h"
 
+#include <gsl/gsl_eigen.h>
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -80,7 +82,7 @@ static int local_factors(const ps_particles *P, const ps_network *net, int order
   int nm = monomials(N, order, e);
   double c[MAXMONO];
   for (int j = 0; j < nm; j++) c[j] = iso_component(e[j]);
-  ps_moduli_stats s = {0, 0, 0, INFINITY, -INFINITY, 0, 0, 0};
+  ps_moduli_stats s = {0, 0, 0, INFINITY, -INFINITY, 0, 0, 0, 0};
   ps_int na = net->n_arm;
   for (ps_int k = 0; k < 2 * na; k++) phi[k] = 1.0;
   for (ps_int a = 0; a < net->n_particle; a++) {
@@ -159,6 +161,11 @@ typedef struct {
   int N, nE, nF;
   int eE[MAXMONO][3], eF[MAXMONO][3];
   double cE[MAXMONO];
+  const unsigned char *type; /* [np] force rows: 0 none, 1 the moment mF,
+                                2 the surface states (below) */
+  unsigned char *ns;         /* [np] surface states of a type-2 particle */
+  double *seps;              /* [np][3][9] their strains, times 2G */
+  double beta;               /* the arm force is s (n.eps.n + beta tr eps) n */
   ps_int *row0;  /* [np + 1] first row of each particle's block */
   ps_int *coff;  /* [2 n_arm + np]: per family entry of a neighbour with a
                     lower number, the offset of its block in the columns
@@ -166,24 +173,48 @@ typedef struct {
                     block's offset */
 } balance_layout;
 
-static inline int rows_of(const unsigned char *matched, const unsigned char *bal, ps_int p,
-                          const balance_layout *L) {
-  return (matched[p] == 1 ? L->nE : 0) + (bal[p] ? L->nF : 0);
+/* the number of force rows of particle p */
+static inline int force_rows(const balance_layout *L, ps_int p) {
+  return L->type[p] == 1 ? L->nF : L->type[p] == 2 ? L->N * L->ns[p] : 0;
+}
+
+static inline int rows_of(const unsigned char *matched, ps_int p, const balance_layout *L) {
+  return (matched[p] == 1 ? L->nE : 0) + force_rows(L, p);
+}
+
+/* the force rows' coefficients of an arm of particle p with direction n
+ * (odd in n): type 1, the monomials mF(n); type 2, per surface state e
+ * and component i, (n.e.n + beta tr e) n_i */
+static void force_coefficients(const balance_layout *L, ps_int p, const double *n, double *f) {
+  int N = L->N;
+  if (L->type[p] == 1) {
+    eval_monomials(N, L->nF, (int(*)[3])L->eF, n, f);
+    return;
+  }
+  for (int q = 0; q < L->ns[p]; q++) {
+    const double *e = &L->seps[(p * 3 + q) * 9];
+    double g = 0.0, tr = 0.0;
+    for (int i = 0; i < N; i++) {
+      tr += e[i * N + i];
+      for (int j = 0; j < N; j++) g += n[i] * e[i * N + j] * n[j];
+    }
+    g += L->beta * tr;
+    for (int i = 0; i < N; i++) f[q * N + i] = g * n[i];
+  }
 }
 
 /* the column of half-arm side (arm i, particle a, direction n from a)
- * restricted to a's rows (va[nE + nF], the F part zero when a is not
- * balanced) and to b's F rows (vb[nF]) */
-static void half_arm_column(const balance_layout *L, const double *n, double w, double k,
-                            double *va, double *vb) {
-  double mE[MAXMONO], mF[MAXMONO];
+ * restricted to a's rows (va: nE energy rows, then a's force rows) and to
+ * b's force rows (vb) */
+static void half_arm_column(const balance_layout *L, ps_int a, ps_int b, const double *n,
+                            double w, double k, double *va, double *vb) {
+  double mE[MAXMONO], f[MAXMONO];
   eval_monomials(L->N, L->nE, (int(*)[3])L->eE, n, mE);
-  eval_monomials(L->N, L->nF, (int(*)[3])L->eF, n, mF);
   for (int j = 0; j < L->nE; j++) va[j] = w * mE[j];
-  for (int j = 0; j < L->nF; j++) {
-    va[L->nE + j] = k * mF[j];
-    vb[j] = -k * mF[j];
-  }
+  force_coefficients(L, a, n, f);
+  for (int j = 0; j < force_rows(L, a); j++) va[L->nE + j] = k * f[j];
+  force_coefficients(L, b, n, f);
+  for (int j = 0; j < force_rows(L, b); j++) vb[j] = -k * f[j];
 }
 
 /* half-arm h's column, restricted to its particle a's rows (ua[ka], at
@@ -204,11 +235,12 @@ static void half_arm_get(const ps_particles *P, const ps_network *net, const dou
   c->a = h < na ? net->a[i] : net->b[i];
   c->b = h < na ? net->b[i] : net->a[i];
   direction(P, net, i, c->a, nv);
-  half_arm_column(L, nv, w[h], k[h], c->va, c->vb);
+  half_arm_column(L, c->a, c->b, nv, w[h], k[h], c->va, c->vb);
   c->ua = c->va + (matched[c->a] == 1 ? 0 : L->nE); /* a's rows in order */
   c->ra = L->row0[c->a];
   c->ka = (int)(L->row0[c->a + 1] - c->ra);
-  c->kb = bal[c->b] ? L->nF : 0;
+  c->kb = force_rows(L, c->b);
+  (void)bal;
   c->rb = L->row0[c->b] + (matched[c->b] == 1 ? L->nE : 0);
   c->free = matched[c->a] == 1 && !pinned[h];
 }
@@ -336,7 +368,7 @@ static int balance_solve(const ps_particles *P, const ps_network *net, const dou
   /* rows and block offsets */
   ps_int *row0 = L->row0, *coff = L->coff;
   row0[0] = 0;
-  for (ps_int p = 0; p < np; p++) row0[p + 1] = row0[p] + rows_of(matched, bal, p, L);
+  for (ps_int p = 0; p < np; p++) row0[p + 1] = row0[p] + rows_of(matched, p, L);
   ps_int n = row0[np];
   if (n == 0) return PS_OK;
   ps_csc S = {n, NULL, NULL, NULL};
@@ -366,7 +398,7 @@ static int balance_solve(const ps_particles *P, const ps_network *net, const dou
         ps_int i = fa[f], o = net->a[i] == q ? net->b[i] : net->a[i];
         if (o > q) break;
         coff[f] = off;
-        off += rows_of(matched, bal, o, L);
+        off += rows_of(matched, o, L);
       }
       coff[2 * na + q] = off;
     }
@@ -471,8 +503,8 @@ static double residual(const ps_particles *P, const ps_network *net, const doubl
       direction(P, net, i, c, n);
       if (bal[c]) {
         double sc = k[i] * phi[i] + k[na + i] * phi[na + i];
-        eval_monomials(L->N, L->nF, (int(*)[3])L->eF, n, m);
-        for (int j = 0; j < L->nF; j++) T[j] += sc * m[j];
+        force_coefficients(L, c, n, m);
+        for (int j = 0; j < force_rows(L, c); j++) T[j] += sc * m[j];
         sum += fabs(sc);
       }
       if (e && w[h] > 0) {
@@ -480,16 +512,121 @@ static double residual(const ps_particles *P, const ps_network *net, const doubl
         for (int j = 0; j < L->nE; j++) M[j] += w[h] * phi[h] * m[j];
       }
     }
-    for (int j = 0; bal[c] && j < L->nF; j++) worst = fmax(worst, fabs(T[j]) / sum);
+    for (int j = 0; bal[c] && j < force_rows(L, c); j++) worst = fmax(worst, fabs(T[j]) / sum);
     for (int j = 0; e && j < L->nE; j++)
       worst = fmax(worst, fabs(M[j] - target[c] * L->cE[j]) / target[c]);
   }
   return worst;
 }
 
+/* The least change under the rows of L (types in bal) with the bound
+ * phi >= floor by an active set: a free half-arm whose factor falls below
+ * it is held at the floor (pinned 1) and the system solved again (the
+ * same pattern: one analysis); pinned 2: held at base. In 2D by CHOLMOD;
+ * in 3D (25 rows a particle, ~100 neighbours) its factor is too large (a
+ * jittered box of 4,500 particles: 212 s and 5.4 GB), so by CG
+ * (balance_pcg: 10 s, 0.9 GB). phi: the result, or base when the system
+ * is singular, does not fit in memory, its solution is inaccurate or 8
+ * solves leave a factor below the floor (then returns 1). Adds its solves
+ * and CG iterations to *s. PS_OK, 1, or a fatal status. */
+static int active_set(const ps_particles *P, const ps_network *net, const double *w,
+                      const double *ks, const double *target, const unsigned char *code,
+                      const unsigned char *bal, unsigned char *pinned, const double *base,
+                      double *phi, balance_layout *L, ps_moduli_stats *s, ps_ctx *ctx) {
+  ps_int na = net->n_arm;
+  ps_linsolve ls;
+  int status = ps_linsolve_create(&ls, ps_linsolve_cholmod, ctx);
+  if (status != PS_OK) return status;
+  for (int pass = 1; pass <= 8; pass++) {
+    memcpy(phi, base, (size_t)(2 * na) * sizeof *phi);
+    for (ps_int h = 0; h < 2 * na; h++)
+      if (pinned[h] == 1) phi[h] = PS_MODULI_FLOOR;
+    int its = 0;
+    status = balance_solve(P, net, w, ks, target, code, bal, pinned, phi, L,
+                           net->dim == 2 ? &ls : NULL, &its, ctx);
+    s->balance_iterations += its;
+    s->balance_passes++;
+    int ok = status == PS_OK && residual(P, net, w, ks, target, phi, code, bal, 1, L) <= 1e-8;
+    if (status != PS_OK && status != PS_NOT_POSDEF && status != PS_ERR_NOMEM) break;
+    status = PS_OK;
+    int low = 0;
+    for (ps_int h = 0; ok && h < 2 * na; h++) {
+      ps_int i = h < na ? h : h - na, a = h < na ? net->a[i] : net->b[i];
+      if (w[h] > 0 && code[a] == 1 && !pinned[h] && phi[h] < PS_MODULI_FLOOR)
+        pinned[h] = 1, low = 1;
+    }
+    if (ok && !low) break;
+    if (!ok || pass == 8) {
+      memcpy(phi, base, (size_t)(2 * na) * sizeof *phi);
+      status = 1;
+      break;
+    }
+  }
+  ps_linsolve_destroy(&ls);
+  return status;
+}
+
+/* the surface states of particle c: the outward normals of the surface
+ * particles among c and its neighbours (u[3 p], unit first moments; 0
+ * for others) span the normal space (eigenvectors of sum u u^T above a
+ * quarter of its largest eigenvalue); the tangents t the rest, and the
+ * stresses with no traction on those faces are the symmetrised t_i t_j;
+ * their strains in the model's elasticity (K, G), times 2G, into
+ * L->seps. Returns their number (0: a corner, or no surface near). */
+static int surface_states(const ps_network *net, const double *u, ps_int c,
+                          const ps_moduli_surface *sf, balance_layout *L) {
+  int N = L->N;
+  double M[9] = {0};
+  int any = 0;
+  for (ps_int f = net->fam_ptr[c] - 1; f < net->fam_ptr[c + 1]; f++) {
+    ps_int o = c;
+    if (f >= net->fam_ptr[c]) {
+      ps_int i = net->fam_arm[f];
+      o = net->a[i] == c ? net->b[i] : net->a[i];
+    }
+    const double *uo = &u[3 * o];
+    if (uo[0] == 0 && uo[1] == 0 && uo[2] == 0) continue;
+    any = 1;
+    for (int i = 0; i < N; i++)
+      for (int j = 0; j < N; j++) M[i * N + j] += uo[i] * uo[j];
+  }
+  if (!any) return 0;
+  double lam[3], vec[9];
+  gsl_matrix_view Mv = gsl_matrix_view_array(M, (size_t)N, (size_t)N);
+  gsl_vector_view lv = gsl_vector_view_array(lam, (size_t)N);
+  gsl_matrix_view Vv = gsl_matrix_view_array(vec, (size_t)N, (size_t)N);
+  gsl_eigen_symmv_workspace *ws = gsl_eigen_symmv_alloc((size_t)N);
+  if (!ws) return 0;
+  gsl_eigen_symmv(&Mv.matrix, &lv.vector, &Vv.matrix, ws);
+  gsl_eigen_symmv_free(ws);
+  double big = 0.0;
+  for (int e = 0; e < N; e++) big = fmax(big, lam[e]);
+  double t[3][3];
+  int nt = 0;
+  for (int e = 0; e < N; e++)
+    if (lam[e] <= 0.25 * big) {
+      for (int i = 0; i < N; i++) t[nt][i] = vec[i * N + e]; /* column e */
+      nt++;
+    }
+  int ns = 0;
+  for (int p = 0; p < nt; p++)
+    for (int q = p; q < nt; q++, ns++) {
+      double sg[9], tr = 0.0, *e = &L->seps[(c * 3 + ns) * 9];
+      for (int i = 0; i < N; i++)
+        for (int j = 0; j < N; j++) sg[i * N + j] = 0.5 * (t[p][i] * t[q][j] + t[q][i] * t[p][j]);
+      for (int i = 0; i < N; i++) tr += sg[i * N + i];
+      for (int i = 0; i < N; i++)
+        for (int j = 0; j < N; j++)
+          e[i * N + j] = sg[i * N + j] +
+                         (i == j ? (2.0 * sf->G / (N * N * sf->K) - 1.0 / N) * tr : 0.0);
+    }
+  return ns;
+}
+
 int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
-                      const double *w, const double *k, const double *target, double *phi,
-                      ps_moduli_stats *stats, ps_ctx *ctx) {
+                      const double *w, const double *k, const double *target,
+                      const ps_moduli_surface *surf, double *phi, ps_moduli_stats *stats,
+                      ps_ctx *ctx) {
   int N = net->dim;
   if ((order != 2 && order != 4) || (N != 2 && N != 3))
     return ps_error(ctx, PS_ERR_INPUT, "moduli correction: order %d in %d dimensions", order,
@@ -503,13 +640,20 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
   unsigned char *code = ps_calloc((size_t)np, 1, ctx), *bal = ps_calloc((size_t)np, 1, ctx);
   unsigned char *cut = ps_calloc((size_t)np, 1, ctx), *pinned = ps_calloc((size_t)(2 * na), 1, ctx);
   double *ks = ps_calloc((size_t)(2 * na), sizeof *ks, ctx);
+  double *u = ps_calloc((size_t)(3 * np), sizeof *u, ctx);
+  unsigned char *code2 = ps_calloc((size_t)np, 1, ctx), *bal2 = ps_calloc((size_t)np, 1, ctx);
+  L.ns = ps_calloc((size_t)np, 1, ctx);
+  L.seps = surf ? ps_calloc((size_t)(27 * np), sizeof *L.seps, ctx) : NULL;
+  L.type = bal;
+  L.beta = surf ? surf->beta : 0.0;
   double *local = ps_calloc((size_t)(2 * na), sizeof *local, ctx);
   L.row0 = ps_calloc((size_t)np + 1, sizeof *L.row0, ctx);
   L.coff = ps_calloc((size_t)(2 * na + np), sizeof *L.coff, ctx);
   ps_moduli_stats s;
-  ps_linsolve ls;
-  int status = PS_ERR_NOMEM, lsok = 0;
-  if (!code || !bal || !cut || !pinned || !ks || !local || !L.row0 || !L.coff) goto done;
+  int status = PS_ERR_NOMEM;
+  if (!code || !bal || !cut || !pinned || !ks || !u || !code2 || !bal2 || !L.ns || (surf && !L.seps) || !local ||
+      !L.row0 || !L.coff)
+    goto done;
   status = local_factors(P, net, order, w, target, local, &s, code, ctx);
   if (status != PS_OK) goto done;
   double lbar = 0.0; /* the mean arm length, rounded to a power of two */
@@ -541,6 +685,8 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
     }
     double g = sqrt(m1[0] * m1[0] + m1[1] * m1[1] + m1[2] * m1[2]);
     bal[a] = !(m0 > 0) || g > PS_MODULI_SURFACE * m0; /* on the surface */
+    if (bal[a] && g > 0)
+      for (int c = 0; c < N; c++) u[3 * a + c] = m1[c] / g;
   }
   for (ps_int a = 0; a < np; a++) {
     cut[a] = bal[a];
@@ -556,54 +702,59 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
       if (cut[o]) bal[a] = 0;
     }
   }
-  /* nothing to do where the local factors balance every balanced particle
-   * already (a lattice: the same factors, bit for bit) */
-  if (residual(P, net, w, ks, target, local, code, bal, 0, &L) <= 1e-12) {
-    memcpy(phi, local, (size_t)(2 * na) * sizeof *phi);
-    s.n_balanced = 0;
-    for (ps_int a = 0; a < np; a++) s.n_balanced += bal[a];
-    s.balance_passes = 0;
-    if (stats) *stats = s;
-    status = PS_OK;
-    goto done;
+  /* stage 1, the interior: nothing to do where the local factors balance
+   * every balanced particle already (a lattice: the same factors, bit
+   * for bit) */
+  int failed = 0;
+  memcpy(phi, local, (size_t)(2 * na) * sizeof *phi);
+  if (residual(P, net, w, ks, target, local, code, bal, 0, &L) > 1e-12) {
+    status = active_set(P, net, w, ks, target, code, bal, pinned, local, phi, &L, &s, ctx);
+    if (status < 0) goto done;
+    failed |= status > 0;
   }
-  /* the bound phi >= floor by an active set: a free half-arm whose factor
-   * falls below it is held at the floor and the system solved again (the
-   * same pattern: one analysis). In 2D by CHOLMOD; in 3D (25 rows a
-   * particle, ~100 neighbours) its factor is too large (a jittered box of
-   * 4,500 particles: 212 s and 5.4 GB), so by CG (balance_pcg: 10 s,
-   * 0.9 GB) */
-  status = ps_linsolve_create(&ls, ps_linsolve_cholmod, ctx);
-  if (status != PS_OK) goto done;
-  lsok = 1;
-  for (int pass = 1; pass <= 8; pass++) {
-    memcpy(phi, local, (size_t)(2 * na) * sizeof *phi);
-    for (ps_int h = 0; h < 2 * na; h++)
-      if (pinned[h]) phi[h] = PS_MODULI_FLOOR;
-    int its = 0;
-    status = balance_solve(P, net, w, ks, target, code, bal, pinned, phi, &L, N == 2 ? &ls : NULL,
-                           &its, ctx);
-    s.balance_iterations += its;
-    int ok = status == PS_OK && residual(P, net, w, ks, target, phi, code, bal, 1, &L) <= 1e-8;
-    if (status != PS_OK && status != PS_NOT_POSDEF && status != PS_ERR_NOMEM) goto done;
-    status = PS_OK;
-    int low = 0;
-    for (ps_int h = 0; ok && h < 2 * na; h++) {
-      ps_int i = h < na ? h : h - na, a = h < na ? net->a[i] : net->b[i];
-      if (w[h] > 0 && code[a] == 1 && !pinned[h] && phi[h] < PS_MODULI_FLOOR)
-        pinned[h] = 1, low = 1;
+  /* stage 2, with surf: the matched particles near a surface get its
+   * states; the factors of the interior (type 1) stay as stage 1 left
+   * them */
+  int any = 0;
+  for (ps_int a = 0; surf && a < np; a++)
+    if (!bal[a] && cut[a] && code[a] == 1) {
+      L.ns[a] = (unsigned char)surface_states(net, u, a, surf, &L);
+      if (L.ns[a]) bal[a] = 2, any = 1;
     }
-    s.balance_passes = pass;
-    if (ok && !low) break;
-    if (!ok || pass == 8) { /* singular, out of memory, inaccurate or still below: the
-                               local factors */
-      memcpy(phi, local, (size_t)(2 * na) * sizeof *phi);
-      s.balance_passes = -pass;
-      break;
+  if (any) {
+    /* the stage's rows: the deep interior (balanced particles with
+     * balanced neighbours only) keeps its factors, and so do the arms that
+     * reach it (pinned 2): its rows are dropped (code2 4, bal2 0) */
+    memcpy(local, phi, (size_t)(2 * na) * sizeof *phi); /* the stage's base */
+    for (ps_int a = 0; a < np; a++) { /* bal2: 3 marks the deep interior */
+      int deep = bal[a] == 1;
+      for (ps_int f = net->fam_ptr[a]; deep && f < net->fam_ptr[a + 1]; f++) {
+        ps_int i = net->fam_arm[f];
+        deep = bal[net->a[i] == a ? net->b[i] : net->a[i]] == 1;
+      }
+      bal2[a] = deep ? 3 : bal[a];
     }
+    for (ps_int h = 0; h < 2 * na; h++) {
+      ps_int i = h < na ? h : h - na;
+      if (bal2[net->a[i]] == 3 || bal2[net->b[i]] == 3) pinned[h] = 2;
+    }
+    for (ps_int a = 0; a < np; a++) {
+      code2[a] = bal2[a] == 3 ? 4 : code[a];
+      if (bal2[a] == 3) bal2[a] = 0;
+    }
+    L.type = bal2;
+    status = active_set(P, net, w, ks, target, code2, bal2, pinned, local, phi, &L, &s, ctx);
+    L.type = bal;
+    if (status < 0) goto done;
+    failed |= status > 0;
   }
-  s.n_balanced = 0;
-  for (ps_int a = 0; a < np; a++) s.n_balanced += s.balance_passes > 0 && bal[a];
+  status = PS_OK;
+  if (failed) s.balance_passes = -s.balance_passes;
+  s.n_balanced = s.n_surface = 0;
+  for (ps_int a = 0; !failed && a < np; a++) {
+    s.n_balanced += bal[a] == 1;
+    s.n_surface += bal[a] == 2;
+  }
   s.phi_min = INFINITY;
   s.phi_max = -INFINITY;
   for (ps_int h = 0; h < 2 * na; h++)
@@ -613,12 +764,16 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
     }
   if (stats) *stats = s;
 done:
-  if (lsok) ps_linsolve_destroy(&ls);
   free(code);
   free(bal);
   free(cut);
   free(pinned);
   free(ks);
+  free(u);
+  free(code2);
+  free(bal2);
+  free(L.ns);
+  free(L.seps);
   free(local);
   free(L.row0);
   free(L.coff);

@@ -49,6 +49,8 @@ typedef struct ps_moduli_stats {
   double phi_min, phi_max; /* over the half-arms with w > 0 */
   ps_int n_balanced; /* particles whose force moment is balanced
                         (ps_moduli_balance) */
+  ps_int n_surface;  /* particles near a surface whose forces under its
+                        traction-free states are balanced */
   int balance_passes;/* solves made; negative: the balance was given up
                         and the local factors kept */
   ps_int balance_iterations; /* CG iterations of those solves (3D) */
@@ -109,8 +111,27 @@ int ps_moduli_factors(const ps_particles *P, const ps_network *net, int order,
  * k: [2 n_arm] half-arm weights as ps_moduli_factors' w; order and target
  * as there; out phi. Returns PS_OK, PS_ERR_INPUT (order not 2 or 4, dim
  * not 2 or 3), PS_ERR_NOMEM or a fatal status of the linear solver. */
+/* The surface conditions of ps_moduli_balance (NULL: none): the model's
+ * N-dimensional moduli K, G (mat->K, mat->G) and beta, its arm force
+ * under a homogeneous strain eps being s (n.eps.n + beta tr eps) n (the
+ * fibre model: beta = (NK - G(N+2)) / (N G (N+2))). With them, after the
+ * interior, a second stage balances the layer a free surface cuts: every
+ * matched particle with a surface particle (PS_MODULI_SURFACE) among
+ * itself and its neighbours gets N force rows for each stress state with
+ * no traction on the nearby faces (normals: the principal directions of
+ * the surface particles' first moments; 1 state at a 2D face, 3 at a 3D
+ * face, 1 along an edge, none at a corner), so that the homogeneous
+ * states the continuum holds in equilibrium there are equilibria of the
+ * network too; the deep interior (balanced particles with balanced
+ * neighbours only) and the arms that reach it keep the first stage's
+ * factors. */
+typedef struct ps_moduli_surface {
+  double K, G, beta;
+} ps_moduli_surface;
+
 int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
-                      const double *w, const double *k, const double *target, double *phi,
-                      ps_moduli_stats *stats, ps_ctx *ctx);
+                      const double *w, const double *k, const double *target,
+                      const ps_moduli_surface *surf, double *phi, ps_moduli_stats *stats,
+                      ps_ctx *ctx);
 
 #endif

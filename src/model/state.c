@@ -90,7 +90,7 @@ static int state_correct(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
     kf[h] = ks[h] * xi;
   }
   for (ps_int a = 0; a < np; a++) t[a] = m->mat.G * P->volume[a] / (2.0 * c.b);
-  status = ps_moduli_balance(P, net, 4, w, kf, t, phi, &st[0], ctx);
+  status = ps_moduli_balance(P, net, 4, w, kf, t, NULL, phi, &st[0], ctx);
   if (status != PS_OK) goto done;
   for (ps_int i = 0; i < na; i++) m->arm_k[i] = 0.5 * (ks[i] * phi[i] + ks[na + i] * phi[na + i]);
   /* the dilatation: weights ks xi, second moment V_a/d delta; its arm
@@ -101,7 +101,7 @@ static int state_correct(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
     kf[h] = ks[h];
   }
   for (ps_int a = 0; a < np; a++) t[a] = P->volume[a] / c.d;
-  status = ps_moduli_balance(P, net, 2, w, kf, t, phi, &st[1], ctx);
+  status = ps_moduli_balance(P, net, 2, w, kf, t, NULL, phi, &st[1], ctx);
   if (status != PS_OK) goto done;
   for (ps_int h = 0; h < 2 * na; h++) m->arm_side[h] = ks[h] * phi[h];
   for (int q = 0; q < 2; q++)

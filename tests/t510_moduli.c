@@ -32,10 +32,11 @@
  *     (its local factors alone left -1.0..-1.6%, the non-affine
  *     relaxation of an irregular cloud, doc/moduli.md); the state model's,
  *     whose surface layer is not balanced, within 0.5% at W = 40 and 1% at
- *     W = 20 (E -0.65%); none growing with refinement by more than 0.15%. Without the correction every error
- *     is printed. G averages the shear force over the lines one spacing
- *     apart more than a horizon from the grips (one line on a jittered
- *     cloud: 0.8% of noise from one strip height to the next).
+ *     W = 20 (E -0.65%); none growing with refinement by more than
+ *     0.15%. Without the correction every error is printed. G averages
+ *     the shear force over the lines one spacing apart more than a horizon
+ *     from the grips (one line on a jittered cloud: 0.8% of noise from one
+ *     strip height to the next).
  * (3) A 3D bar, fibre model, cubic lattice, W = 6 and 10 spacings: the
  *     corrected E within 5% and 2.5% and falling (-4.6%, -1.9%: a bar 10
  *     spacings wide is mostly surface layer; the 0.5% needs W of about
@@ -455,7 +456,8 @@ static void moments(const setup *S, const double *w, const double *k, const doub
         for (int q = 0; q < N; q++)
           for (int r = 0; r < N; r++) {
             T[(p * 3 + q) * 3 + r] += sc * n[p] * n[q] * n[r];
-            for (int u = 0; u < N; u++) M[((p * 3 + q) * 3 + r) * 3 + u] += wp * n[p] * n[q] * n[r] * n[u];
+            for (int u = 0; u < N; u++)
+              M[((p * 3 + q) * 3 + r) * 3 + u] += wp * n[p] * n[q] * n[r] * n[u];
           }
     }
     for (int p = 0; p < N; p++)

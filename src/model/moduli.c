@@ -152,10 +152,11 @@ int ps_moduli_factors(const ps_particles *P, const ps_network *net, int order,
  * 4 or 10, 2 or 3; when p is balanced). Half-arm h of particle a on arm
  * (a, b), direction n from a, has the column
  *   E_a: w_h mE(n),  F_a: k_h mF(n),  F_b: -k_h mF(n)
- * (mF(-n) = -mF(n), the degree being odd). The least change sum w_h d_h^2 under C d = r is d =
- * W^-1 C^T lambda with (C W^-1 C^T) lambda = r, a sparse symmetric
- * positive definite system whose blocks follow the arms (particle p's
- * rows next to each other): factored by CHOLMOD. */
+ * (mF(-n) = -mF(n), the degree being odd). The least change sum w_h
+ * d_h^2 under C d = r is d = W^-1 C^T lambda with (C W^-1 C^T) lambda =
+ * r, a sparse symmetric positive definite system whose blocks follow the
+ * arms (particle p's rows next to each other): factored by CHOLMOD in 2D,
+ * solved by CG in 3D. */
 
 typedef struct {
   int N, nE, nF;
@@ -228,8 +229,8 @@ typedef struct {
 
 static void half_arm_get(const ps_particles *P, const ps_network *net, const double *w,
                          const double *k, const unsigned char *matched,
-                         const unsigned char *bal, const unsigned char *pinned,
-                         const balance_layout *L, ps_int h, half_arm *c) {
+                         const unsigned char *pinned, const balance_layout *L, ps_int h,
+                         half_arm *c) {
   ps_int na = net->n_arm, i = h < na ? h : h - na;
   double nv[3];
   c->a = h < na ? net->a[i] : net->b[i];
@@ -240,7 +241,6 @@ static void half_arm_get(const ps_particles *P, const ps_network *net, const dou
   c->ra = L->row0[c->a];
   c->ka = (int)(L->row0[c->a + 1] - c->ra);
   c->kb = force_rows(L, c->b);
-  (void)bal;
   c->rb = L->row0[c->b] + (matched[c->b] == 1 ? L->nE : 0);
   c->free = matched[c->a] == 1 && !pinned[h];
 }
@@ -256,13 +256,13 @@ static double column_dot(const half_arm *c, const double *x) {
 /* y = S x = C W^-1 C^T x over the free half-arms (matrix-free) */
 static void balance_apply(const ps_particles *P, const ps_network *net, const double *w,
                           const double *k, const unsigned char *matched,
-                          const unsigned char *bal, const unsigned char *pinned,
-                          const balance_layout *L, const double *x, double *y) {
+                          const unsigned char *pinned, const balance_layout *L, const double *x,
+                          double *y) {
   memset(y, 0, (size_t)L->row0[net->n_particle] * sizeof *y);
   for (ps_int h = 0; h < 2 * net->n_arm; h++) {
     if (!(w[h] > 0)) continue;
     half_arm c;
-    half_arm_get(P, net, w, k, matched, bal, pinned, L, h, &c);
+    half_arm_get(P, net, w, k, matched, pinned, L, h, &c);
     if (!c.free) continue;
     double t = column_dot(&c, x) / w[h];
     for (int j = 0; j < c.ka; j++) y[c.ra + j] += t * c.ua[j];
@@ -275,7 +275,7 @@ static void balance_apply(const ps_particles *P, const ps_network *net, const do
  * PS_NOT_POSDEF (a block or the operator is not positive definite, or no
  * convergence in 20,000 iterations), PS_ERR_NOMEM. */
 static int balance_pcg(const ps_particles *P, const ps_network *net, const double *w,
-                       const double *k, const unsigned char *matched, const unsigned char *bal,
+                       const double *k, const unsigned char *matched,
                        const unsigned char *pinned, const balance_layout *L, const double *r,
                        double *lam, int *its, ps_ctx *ctx) {
   ps_int np = net->n_particle, n = L->row0[np];
@@ -297,7 +297,7 @@ static int balance_pcg(const ps_particles *P, const ps_network *net, const doubl
   for (ps_int h = 0; h < 2 * net->n_arm; h++) {
     if (!(w[h] > 0)) continue;
     half_arm c;
-    half_arm_get(P, net, w, k, matched, bal, pinned, L, h, &c);
+    half_arm_get(P, net, w, k, matched, pinned, L, h, &c);
     if (!c.free) continue;
     double *Da = D + boff[c.a], *Db = D + boff[c.b];
     int kb_all = (int)(L->row0[c.b + 1] - L->row0[c.b]), sh = (int)(c.rb - L->row0[c.b]);
@@ -323,7 +323,7 @@ static int balance_pcg(const ps_particles *P, const ps_network *net, const doubl
     double beta = it ? rz_new / rz : 0.0;
     rz = rz_new;
     for (ps_int j = 0; j < n; j++) pv[j] = z[j] + beta * pv[j];
-    balance_apply(P, net, w, k, matched, bal, pinned, L, pv, q);
+    balance_apply(P, net, w, k, matched, pinned, L, pv, q);
     double pq = 0.0, rr = 0.0;
     for (ps_int j = 0; j < n; j++) pq += pv[j] * q[j];
     if (!(pq > 0)) {
@@ -354,14 +354,14 @@ done:
 }
 
 /* one solve of the balance system for the rows selected by matched (1)
- * and bal, by CHOLMOD (ls) or, when ls is NULL, by balance_pcg; phi (in:
+ * and L->type, by CHOLMOD (ls) or, when ls is NULL, by balance_pcg; phi (in:
  * the local factors, pinned ones at the floor; out: the balanced ones of
  * the free half-arms). PS_OK, PS_NOT_POSDEF (the system is singular: no
  * change made), or a fatal status. */
 static int balance_solve(const ps_particles *P, const ps_network *net, const double *w,
                          const double *k, const double *target, const unsigned char *matched,
-                         const unsigned char *bal, const unsigned char *pinned, double *phi,
-                         balance_layout *L, ps_linsolve *ls, int *its, ps_ctx *ctx) {
+                         const unsigned char *pinned, double *phi, balance_layout *L,
+                         ps_linsolve *ls, int *its, ps_ctx *ctx) {
   int nE = L->nE;
   ps_int np = net->n_particle, na = net->n_arm;
   const ps_int *fp = net->fam_ptr, *fa = net->fam_arm;
@@ -383,13 +383,13 @@ static int balance_solve(const ps_particles *P, const ps_network *net, const dou
   for (ps_int h = 0; h < 2 * na; h++) {
     if (!(w[h] > 0)) continue;
     half_arm c;
-    half_arm_get(P, net, w, k, matched, bal, pinned, L, h, &c);
+    half_arm_get(P, net, w, k, matched, pinned, L, h, &c);
     double ph = c.free ? 1.0 : phi[h];
     for (int j = 0; j < c.ka; j++) r[c.ra + j] -= ph * c.ua[j];
     for (int j = 0; j < c.kb; j++) r[c.rb + j] -= ph * c.vb[j];
   }
   if (!ls) {
-    status = balance_pcg(P, net, w, k, matched, bal, pinned, L, r, lam, its, ctx);
+    status = balance_pcg(P, net, w, k, matched, pinned, L, r, lam, its, ctx);
     if (status != PS_OK) goto done;
   } else {
     for (ps_int q = 0; q < np; q++) {
@@ -431,7 +431,7 @@ static int balance_solve(const ps_particles *P, const ps_network *net, const dou
     for (ps_int h = 0; h < 2 * na; h++) {
       if (!(w[h] > 0)) continue;
       half_arm c;
-      half_arm_get(P, net, w, k, matched, bal, pinned, L, h, &c);
+      half_arm_get(P, net, w, k, matched, pinned, L, h, &c);
       if (!c.free) continue;
       ps_int a = c.a, b = c.b, i = h < na ? h : h - na;
       double iw = 1.0 / w[h];
@@ -471,7 +471,7 @@ static int balance_solve(const ps_particles *P, const ps_network *net, const dou
   for (ps_int h = 0; h < 2 * na; h++) {
     if (!(w[h] > 0)) continue;
     half_arm c;
-    half_arm_get(P, net, w, k, matched, bal, pinned, L, h, &c);
+    half_arm_get(P, net, w, k, matched, pinned, L, h, &c);
     if (!c.free) continue;
     phi[h] = 1.0 + column_dot(&c, lam) / w[h];
   }
@@ -486,25 +486,24 @@ done:
 
 /* The largest residual of the constraints under the factors phi: over the
  * matched particles (code 1) the energy moment's, |sum_b w_b phi_b mE -
- * t_a c| / t_a, when energy != 0, and over the balanced ones the force
- * moment's, |sum_b s_cb mF| / sum_b |s_cb| */
+ * t_a c| / t_a, when energy != 0, and over those with force rows
+ * (L->type) the force rows', |sum_b s_cb f(n)| / sum_b |s_cb| */
 static double residual(const ps_particles *P, const ps_network *net, const double *w,
                        const double *k, const double *target, const double *phi,
-                       const unsigned char *code, const unsigned char *bal, int energy,
-                       const balance_layout *L) {
+                       const unsigned char *code, int energy, const balance_layout *L) {
   ps_int na = net->n_arm;
   double worst = 0.0;
   for (ps_int c = 0; c < net->n_particle; c++) {
-    int e = energy && code[c] == 1;
-    if (!e && !bal[c]) continue;
+    int e = energy && code[c] == 1, nf = force_rows(L, c);
+    if (!e && !nf) continue;
     double T[MAXMONO] = {0}, M[MAXMONO] = {0}, m[MAXMONO], n[3], sum = 0.0;
     for (ps_int f = net->fam_ptr[c]; f < net->fam_ptr[c + 1]; f++) {
       ps_int i = net->fam_arm[f], h = net->a[i] == c ? i : na + i;
       direction(P, net, i, c, n);
-      if (bal[c]) {
+      if (nf) {
         double sc = k[i] * phi[i] + k[na + i] * phi[na + i];
         force_coefficients(L, c, n, m);
-        for (int j = 0; j < force_rows(L, c); j++) T[j] += sc * m[j];
+        for (int j = 0; j < nf; j++) T[j] += sc * m[j];
         sum += fabs(sc);
       }
       if (e && w[h] > 0) {
@@ -512,14 +511,14 @@ static double residual(const ps_particles *P, const ps_network *net, const doubl
         for (int j = 0; j < L->nE; j++) M[j] += w[h] * phi[h] * m[j];
       }
     }
-    for (int j = 0; bal[c] && j < force_rows(L, c); j++) worst = fmax(worst, fabs(T[j]) / sum);
+    for (int j = 0; j < nf; j++) worst = fmax(worst, fabs(T[j]) / sum);
     for (int j = 0; e && j < L->nE; j++)
       worst = fmax(worst, fabs(M[j] - target[c] * L->cE[j]) / target[c]);
   }
   return worst;
 }
 
-/* The least change under the rows of L (types in bal) with the bound
+/* The least change under the rows of L (force rows by L->type) with the bound
  * phi >= floor by an active set: a free half-arm whose factor falls below
  * it is held at the floor (pinned 1) and the system solved again (the
  * same pattern: one analysis); pinned 2: held at base. In 2D by CHOLMOD;
@@ -531,8 +530,8 @@ static double residual(const ps_particles *P, const ps_network *net, const doubl
  * and CG iterations to *s. PS_OK, 1, or a fatal status. */
 static int active_set(const ps_particles *P, const ps_network *net, const double *w,
                       const double *ks, const double *target, const unsigned char *code,
-                      const unsigned char *bal, unsigned char *pinned, const double *base,
-                      double *phi, balance_layout *L, ps_moduli_stats *s, ps_ctx *ctx) {
+                      unsigned char *pinned, const double *base, double *phi, balance_layout *L,
+                      ps_moduli_stats *s, ps_ctx *ctx) {
   ps_int na = net->n_arm;
   ps_linsolve ls;
   int status = ps_linsolve_create(&ls, ps_linsolve_cholmod, ctx);
@@ -542,11 +541,11 @@ static int active_set(const ps_particles *P, const ps_network *net, const double
     for (ps_int h = 0; h < 2 * na; h++)
       if (pinned[h] == 1) phi[h] = PS_MODULI_FLOOR;
     int its = 0;
-    status = balance_solve(P, net, w, ks, target, code, bal, pinned, phi, L,
+    status = balance_solve(P, net, w, ks, target, code, pinned, phi, L,
                            net->dim == 2 ? &ls : NULL, &its, ctx);
     s->balance_iterations += its;
     s->balance_passes++;
-    int ok = status == PS_OK && residual(P, net, w, ks, target, phi, code, bal, 1, L) <= 1e-8;
+    int ok = status == PS_OK && residual(P, net, w, ks, target, phi, code, 1, L) <= 1e-8;
     if (status != PS_OK && status != PS_NOT_POSDEF && status != PS_ERR_NOMEM) break;
     status = PS_OK;
     int low = 0;
@@ -651,12 +650,16 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
   L.coff = ps_calloc((size_t)(2 * na + np), sizeof *L.coff, ctx);
   ps_moduli_stats s;
   int status = PS_ERR_NOMEM;
-  if (!code || !bal || !cut || !pinned || !ks || !u || !code2 || !bal2 || !L.ns || (surf && !L.seps) || !local ||
-      !L.row0 || !L.coff)
+  if (!code || !bal || !cut || !pinned || !ks || !u || !code2 || !bal2 || !L.ns ||
+      (surf && !L.seps) || !local || !L.row0 || !L.coff)
     goto done;
   status = local_factors(P, net, order, w, target, local, &s, code, ctx);
   if (status != PS_OK) goto done;
-  double lbar = 0.0; /* the mean arm length, rounded to a power of two */
+  /* the force rows scaled by the mean arm length rounded to a power of
+   * two, so that they carry the energy rows' unit (w = k r0): the
+   * multipliers' system is then as well conditioned in micrometres as in
+   * metres, and the scaling is exact (the solution is the same) */
+  double lbar = 0.0;
   for (ps_int i = 0; i < na; i++) lbar += net->r0[i] / (double)na;
   lbar = lbar > 0 ? exp2(round(log2(lbar))) : 1.0;
   for (ps_int h = 0; h < 2 * na; h++) ks[h] = k[h] * lbar;
@@ -669,11 +672,7 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
    * (A neighbour only partly matched, at the floor, has a mean strain
    * near but not equal to tr eps / N: there the balance of the arm forces
    * is exact and that of the family term approximate. Requiring matched
-   * neighbours would leave much of a 3D cloud's interior unbalanced.)
-   * The F rows are scaled by the mean arm length rounded to a power of
-   * two, so that they carry the E rows' unit (w = k r0): the multipliers'
-   * system is then as well conditioned in micrometres as in metres, and
-   * the scaling is exact (the solution is the same) */
+   * neighbours would leave much of a 3D cloud's interior unbalanced.) */
   for (ps_int a = 0; a < np; a++) {
     double m0 = 0.0, m1[3] = {0, 0, 0}, n[3];
     for (ps_int f = net->fam_ptr[a]; f < net->fam_ptr[a + 1]; f++) {
@@ -707,8 +706,8 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
    * for bit) */
   int failed = 0;
   memcpy(phi, local, (size_t)(2 * na) * sizeof *phi);
-  if (residual(P, net, w, ks, target, local, code, bal, 0, &L) > 1e-12) {
-    status = active_set(P, net, w, ks, target, code, bal, pinned, local, phi, &L, &s, ctx);
+  if (residual(P, net, w, ks, target, local, code, 0, &L) > 1e-12) {
+    status = active_set(P, net, w, ks, target, code, pinned, local, phi, &L, &s, ctx);
     if (status < 0) goto done;
     failed |= status > 0;
   }
@@ -743,13 +742,20 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
       if (bal2[a] == 3) bal2[a] = 0;
     }
     L.type = bal2;
-    status = active_set(P, net, w, ks, target, code2, bal2, pinned, local, phi, &L, &s, ctx);
+    status = active_set(P, net, w, ks, target, code2, pinned, local, phi, &L, &s, ctx);
     L.type = bal;
     if (status < 0) goto done;
     failed |= status > 0;
   }
   status = PS_OK;
-  if (failed) s.balance_passes = -s.balance_passes;
+  if (failed) {
+    s.balance_passes = -s.balance_passes;
+    ps_log(ctx, 1,
+           "# warning: material.surface_correction: the arm forces could not be balanced "
+           "on this cloud (order %d, %d solves); each particle keeps its own energy match "
+           "and the moduli may be up to ~1.5%% soft (doc/moduli.md)\n",
+           order, -s.balance_passes);
+  }
   s.n_balanced = s.n_surface = 0;
   for (ps_int a = 0; !failed && a < np; a++) {
     s.n_balanced += bal[a] == 1;

@@ -105,9 +105,9 @@ int ps_moduli_factors(const ps_particles *P, const ps_network *net, int order,
  * balance_passes < 0 where the system is singular (or CG does not
  * converge in 20,000 iterations), does not fit in memory, its solution is
  * inaccurate (a constraint off by more than 1e-8) or 8 solves leave a
- * factor below the floor. The force rows are scaled by the mean arm
- * length (a power of two), so the result does not depend on the unit of
- * length. The factors of unmatched particles are ps_moduli_factors'. w,
+ * factor below the floor (a warning on ctx->log says so). The force
+ * rows are scaled by the mean arm length (a power of two), so the result
+ * does not depend on the unit of length. The factors of unmatched particles are ps_moduli_factors'. w,
  * k: [2 n_arm] half-arm weights as ps_moduli_factors' w; order and target
  * as there; out phi. Returns PS_OK, PS_ERR_INPUT (order not 2 or 4, dim
  * not 2 or 3), PS_ERR_NOMEM or a fatal status of the linear solver. */

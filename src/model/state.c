@@ -75,7 +75,6 @@ static int state_correct(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
   const double *side = m->arm_side; /* NULL: both sides are arm_k */
   if (!m->arm_side) m->arm_side = ps_calloc((size_t)(2 * na), sizeof *m->arm_side, ctx);
   int status = PS_ERR_NOMEM;
-  ps_moduli_stats st[2];
   if (!ks || !w || !phi || !t || !kf || !m->arm_side) goto done;
   for (ps_int k = 0; k < 2 * na; k++) {
     ps_int i = k < na ? k : k - na;
@@ -90,7 +89,7 @@ static int state_correct(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
     kf[h] = ks[h] * xi;
   }
   for (ps_int a = 0; a < np; a++) t[a] = m->mat.G * P->volume[a] / (2.0 * c.b);
-  status = ps_moduli_balance(P, net, 4, w, kf, t, NULL, phi, &st[0], ctx);
+  status = ps_moduli_balance(P, net, 4, w, kf, t, NULL, phi, NULL, ctx);
   if (status != PS_OK) goto done;
   for (ps_int i = 0; i < na; i++) m->arm_k[i] = 0.5 * (ks[i] * phi[i] + ks[na + i] * phi[na + i]);
   /* the dilatation: weights ks xi, second moment V_a/d delta; its arm
@@ -101,16 +100,9 @@ static int state_correct(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
     kf[h] = ks[h];
   }
   for (ps_int a = 0; a < np; a++) t[a] = P->volume[a] / c.d;
-  status = ps_moduli_balance(P, net, 2, w, kf, t, NULL, phi, &st[1], ctx);
+  status = ps_moduli_balance(P, net, 2, w, kf, t, NULL, phi, NULL, ctx);
   if (status != PS_OK) goto done;
   for (ps_int h = 0; h < 2 * na; h++) m->arm_side[h] = ks[h] * phi[h];
-  for (int q = 0; q < 2; q++)
-    if (st[q].balance_passes < 0)
-      ps_log(ctx, 1,
-             "# warning: material.surface_correction: the state model's %s forces could not "
-             "be balanced on this cloud (%d solves); each particle keeps its own energy "
-             "match (doc/moduli.md)\n",
-             q ? "dilatation" : "deviatoric", -st[q].balance_passes);
 done:
   free(kf);
   free(ks);

@@ -109,8 +109,9 @@ int ps_moduli_factors(const ps_particles *P, const ps_network *net, int order,
  * rows are scaled by the mean arm length (a power of two), so the result
  * does not depend on the unit of length. The factors of unmatched
  * particles are ps_moduli_factors'. w, k: [2 n_arm] half-arm weights as
- * ps_moduli_factors' w; order and target as there; out phi. Returns PS_OK, PS_ERR_INPUT (order not 2 or 4, dim
- * not 2 or 3), PS_ERR_NOMEM or a fatal status of the linear solver. */
+ * ps_moduli_factors' w; order and target as there; out phi. Returns
+ * PS_OK, PS_ERR_INPUT (order not 2 or 4, dim not 2 or 3), PS_ERR_NOMEM or
+ * a fatal status of the linear solver. */
 /* The surface conditions of ps_moduli_balance (NULL: none): the model's
  * N-dimensional moduli K, G (mat->K, mat->G) and beta, its arm force
  * under a homogeneous strain eps being s (n.eps.n + beta tr eps) n (the

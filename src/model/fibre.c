@@ -17,8 +17,8 @@
  * under any homogeneous strain is the continuum's 2G I + (K - 2G/N) 1 1)
  * and, on clouds, with the arms' forces under it balanced in the
  * interior (ps_moduli_balance: the homogeneous state is an equilibrium),
- * and in 2D in the layer along free surfaces under the states with no
- * traction on them:
+ * and in the layer along free surfaces under the states with no traction
+ * on them:
  * the formulas above with the corrected weights, kept in m->arm_side
  * ([i] A'_ab, [n_arm + i] A'_ba); NULL: the network's A_ab, A_ba. */
 #include "ps_model.h"
@@ -243,9 +243,8 @@ static int fibre_correct(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
     int N = net->dim;
     double Gc = m->mat.G * (N + 2), Kc = N * m->mat.K - Gc;
     ps_moduli_surface sf = {m->mat.K, m->mat.G, Kc / (N * Gc)};
-    /* the surface layer in 2D only: in 3D a bar's edge particles are only
-     * partly matched (the factor floor) and a 6 x 6 bar stayed 4% soft */
-    status = ps_moduli_balance(P, net, 4, w, k, t, N == 2 ? &sf : NULL, m->arm_side, NULL, ctx);
+    /* and the surface layer (3D edges: matched under their surface states) */
+    status = ps_moduli_balance(P, net, 4, w, k, t, &sf, m->arm_side, NULL, ctx);
     for (ps_int i = 0; status == PS_OK && i < na; i++) {
       m->arm_side[i] *= net->A_ab[i];
       m->arm_side[na + i] *= net->A_ba[i];

@@ -23,6 +23,7 @@
 #include <string.h>
 
 #define MAXMONO 15
+#define MAXE 21 /* energy rows of a particle: 15, or 3 x 7 (restricted_energy) */
 
 int ps_moduli_correction_on(const ps_material *mat) { return mat->surface_correction == 1; }
 
@@ -167,6 +168,7 @@ typedef struct {
   unsigned char *ns;         /* [np] surface states of a type-2 particle */
   double *seps;              /* [np][3][9] their strains, times 2G */
   double beta;               /* the arm force is s (n.eps.n + beta tr eps) n */
+  double lam_over_G;         /* (K - 2G/N) / G */
   ps_int *row0;  /* [np + 1] first row of each particle's block */
   ps_int *coff;  /* [2 n_arm + np]: per family entry of a neighbour with a
                     lower number, the offset of its block in the columns
@@ -179,8 +181,69 @@ static inline int force_rows(const balance_layout *L, ps_int p) {
   return L->type[p] == 1 ? L->nF : L->type[p] == 2 ? L->N * L->ns[p] : 0;
 }
 
+/* the number of energy rows of particle p: the moment's nE when p is
+ * matched (code 1); when its energy is matched under its surface states
+ * only (code 5, order 4), ns (1 + N (N + 1)/2) (restricted_energy) */
+static inline int energy_rows(const unsigned char *matched, ps_int p, const balance_layout *L) {
+  int ns = L->ns[p];
+  return matched[p] == 1 ? L->nE : matched[p] == 5 ? ns * (1 + L->N * (L->N + 1) / 2) : 0;
+}
+
 static inline int rows_of(const unsigned char *matched, ps_int p, const balance_layout *L) {
-  return (matched[p] == 1 ? L->nE : 0) + force_rows(L, p);
+  return energy_rows(matched, p, L) + force_rows(L, p);
+}
+
+/* the strain n.e.n of direction n under surface state q of particle p */
+static double state_strain(const balance_layout *L, ps_int p, int q, const double *n) {
+  const double *e = &L->seps[(p * 3 + q) * 9];
+  double g = 0.0;
+  for (int i = 0; i < L->N; i++)
+    for (int j = 0; j < L->N; j++) g += n[i] * e[i * L->N + j] * n[j];
+  return g;
+}
+
+/* The energy rows of a particle p matched under its surface states e_q
+ * only (code 5: one whose family cannot carry the isotropic moment with
+ * factors above the floor, such as a 3D edge, where the continuum carries
+ * only the stress along the edge). Of the moment's conditions sum_b w_b
+ * phi_b n^(x)4 = t I_4 it keeps those its states see, per state e: the
+ * mean strain sum_b w_b phi_b (n.e.n - tr e / N) = 0 and the half-arm
+ * virial stress sum_b w_b phi_b (n.e.n + beta tr e) n n = t (2 e + (lambda
+ * / G) tr e I), lambda = K - 2G/N (the moment's, traced: G (N + 2) times
+ * it is the continuum's stress times V_a). Then under every combination
+ * of its states the particle's mean strain, stress and energy are the
+ * continuum's. (Its energy alone is not enough: along a 3D bar the
+ * factors that match it leave stresses that vary from one cross-section
+ * to the next, and a bar 5 widths long came out 4% stiff.) Coefficients
+ * of direction n into m, the targets over t into c (either may be NULL). */
+static void restricted_energy(const balance_layout *L, ps_int p, const double *n, double *m,
+                              double *c) {
+  int N = L->N, ns = L->ns[p], j = 0;
+  for (int q = 0; q < ns; q++) {
+    const double *e = &L->seps[(p * 3 + q) * 9];
+    double tr = 0.0, g = n ? state_strain(L, p, q, n) : 0.0;
+    for (int i = 0; i < N; i++) tr += e[i * N + i];
+    if (m) m[j] = g - tr / N;
+    if (c) c[j] = 0.0;
+    j++;
+    for (int a = 0; a < N; a++)
+      for (int b = a; b < N; b++, j++) {
+        if (m) m[j] = (g + L->beta * tr) * n[a] * n[b];
+        if (c) c[j] = 2.0 * e[a * N + b] + (a == b ? L->lam_over_G * tr : 0.0);
+      }
+  }
+}
+
+/* the energy rows' coefficients of an arm of particle p with direction n
+ * (before the weight) and, when c != NULL, their targets over t */
+static void energy_coefficients(const balance_layout *L, const unsigned char *matched, ps_int p,
+                                const double *n, double *m, double *c) {
+  if (matched[p] == 5) {
+    restricted_energy(L, p, n, m, c);
+    return;
+  }
+  if (m) eval_monomials(L->N, L->nE, (int(*)[3])L->eE, n, m);
+  if (c) memcpy(c, L->cE, (size_t)L->nE * sizeof *c);
 }
 
 /* the force rows' coefficients of an arm of particle p with direction n
@@ -194,26 +257,25 @@ static void force_coefficients(const balance_layout *L, ps_int p, const double *
   }
   for (int q = 0; q < L->ns[p]; q++) {
     const double *e = &L->seps[(p * 3 + q) * 9];
-    double g = 0.0, tr = 0.0;
-    for (int i = 0; i < N; i++) {
-      tr += e[i * N + i];
-      for (int j = 0; j < N; j++) g += n[i] * e[i * N + j] * n[j];
-    }
-    g += L->beta * tr;
+    double tr = 0.0;
+    for (int i = 0; i < N; i++) tr += e[i * N + i];
+    double g = state_strain(L, p, q, n) + L->beta * tr;
     for (int i = 0; i < N; i++) f[q * N + i] = g * n[i];
   }
 }
 
 /* the column of half-arm side (arm i, particle a, direction n from a)
- * restricted to a's rows (va: nE energy rows, then a's force rows) and to
- * b's force rows (vb) */
-static void half_arm_column(const balance_layout *L, ps_int a, ps_int b, const double *n,
-                            double w, double k, double *va, double *vb) {
-  double mE[MAXMONO], f[MAXMONO];
-  eval_monomials(L->N, L->nE, (int(*)[3])L->eE, n, mE);
-  for (int j = 0; j < L->nE; j++) va[j] = w * mE[j];
+ * restricted to a's rows (va: a's energy rows, then its force rows) and
+ * to b's force rows (vb) */
+static void half_arm_column(const balance_layout *L, const unsigned char *matched, ps_int a,
+                            ps_int b, const double *n, double w, double k, double *va,
+                            double *vb) {
+  double mE[MAXE], f[MAXMONO];
+  int ne = energy_rows(matched, a, L);
+  if (ne) energy_coefficients(L, matched, a, n, mE, NULL);
+  for (int j = 0; j < ne; j++) va[j] = w * mE[j];
   force_coefficients(L, a, n, f);
-  for (int j = 0; j < force_rows(L, a); j++) va[L->nE + j] = k * f[j];
+  for (int j = 0; j < force_rows(L, a); j++) va[ne + j] = k * f[j];
   force_coefficients(L, b, n, f);
   for (int j = 0; j < force_rows(L, b); j++) vb[j] = -k * f[j];
 }
@@ -224,7 +286,7 @@ static void half_arm_column(const balance_layout *L, ps_int a, ps_int b, const d
 typedef struct {
   ps_int a, b, ra, rb;
   int ka, kb, free;
-  double va[2 * MAXMONO], vb[MAXMONO], *ua;
+  double va[MAXE + MAXMONO], vb[MAXMONO], *ua;
 } half_arm;
 
 static void half_arm_get(const ps_particles *P, const ps_network *net, const double *w,
@@ -236,13 +298,13 @@ static void half_arm_get(const ps_particles *P, const ps_network *net, const dou
   c->a = h < na ? net->a[i] : net->b[i];
   c->b = h < na ? net->b[i] : net->a[i];
   direction(P, net, i, c->a, nv);
-  half_arm_column(L, c->a, c->b, nv, w[h], k[h], c->va, c->vb);
-  c->ua = c->va + (matched[c->a] == 1 ? 0 : L->nE); /* a's rows in order */
+  half_arm_column(L, matched, c->a, c->b, nv, w[h], k[h], c->va, c->vb);
+  c->ua = c->va; /* a's rows in order */
   c->ra = L->row0[c->a];
   c->ka = (int)(L->row0[c->a + 1] - c->ra);
   c->kb = force_rows(L, c->b);
-  c->rb = L->row0[c->b] + (matched[c->b] == 1 ? L->nE : 0);
-  c->free = matched[c->a] == 1 && !pinned[h];
+  c->rb = L->row0[c->b] + energy_rows(matched, c->b, L);
+  c->free = (matched[c->a] == 1 || matched[c->a] == 5) && !pinned[h];
 }
 
 /* the column of half-arm c dotted with x (a vector over the rows) */
@@ -253,36 +315,95 @@ static double column_dot(const half_arm *c, const double *x) {
   return t;
 }
 
+/* The free half-arms' columns scaled by w^-1/2, gathered once for the
+ * CG iterations: column c has its rows ra[c] .. ra[c] + ka[c] - 1 (its
+ * particle's) and rb[c] .. rb[c] + kb[c] - 1 (the other end's force rows),
+ * values val[off[c] ..] in that order. */
+typedef struct {
+  ps_int n, *ra, *rb, *off;
+  unsigned char *ka, *kb;
+  double *val;
+} column_cache;
+
+static void cache_free(column_cache *cc) {
+  free(cc->ra);
+  free(cc->rb);
+  free(cc->off);
+  free(cc->ka);
+  free(cc->kb);
+  free(cc->val);
+}
+
+/* PS_OK or PS_ERR_NOMEM (cc then freed) */
+static int cache_build(const ps_particles *P, const ps_network *net, const double *w,
+                       const double *k, const unsigned char *matched,
+                       const unsigned char *pinned, const balance_layout *L, column_cache *cc,
+                       ps_ctx *ctx) {
+  ps_int nh = 2 * net->n_arm, n = 0, nv = 0;
+  for (int pass = 0; pass < 2; pass++) {
+    n = nv = 0;
+    for (ps_int h = 0; h < nh; h++) {
+      if (!(w[h] > 0)) continue;
+      half_arm c;
+      half_arm_get(P, net, w, k, matched, pinned, L, h, &c);
+      if (!c.free) continue;
+      if (pass) {
+        double sw = 1.0 / sqrt(w[h]);
+        cc->ra[n] = c.ra, cc->rb[n] = c.rb, cc->off[n] = nv;
+        cc->ka[n] = (unsigned char)c.ka, cc->kb[n] = (unsigned char)c.kb;
+        for (int j = 0; j < c.ka; j++) cc->val[nv + j] = c.ua[j] * sw;
+        for (int j = 0; j < c.kb; j++) cc->val[nv + c.ka + j] = c.vb[j] * sw;
+      }
+      n++;
+      nv += c.ka + c.kb;
+    }
+    if (pass) break;
+    cc->n = n;
+    cc->ra = ps_calloc((size_t)n + 1, sizeof *cc->ra, ctx);
+    cc->rb = ps_calloc((size_t)n + 1, sizeof *cc->rb, ctx);
+    cc->off = ps_calloc((size_t)n + 1, sizeof *cc->off, ctx);
+    cc->ka = ps_calloc((size_t)n + 1, 1, ctx);
+    cc->kb = ps_calloc((size_t)n + 1, 1, ctx);
+    cc->val = ps_calloc((size_t)nv + 1, sizeof *cc->val, ctx);
+    if (!cc->ra || !cc->rb || !cc->off || !cc->ka || !cc->kb || !cc->val) {
+      cache_free(cc);
+      return PS_ERR_NOMEM;
+    }
+  }
+  return PS_OK;
+}
+
 /* y = S x = C W^-1 C^T x over the free half-arms (matrix-free) */
-static void balance_apply(const ps_particles *P, const ps_network *net, const double *w,
-                          const double *k, const unsigned char *matched,
-                          const unsigned char *pinned, const balance_layout *L, const double *x,
-                          double *y) {
-  memset(y, 0, (size_t)L->row0[net->n_particle] * sizeof *y);
-  for (ps_int h = 0; h < 2 * net->n_arm; h++) {
-    if (!(w[h] > 0)) continue;
-    half_arm c;
-    half_arm_get(P, net, w, k, matched, pinned, L, h, &c);
-    if (!c.free) continue;
-    double t = column_dot(&c, x) / w[h];
-    for (int j = 0; j < c.ka; j++) y[c.ra + j] += t * c.ua[j];
-    for (int j = 0; j < c.kb; j++) y[c.rb + j] += t * c.vb[j];
+static void balance_apply(const column_cache *cc, ps_int nrow, const double *x, double *y) {
+  memset(y, 0, (size_t)nrow * sizeof *y);
+  for (ps_int c = 0; c < cc->n; c++) {
+    const double *v = cc->val + cc->off[c];
+    const double *xa = x + cc->ra[c], *xb = x + cc->rb[c];
+    int ka = cc->ka[c], kb = cc->kb[c];
+    double t = 0.0;
+    for (int j = 0; j < ka; j++) t += v[j] * xa[j];
+    for (int j = 0; j < kb; j++) t += v[ka + j] * xb[j];
+    double *ya = y + cc->ra[c], *yb = y + cc->rb[c];
+    for (int j = 0; j < ka; j++) ya[j] += t * v[j];
+    for (int j = 0; j < kb; j++) yb[j] += t * v[ka + j];
   }
 }
 
 /* S lambda = r by conjugate gradients preconditioned by S's diagonal
- * blocks (one a particle), to ||r - S lambda|| <= 1e-13 ||r||. PS_OK,
+ * blocks (one a particle), to ||r - S lambda|| <= 1e-13 ||r||, from the
+ * lambda given when warm (the last active-set pass's), else from 0. PS_OK,
  * PS_NOT_POSDEF (a block or the operator is not positive definite, or no
  * convergence in 20,000 iterations), PS_ERR_NOMEM. */
 static int balance_pcg(const ps_particles *P, const ps_network *net, const double *w,
                        const double *k, const unsigned char *matched,
                        const unsigned char *pinned, const balance_layout *L, const double *r,
-                       double *lam, int *its, ps_ctx *ctx) {
+                       double *lam, int warm, int *its, ps_ctx *ctx) {
   ps_int np = net->n_particle, n = L->row0[np];
+  column_cache cc = {0, NULL, NULL, NULL, NULL, NULL, NULL};
   ps_int *boff = ps_calloc((size_t)np + 1, sizeof *boff, ctx);
   double *D = NULL, *res = NULL, *z = NULL, *pv = NULL, *q = NULL;
   int status = PS_ERR_NOMEM;
-  if (!boff) goto done;
+  if (!boff || cache_build(P, net, w, k, matched, pinned, L, &cc, ctx) != PS_OK) goto done;
   for (ps_int p = 0; p < np; p++) {
     ps_int kp = L->row0[p + 1] - L->row0[p];
     boff[p + 1] = boff[p] + kp * kp;
@@ -310,7 +431,13 @@ static int balance_pcg(const ps_particles *P, const ps_network *net, const doubl
   for (ps_int p = 0; p < np; p++)
     if (!ps_dense_cholesky((int)(L->row0[p + 1] - L->row0[p]), D + boff[p], 0.0)) goto done;
   double rr0 = 0.0, rz = 0.0;
-  for (ps_int j = 0; j < n; j++) lam[j] = 0.0, res[j] = r[j], rr0 += r[j] * r[j];
+  if (warm)
+    balance_apply(&cc, n, lam, res);
+  for (ps_int j = 0; j < n; j++) {
+    if (!warm) lam[j] = res[j] = 0.0;
+    res[j] = r[j] - res[j];
+    rr0 += r[j] * r[j];
+  }
   *its = 0;
   status = PS_OK;
   if (rr0 == 0.0) goto done;
@@ -323,7 +450,7 @@ static int balance_pcg(const ps_particles *P, const ps_network *net, const doubl
     double beta = it ? rz_new / rz : 0.0;
     rz = rz_new;
     for (ps_int j = 0; j < n; j++) pv[j] = z[j] + beta * pv[j];
-    balance_apply(P, net, w, k, matched, pinned, L, pv, q);
+    balance_apply(&cc, n, pv, q);
     double pq = 0.0, rr = 0.0;
     for (ps_int j = 0; j < n; j++) pq += pv[j] * q[j];
     if (!(pq > 0)) {
@@ -344,6 +471,7 @@ static int balance_pcg(const ps_particles *P, const ps_network *net, const doubl
     }
   }
 done:
+  cache_free(&cc);
   free(boff);
   free(D);
   free(res);
@@ -356,13 +484,14 @@ done:
 /* one solve of the balance system for the rows selected by matched (1)
  * and L->type, by CHOLMOD (ls) or, when ls is NULL, by balance_pcg; phi (in:
  * the local factors, pinned ones at the floor; out: the balanced ones of
- * the free half-arms). PS_OK, PS_NOT_POSDEF (the system is singular: no
- * change made), or a fatal status. */
+ * the free half-arms). keep (CG only; NULL: none): the multipliers, kept
+ * for the next call, which starts from them when warm. PS_OK,
+ * PS_NOT_POSDEF (the system is singular: no change made), or a fatal
+ * status. */
 static int balance_solve(const ps_particles *P, const ps_network *net, const double *w,
                          const double *k, const double *target, const unsigned char *matched,
                          const unsigned char *pinned, double *phi, balance_layout *L,
-                         ps_linsolve *ls, int *its, ps_ctx *ctx) {
-  int nE = L->nE;
+                         ps_linsolve *ls, double *keep, int warm, int *its, ps_ctx *ctx) {
   ps_int np = net->n_particle, na = net->n_arm;
   const ps_int *fp = net->fam_ptr, *fa = net->fam_arm;
   /* rows and block offsets */
@@ -372,14 +501,18 @@ static int balance_solve(const ps_particles *P, const ps_network *net, const dou
   ps_int n = row0[np];
   if (n == 0) return PS_OK;
   ps_csc S = {n, NULL, NULL, NULL};
-  double *r = ps_calloc((size_t)n, sizeof *r, ctx), *lam = ps_calloc((size_t)n, sizeof *lam, ctx);
+  double *r = ps_calloc((size_t)n, sizeof *r, ctx);
+  double *lam = keep ? keep : ps_calloc((size_t)n, sizeof *lam, ctx);
   int status = PS_ERR_NOMEM;
   if (!r || !lam) goto done;
   /* the right-hand side: the targets less the current sums (fixed
    * half-arms at their phi, free ones at 1) */
-  for (ps_int p = 0; p < np; p++)
-    if (matched[p] == 1)
-      for (int j = 0; j < nE; j++) r[row0[p] + j] = target[p] * L->cE[j];
+  for (ps_int p = 0; p < np; p++) {
+    int ne = energy_rows(matched, p, L);
+    double cE[MAXE];
+    if (ne) energy_coefficients(L, matched, p, NULL, NULL, cE);
+    for (int j = 0; j < ne; j++) r[row0[p] + j] = target[p] * cE[j];
+  }
   for (ps_int h = 0; h < 2 * na; h++) {
     if (!(w[h] > 0)) continue;
     half_arm c;
@@ -389,7 +522,7 @@ static int balance_solve(const ps_particles *P, const ps_network *net, const dou
     for (int j = 0; j < c.kb; j++) r[c.rb + j] -= ph * c.vb[j];
   }
   if (!ls) {
-    status = balance_pcg(P, net, w, k, matched, pinned, L, r, lam, its, ctx);
+    status = balance_pcg(P, net, w, k, matched, pinned, L, r, lam, warm && keep, its, ctx);
     if (status != PS_OK) goto done;
   } else {
     for (ps_int q = 0; q < np; q++) {
@@ -480,13 +613,13 @@ done:
   free(S.i);
   free(S.x);
   free(r);
-  free(lam);
+  if (lam != keep) free(lam);
   return status;
 }
 
 /* The largest residual of the constraints under the factors phi: over the
- * matched particles (code 1) the energy moment's, |sum_b w_b phi_b mE -
- * t_a c| / t_a, when energy != 0, and over those with force rows
+ * matched particles (code 1, or 5: restricted_energy) the energy rows',
+ * |sum_b w_b phi_b mE - t_a c| / t_a, when energy != 0, and over those with force rows
  * (L->type) the force rows', |sum_b s_cb f(n)| / sum_b |s_cb| */
 static double residual(const ps_particles *P, const ps_network *net, const double *w,
                        const double *k, const double *target, const double *phi,
@@ -494,9 +627,9 @@ static double residual(const ps_particles *P, const ps_network *net, const doubl
   ps_int na = net->n_arm;
   double worst = 0.0;
   for (ps_int c = 0; c < net->n_particle; c++) {
-    int e = energy && code[c] == 1, nf = force_rows(L, c);
+    int e = energy ? energy_rows(code, c, L) : 0, nf = force_rows(L, c);
     if (!e && !nf) continue;
-    double T[MAXMONO] = {0}, M[MAXMONO] = {0}, m[MAXMONO], n[3], sum = 0.0;
+    double T[MAXMONO] = {0}, M[MAXE] = {0}, m[MAXE], n[3], sum = 0.0, cE[MAXE];
     for (ps_int f = net->fam_ptr[c]; f < net->fam_ptr[c + 1]; f++) {
       ps_int i = net->fam_arm[f], h = net->a[i] == c ? i : na + i;
       direction(P, net, i, c, n);
@@ -507,13 +640,13 @@ static double residual(const ps_particles *P, const ps_network *net, const doubl
         sum += fabs(sc);
       }
       if (e && w[h] > 0) {
-        eval_monomials(L->N, L->nE, (int(*)[3])L->eE, n, m);
-        for (int j = 0; j < L->nE; j++) M[j] += w[h] * phi[h] * m[j];
+        energy_coefficients(L, code, c, n, m, NULL);
+        for (int j = 0; j < e; j++) M[j] += w[h] * phi[h] * m[j];
       }
     }
     for (int j = 0; j < nf; j++) worst = fmax(worst, fabs(T[j]) / sum);
-    for (int j = 0; e && j < L->nE; j++)
-      worst = fmax(worst, fabs(M[j] - target[c] * L->cE[j]) / target[c]);
+    if (e) energy_coefficients(L, code, c, NULL, NULL, cE);
+    for (int j = 0; j < e; j++) worst = fmax(worst, fabs(M[j] - target[c] * cE[j]) / target[c]);
   }
   return worst;
 }
@@ -536,13 +669,19 @@ static int active_set(const ps_particles *P, const ps_network *net, const double
   ps_linsolve ls;
   int status = ps_linsolve_create(&ls, ps_linsolve_cholmod, ctx);
   if (status != PS_OK) return status;
+  /* CG's multipliers, each pass starting from the last one's */
+  ps_int nrow = 0;
+  for (ps_int p = 0; p < net->n_particle; p++) nrow += rows_of(code, p, L);
+  double *keep = net->dim == 2 ? NULL : ps_calloc((size_t)nrow + 1, sizeof *keep, ctx);
+  int warm = 0;
   for (int pass = 1; pass <= 8; pass++) {
     memcpy(phi, base, (size_t)(2 * na) * sizeof *phi);
     for (ps_int h = 0; h < 2 * na; h++)
       if (pinned[h] == 1) phi[h] = PS_MODULI_FLOOR;
     int its = 0;
     status = balance_solve(P, net, w, ks, target, code, pinned, phi, L,
-                           net->dim == 2 ? &ls : NULL, &its, ctx);
+                           net->dim == 2 ? &ls : NULL, keep, warm, &its, ctx);
+    warm = status == PS_OK;
     s->balance_iterations += its;
     s->balance_passes++;
     int ok = status == PS_OK && residual(P, net, w, ks, target, phi, code, 1, L) <= 1e-8;
@@ -551,7 +690,7 @@ static int active_set(const ps_particles *P, const ps_network *net, const double
     int low = 0;
     for (ps_int h = 0; ok && h < 2 * na; h++) {
       ps_int i = h < na ? h : h - na, a = h < na ? net->a[i] : net->b[i];
-      if (w[h] > 0 && code[a] == 1 && !pinned[h] && phi[h] < PS_MODULI_FLOOR)
+      if (w[h] > 0 && (code[a] == 1 || code[a] == 5) && !pinned[h] && phi[h] < PS_MODULI_FLOOR)
         pinned[h] = 1, low = 1;
     }
     if (ok && !low) break;
@@ -562,6 +701,7 @@ static int active_set(const ps_particles *P, const ps_network *net, const double
     }
   }
   ps_linsolve_destroy(&ls);
+  free(keep);
   return status;
 }
 
@@ -645,6 +785,7 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
   L.seps = surf ? ps_calloc((size_t)(27 * np), sizeof *L.seps, ctx) : NULL;
   L.type = bal;
   L.beta = surf ? surf->beta : 0.0;
+  L.lam_over_G = surf ? (surf->K - 2.0 * surf->G / N) / surf->G : 0.0;
   double *local = ps_calloc((size_t)(2 * na), sizeof *local, ctx);
   L.row0 = ps_calloc((size_t)np + 1, sizeof *L.row0, ctx);
   L.coff = ps_calloc((size_t)(2 * na + np), sizeof *L.coff, ctx);
@@ -712,11 +853,12 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
     failed |= status > 0;
   }
   /* stage 2, with surf: the matched particles near a surface get its
-   * states; the factors of the interior (type 1) stay as stage 1 left
-   * them */
+   * states, and so do (order 4) the partly matched ones, whose energy is
+   * then matched under those states only (restricted_energy); the factors
+   * of the interior (type 1) stay as stage 1 left them */
   int any = 0;
   for (ps_int a = 0; surf && a < np; a++)
-    if (!bal[a] && cut[a] && code[a] == 1) {
+    if (!bal[a] && cut[a] && (code[a] == 1 || (code[a] == 2 && order == 4))) {
       L.ns[a] = (unsigned char)surface_states(net, u, a, surf, &L);
       if (L.ns[a]) bal[a] = 2, any = 1;
     }
@@ -738,7 +880,7 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
       if (bal2[net->a[i]] == 3 || bal2[net->b[i]] == 3) pinned[h] = 2;
     }
     for (ps_int a = 0; a < np; a++) {
-      code2[a] = bal2[a] == 3 ? 4 : code[a];
+      code2[a] = bal2[a] == 3 ? 4 : code[a] == 2 && bal[a] == 2 ? 5 : code[a];
       if (bal2[a] == 3) bal2[a] = 0;
     }
     L.type = bal2;

@@ -125,7 +125,11 @@ int ps_moduli_factors(const ps_particles *P, const ps_network *net, int order,
  * states the continuum holds in equilibrium there are equilibria of the
  * network too; the deep interior (balanced particles with balanced
  * neighbours only) and the arms that reach it keep the first stage's
- * factors. */
+ * factors. At order 4 a partly matched particle near a surface (a 3D
+ * edge, whose quarter-space family cannot carry the isotropic moment
+ * above the floor) gets these force rows too, and instead of the moment
+ * only the conditions its states see: per state e, its mean strain tr e /
+ * N and its half-arm virial stress the continuum's (1 + N(N+1)/2 rows). */
 typedef struct ps_moduli_surface {
   double K, G, beta;
 } ps_moduli_surface;

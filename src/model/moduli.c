@@ -169,6 +169,8 @@ typedef struct {
   double *seps;              /* [np][3][9] their strains, times 2G */
   double beta;               /* the arm force is s (n.eps.n + beta tr eps) n */
   double lam_over_G;         /* (K - 2G/N) / G */
+  const double *kfix;        /* surf->kfix, scaled by kscale (NULL: none) */
+  double kscale;             /* the force rows' scale (ps_moduli_balance) */
   ps_int *row0;  /* [np + 1] first row of each particle's block */
   ps_int *coff;  /* [2 n_arm + np]: per family entry of a neighbour with a
                     lower number, the offset of its block in the columns
@@ -262,6 +264,23 @@ static void force_coefficients(const balance_layout *L, ps_int p, const double *
     double g = state_strain(L, p, q, n) + L->beta * tr;
     for (int i = 0; i < N; i++) f[q * N + i] = g * n[i];
   }
+}
+
+/* the fixed part of the force rows of particle p (type 2) from arm i in
+ * direction n: (kfix_ab + kfix_ba) tr e_q n per state q, added to f
+ * (N ns entries); returns its |stiffness| (0 without kfix) */
+static double fixed_force(const balance_layout *L, ps_int p, ps_int i, ps_int na,
+                          const double *n, double *f) {
+  if (!L->kfix || L->type[p] != 2) return 0.0;
+  int N = L->N;
+  double sf = (L->kfix[i] + L->kfix[na + i]) * L->kscale;
+  for (int q = 0; q < L->ns[p]; q++) {
+    const double *e = &L->seps[(p * 3 + q) * 9];
+    double tr = 0.0;
+    for (int k = 0; k < N; k++) tr += e[k * N + k];
+    for (int k = 0; k < N; k++) f[q * N + k] += sf * tr * n[k];
+  }
+  return fabs(sf);
 }
 
 /* the column of half-arm side (arm i, particle a, direction n from a)
@@ -521,6 +540,17 @@ static int balance_solve(const ps_particles *P, const ps_network *net, const dou
     for (int j = 0; j < c.ka; j++) r[c.ra + j] -= ph * c.ua[j];
     for (int j = 0; j < c.kb; j++) r[c.rb + j] -= ph * c.vb[j];
   }
+  if (L->kfix) /* the fixed part of the arm forces (surf->kfix) */
+    for (ps_int p = 0; p < np; p++) {
+      int nf = force_rows(L, p);
+      if (L->type[p] != 2 || !nf) continue;
+      double *rp = r + row0[p] + energy_rows(matched, p, L), f[MAXMONO] = {0}, nv[3];
+      for (ps_int q = fp[p]; q < fp[p + 1]; q++) {
+        direction(P, net, fa[q], p, nv);
+        fixed_force(L, p, fa[q], na, nv, f);
+      }
+      for (int j = 0; j < nf; j++) rp[j] -= f[j];
+    }
   if (!ls) {
     status = balance_pcg(P, net, w, k, matched, pinned, L, r, lam, warm && keep, its, ctx);
     if (status != PS_OK) goto done;
@@ -637,7 +667,7 @@ static double residual(const ps_particles *P, const ps_network *net, const doubl
         double sc = k[i] * phi[i] + k[na + i] * phi[na + i];
         force_coefficients(L, c, n, m);
         for (int j = 0; j < nf; j++) T[j] += sc * m[j];
-        sum += fabs(sc);
+        sum += fabs(sc) + fixed_force(L, c, i, na, n, T);
       }
       if (e && w[h] > 0) {
         energy_coefficients(L, code, c, n, m, NULL);
@@ -785,6 +815,7 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
   L.seps = surf ? ps_calloc((size_t)(27 * np), sizeof *L.seps, ctx) : NULL;
   L.type = bal;
   L.beta = surf ? surf->beta : 0.0;
+  L.kfix = surf ? surf->kfix : NULL;
   L.lam_over_G = surf ? (surf->K - 2.0 * surf->G / N) / surf->G : 0.0;
   double *local = ps_calloc((size_t)(2 * na), sizeof *local, ctx);
   L.row0 = ps_calloc((size_t)np + 1, sizeof *L.row0, ctx);
@@ -804,6 +835,7 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
   for (ps_int i = 0; i < na; i++) lbar += net->r0[i] / (double)na;
   lbar = lbar > 0 ? exp2(round(log2(lbar))) : 1.0;
   for (ps_int h = 0; h < 2 * na; h++) ks[h] = k[h] * lbar;
+  L.kscale = lbar;
   /* surface particles: a family that a free surface, a hole or a crack
    * cuts off has a large first moment. A family is cut when its particle
    * or a neighbour is on the surface (a surface within reach), and a
@@ -858,7 +890,7 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
    * of the interior (type 1) stay as stage 1 left them */
   int any = 0;
   for (ps_int a = 0; surf && a < np; a++)
-    if (!bal[a] && cut[a] && (code[a] == 1 || (code[a] == 2 && order == 4))) {
+    if (!bal[a] && cut[a] && (code[a] == 1 || (code[a] == 2 && order == 4 && !surf->kfix))) {
       L.ns[a] = (unsigned char)surface_states(net, u, a, surf, &L);
       if (L.ns[a]) bal[a] = 2, any = 1;
     }

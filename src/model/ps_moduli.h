@@ -132,6 +132,12 @@ int ps_moduli_factors(const ps_particles *P, const ps_network *net, int order,
  * N and its half-arm virial stress the continuum's (1 + N(N+1)/2 rows). */
 typedef struct ps_moduli_surface {
   double K, G, beta;
+  /* [2 n_arm] or NULL: half-arm stiffnesses (in k's units) of a part of
+   * the arm force that these factors do not change, (kfix_ab + kfix_ba)
+   * tr eps n under eps, added to the surface rows (the state model's
+   * dilatation, balanced by its own factors before); with it no particle
+   * is matched under its states only (that form is the fibre model's) */
+  const double *kfix;
 } ps_moduli_surface;
 
 int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,

@@ -3,6 +3,7 @@
  *  1. k-d tree: radius and k-nearest queries = brute force, exactly.
  *  2. Eq. 115 sizes on the square, hexagonal and cubic lattices.
  *  3. the elliptic disk of Eq. 114: exact total area, boundary zone flags,
+ *     tip refinement (exact area, count, closer particles, the rest kept),
  *     a crack line through a row of sub-cells refused.
  *  4. Eq. 116 against its limits (far field, Griffith opening, symmetry)
  *     and against the Westergaard solution; elliptic coordinates; the
@@ -250,6 +251,81 @@ static void test_disk_geometry(ps_ctx *ctx) {
   }
 }
 
+/* the distance from the nearest tip (+-c, 0) of the particle closest to
+ * one */
+static double nearest_to_tip(const ps_particles *P, double c) {
+  double best = INFINITY;
+  for (ps_int a = 0; a < P->n; a++) {
+    double x = P->x[2 * a], y = P->x[2 * a + 1];
+    best = fmin(best, fmin(hypot(x - c, y), hypot(x + c, y)));
+  }
+  return best;
+}
+
+/* Tip refinement (refine_tips, refine_radius): the sub-cells within the
+ * radius of a tip split into k^2 cells of exact area, so the total area
+ * is still pi a b (1e-12, as above), the count is ps_geom_disk_count's
+ * and the particles near the tips are k times closer to them (the
+ * nearest within 1.5/k of the unrefined disk's); the rest of the disk is
+ * the unrefined one, jitter included. refine_tips 1, or radius 0, gives
+ * the default disk bit for bit. */
+static void test_disk_refine(ps_ctx *ctx) {
+  ps_disk_params dp;
+  ps_disk_params_default(&dp);
+  dp.n_eta = 8;
+  dp.n_xi = 14;
+  dp.per_zone = 3;
+  dp.jitter = 0.2;
+  ps_particles P0, P1, P2;
+  if (ps_geom_disk(&P0, &dp, ctx)) tg_die("ps_geom_disk", ctx);
+  dp.refine_tips = 3;
+  dp.refine_radius = 0.3 * dp.c;
+  if (ps_geom_disk(&P1, &dp, ctx)) tg_die("ps_geom_disk refined", ctx);
+  double want = M_PI * dp.c * cosh(dp.xi_max) * dp.c * sinh(dp.xi_max);
+  ps_check_rel(disk_area_sum(&P1), want, 1e-12,
+               "disk 8x14x3x3 refined 3x within 0.3 c of the tips: sum V = pi a b");
+  ps_int far_same = 0, far = 0, near = 0;
+  for (ps_int a = 0; a < P1.n; a++) {
+    double x = P1.x[2 * a], y = P1.x[2 * a + 1];
+    double r = fmin(hypot(x - dp.c, y), hypot(x + dp.c, y));
+    if (r < 0.3 * dp.c) near++;
+  }
+  for (ps_int a = 0; a < P0.n; a++) {
+    double x = P0.x[2 * a], y = P0.x[2 * a + 1];
+    if (fmin(hypot(x - dp.c, y), hypot(x + dp.c, y)) < 0.6 * dp.c) continue;
+    far++;
+    for (ps_int b = 0; b < P1.n; b++)
+      if (P1.x[2 * b] == x && P1.x[2 * b + 1] == y && P1.volume[b] == P0.volume[a]) {
+        far_same++;
+        break;
+      }
+  }
+  double r0 = nearest_to_tip(&P0, dp.c), r1 = nearest_to_tip(&P1, dp.c);
+  ps_check(P1.n == (ps_int)ps_geom_disk_count(&dp) && P1.n > P0.n && near > 0 &&
+               far_same == far && r1 < 1.5 / 3 * r0,
+           "disk refined 3x at the tips: %lld particles (count %.0f; unrefined %lld), %lld "
+           "within 0.3 c, the %lld beyond 0.6 c unchanged (%lld), nearest to a tip %.3g of "
+           "the unrefined disk's", (long long)P1.n, ps_geom_disk_count(&dp),
+           (long long)P0.n, (long long)near, (long long)far, (long long)far_same, r1 / r0);
+  dp.refine_radius = 0.0;
+  if (ps_geom_disk(&P2, &dp, ctx)) tg_die("ps_geom_disk radius 0", ctx);
+  int same = P2.n == P0.n;
+  for (ps_int a = 0; same && a < P0.n; a++)
+    same = P2.x[2 * a] == P0.x[2 * a] && P2.x[2 * a + 1] == P0.x[2 * a + 1] &&
+           P2.volume[a] == P0.volume[a];
+  ps_check(same, "disk with refine_tips 3 and refine_radius 0: the unrefined disk bit for bit");
+  dp.refine_tips = 0;
+  dp.refine_radius = 0.1;
+  ps_particles P3;
+  int st = ps_geom_disk(&P3, &dp, ctx);
+  ps_check(st == PS_ERR_INPUT && strstr(ctx->msg, "refine_tips"),
+           "disk refine_tips 0 refused: %s", ctx->msg);
+  if (st == PS_OK) ps_particles_free(&P3);
+  ps_particles_free(&P0);
+  ps_particles_free(&P1);
+  ps_particles_free(&P2);
+}
+
 /* A disk whose crack line xi = 0 would cut through a row of sub-cells
  * (odd n_xi * per_zone with a symmetric xi range: one row would sit on the
  * crack and bridge it) is refused. */
@@ -387,6 +463,7 @@ int main(int argc, char **argv) {
   test_kdtree(&ctx);
   test_sizes(&ctx);
   test_disk_geometry(&ctx);
+  test_disk_refine(&ctx);
   test_disk_crack_row(&ctx);
   test_eq116();
   printf("t105_geom: %.2f s in all (information only)\n", ps_wtime() - t0);

@@ -406,7 +406,7 @@ static int estimate_counts(const ps_case *cs, int dim, int lattice, double reach
     return PS_OK;
   if (lattice && !(reach > 0)) return PS_OK; /* not known before the particles */
   if (cs->geometry == PS_GEOM_DISK)
-    n = (double)cs->disk.n_eta * cs->disk.n_xi * cs->disk.per_zone * cs->disk.per_zone;
+    n = ps_geom_disk_count(&cs->disk);
   else
     for (int k = 0; k < dim; k++) n *= (double)cs->counts[k];
   if (lattice) {

@@ -209,6 +209,32 @@ void ps_disk_params_default(ps_disk_params *dp) {
   dp->xi_max = M_PI;
   dp->jitter = 0.1;
   dp->seed = 11;
+  dp->refine_tips = 1;
+  dp->refine_radius = 0.0;
+}
+
+/* the split of sub-cell (ci, cj) of the disk: refine_tips when its centre
+ * (without jitter) lies within refine_radius of a tip, else 1 */
+static int disk_split(const ps_disk_params *dp, ps_int ci, ps_int cj, double dxi, double deta) {
+  if (dp->refine_tips <= 1 || !(dp->refine_radius > 0)) return 1;
+  double xi = dp->xi_min + (ci + 0.5) * dxi, eta = (cj + 0.5) * deta;
+  double x = dp->c * cosh(xi) * cos(eta), y = dp->c * sinh(xi) * sin(eta);
+  double r = fmin(hypot(x - dp->c, y), hypot(x + dp->c, y));
+  return r < dp->refine_radius ? dp->refine_tips : 1;
+}
+
+double ps_geom_disk_count(const ps_disk_params *dp) {
+  int m = dp->per_zone;
+  double n = (double)dp->n_eta * dp->n_xi * m * m;
+  if (dp->refine_tips <= 1 || !(dp->refine_radius > 0)) return n;
+  double dxi = (dp->xi_max - dp->xi_min) / ((double)dp->n_xi * m);
+  double deta = M_PI / ((double)dp->n_eta * m);
+  for (ps_int ci = 0; ci < (ps_int)dp->n_xi * m; ci++)
+    for (ps_int cj = 0; cj < (ps_int)dp->n_eta * m; cj++) {
+      int k = disk_split(dp, ci, cj, dxi, deta);
+      n += (double)k * k - 1.0;
+    }
+  return n;
 }
 
 /* int sinh^2 and int sin^2 (antiderivatives) */
@@ -229,7 +255,12 @@ int ps_geom_disk(ps_particles *p, const ps_disk_params *dp, ps_ctx *ctx) {
     return ps_error(ctx, PS_ERR_INPUT, "disk.jitter must be in [0, 0.5) (got %g)",
                     dp->jitter);
   int m = dp->per_zone;
-  if ((double)dp->n_eta * dp->n_xi * m * m > (double)((ps_int)1 << 40))
+  if (dp->refine_tips < 1 || !(dp->refine_radius >= 0))
+    return ps_error(ctx, PS_ERR_INPUT,
+                    "disk: refine_tips must be >= 1 and refine_radius >= 0 (got %d, %g)",
+                    dp->refine_tips, dp->refine_radius);
+  if ((double)dp->n_eta * dp->n_xi * m * m * dp->refine_tips * dp->refine_tips >
+      (double)((ps_int)1 << 40))
     return ps_error(ctx, PS_ERR_INPUT, "disk: too many particles");
   {
     /* the crack (xi = 0) must fall on a sub-cell boundary, else a row of
@@ -242,7 +273,7 @@ int ps_geom_disk(ps_particles *p, const ps_disk_params *dp, ps_ctx *ctx) {
                       "xi_min (use an even n_xi * per_zone for a symmetric range)",
                       dp->xi_min, dp->xi_max, (double)dp->n_xi * m, cells);
   }
-  ps_int n = (ps_int)dp->n_eta * dp->n_xi * m * m;
+  ps_int n = (ps_int)ps_geom_disk_count(dp);
   PS_CHECK(ps_particles_alloc(p, 2, n, ctx));
   p->zone_xi = ps_calloc((size_t)n, sizeof *p->zone_xi, ctx);
   p->in_boundary_zone = ps_calloc((size_t)n, 1, ctx);
@@ -250,12 +281,15 @@ int ps_geom_disk(ps_particles *p, const ps_disk_params *dp, ps_ctx *ctx) {
     ps_particles_free(p);
     return PS_ERR_NOMEM;
   }
-  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
-  if (!rng) {
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937), *rng2 = gsl_rng_alloc(gsl_rng_mt19937);
+  if (!rng || !rng2) {
+    if (rng) gsl_rng_free(rng);
+    if (rng2) gsl_rng_free(rng2);
     ps_particles_free(p);
     return ps_error(ctx, PS_ERR_NOMEM, "cannot allocate RNG");
   }
   gsl_rng_set(rng, dp->seed);
+  gsl_rng_set(rng2, dp->seed + 1);
   double dxi = (dp->xi_max - dp->xi_min) / ((double)dp->n_xi * m);
   double deta = M_PI / ((double)dp->n_eta * m);
   double c2 = dp->c * dp->c;
@@ -263,23 +297,39 @@ int ps_geom_disk(ps_particles *p, const ps_disk_params *dp, ps_ctx *ctx) {
   for (int zi = 0; zi < dp->n_xi; zi++)
     for (int zj = 0; zj < dp->n_eta; zj++)
       for (int si = 0; si < m; si++)
-        for (int sj = 0; sj < m; sj++, a++) {
+        for (int sj = 0; sj < m; sj++) {
           ps_int ci = (ps_int)zi * m + si, cj = (ps_int)zj * m + sj;
-          double xi0 = dp->xi_min + ci * dxi, eta0 = cj * deta;
-          double xi = xi0 + 0.5 * dxi, eta = eta0 + 0.5 * deta;
-          if (dp->jitter > 0) {
-            xi += dp->jitter * dxi * (2.0 * gsl_rng_uniform(rng) - 1.0);
-            eta += dp->jitter * deta * (2.0 * gsl_rng_uniform(rng) - 1.0);
+          int k = disk_split(dp, ci, cj, dxi, deta);
+          double hxi = dxi / k, heta = deta / k, r1 = 0.0, r2 = 0.0;
+          if (dp->jitter > 0) { /* the sub-cell's draws, refined or not, so
+                                   that the unrefined cells are the
+                                   unrefined disk's */
+            r1 = gsl_rng_uniform(rng);
+            r2 = gsl_rng_uniform(rng);
           }
-          p->x[2 * a] = dp->c * cosh(xi) * cos(eta);
-          p->x[2 * a + 1] = dp->c * sinh(xi) * sin(eta);
-          /* exact area of the sub-cell: c^2 int int (sinh^2 xi + sin^2 eta) */
-          p->volume[a] = c2 * ((Ish2(xi0 + dxi) - Ish2(xi0)) * deta +
-                               (Isn2(eta0 + deta) - Isn2(eta0)) * dxi);
-          p->zone_xi[a] = zi;
-          p->in_boundary_zone[a] = (zi == 0 || zi == dp->n_xi - 1);
+          for (int ki = 0; ki < k; ki++)
+            for (int kj = 0; kj < k; kj++, a++) {
+              double xi0 = dp->xi_min + ci * dxi + ki * hxi, eta0 = cj * deta + kj * heta;
+              double xi = xi0 + 0.5 * hxi, eta = eta0 + 0.5 * heta;
+              if (dp->jitter > 0) {
+                if (k > 1) { /* the refined cells' own stream */
+                  r1 = gsl_rng_uniform(rng2);
+                  r2 = gsl_rng_uniform(rng2);
+                }
+                xi += dp->jitter * hxi * (2.0 * r1 - 1.0);
+                eta += dp->jitter * heta * (2.0 * r2 - 1.0);
+              }
+              p->x[2 * a] = dp->c * cosh(xi) * cos(eta);
+              p->x[2 * a + 1] = dp->c * sinh(xi) * sin(eta);
+              /* exact area of the cell: c^2 int int (sinh^2 xi + sin^2 eta) */
+              p->volume[a] = c2 * ((Ish2(xi0 + hxi) - Ish2(xi0)) * heta +
+                                   (Isn2(eta0 + heta) - Isn2(eta0)) * hxi);
+              p->zone_xi[a] = zi;
+              p->in_boundary_zone[a] = (zi == 0 || zi == dp->n_xi - 1);
+            }
         }
   gsl_rng_free(rng);
+  gsl_rng_free(rng2);
   return PS_OK;
 }
 

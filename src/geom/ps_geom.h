@@ -91,15 +91,27 @@ typedef struct ps_disk_params {
   double xi_min, xi_max; /* default (-pi, pi): see doc/model.md */
   double jitter;     /* in [0, 0.5): shift within the sub-cell, fraction */
   unsigned long seed;
+  /* refinement at the crack tips (+-c, 0): a sub-cell whose centre lies
+   * within refine_radius (m) of a tip is split into refine_tips^2 (1: no
+   * refinement, the default; radius 0: none either) */
+  int refine_tips;
+  double refine_radius;
 } ps_disk_params;
 
-/* Fill *dp with the paper's Table 1 defaults (c = 1/24, 20 x 40 zones, 5x5). */
+/* Fill *dp with the paper's Table 1 defaults (c = 1/24, 20 x 40 zones, 5x5,
+ * no tip refinement). */
 void ps_disk_params_default(ps_disk_params *dp);
+
+/* The number of particles ps_geom_disk makes of *dp (valid parameters). */
+double ps_geom_disk_count(const ps_disk_params *dp);
 
 /* The elliptic disk of Eq. 114 with a crack between the foci: each zone of
  * the (xi, eta) grid holds per_zone^2 particles at sub-cell centres,
  * jittered within their sub-cell; the volume of a particle is the exact
- * area of its sub-cell, c^2 int int (sinh^2 xi + sin^2 eta). Marks the
+ * area of its sub-cell, c^2 int int (sinh^2 xi + sin^2 eta). A sub-cell
+ * near a tip (refine_tips, refine_radius) is split into refine_tips^2
+ * equal (xi, eta) cells, each a particle likewise (its area exact, its
+ * jitter a fraction of its own cell). Marks the
  * outermost ring of zones as boundary zone. Sizes are NOT set.
  * Returns PS_OK, PS_ERR_INPUT, PS_ERR_NOMEM. */
 int ps_geom_disk(ps_particles *p, const ps_disk_params *dp, ps_ctx *ctx);

@@ -25,6 +25,7 @@ static int geometry_keys_apply(ps_loader *L) {
   } only[] = {{"c", D, "type disk"},          {"n_eta", D, "type disk"},
               {"n_xi", D, "type disk"},       {"per_zone", D, "type disk"},
               {"xi_min", D, "type disk"},     {"xi_max", D, "type disk"},
+              {"refine_tips", D, "type disk"}, {"refine_radius", D, "type disk"},
               {"jitter", D | B, "types disk and box"},
               {"seed", D | B, "types disk and box"},
               {"counts", B, "type box"},      {"lattice", B, "type box"},
@@ -87,6 +88,12 @@ static int particle_counts_check(ps_loader *L) {
           "geometry.n_eta x geometry.n_xi x geometry.per_zone^2 = %d x %d x %d^2 "
           "asks for %.3g particles; at most 2^40 = %.4g can be indexed",
           dp->n_eta, dp->n_xi, dp->per_zone, n, (double)PS_MAX_PARTICLES);
+    if (n * dp->refine_tips * dp->refine_tips > (double)PS_MAX_PARTICLES &&
+        ps_geom_disk_count(dp) > (double)PS_MAX_PARTICLES)
+      return ps_yaml_fail(L, geometry_line(L, "refine_tips", line),
+                          "geometry.refine_tips %d asks for %.3g particles; at most 2^40 "
+                          "= %.4g can be indexed",
+                          dp->refine_tips, ps_geom_disk_count(dp), (double)PS_MAX_PARTICLES);
   }
   return PS_OK;
 }

@@ -136,7 +136,8 @@ static int get_holes(ps_loader *L, yaml_node_t *v, const char *name) {
 const char *const ps_case_geometry_keys[] = {
     "type", "dim", "c", "n_eta", "n_xi", "per_zone", "xi_min", "xi_max",
     "jitter", "seed", "counts", "spacing", "lattice", "file", "sizes",
-    "size_neighbours", "origin", "holes", "format", "cracks", NULL};
+    "size_neighbours", "origin", "holes", "format", "cracks", "refine_tips",
+    "refine_radius", NULL};
 
 int ps_case_on_geometry(ps_loader *L, void *arg, const char *key, const char *name,
                         yaml_node_t *v) {
@@ -165,6 +166,9 @@ int ps_case_on_geometry(ps_loader *L, void *arg, const char *key, const char *na
   if (IS("n_eta")) return ps_yaml_int(L, v, name, 1, INT_MAX, &cs->disk.n_eta);
   if (IS("n_xi")) return ps_yaml_int(L, v, name, 3, INT_MAX, &cs->disk.n_xi);
   if (IS("per_zone")) return ps_yaml_int(L, v, name, 1, INT_MAX, &cs->disk.per_zone);
+  if (IS("refine_tips")) return ps_yaml_int(L, v, name, 1, 64, &cs->disk.refine_tips);
+  if (IS("refine_radius"))
+    return ps_yaml_real(L, v, name, 0.0, 1, INFINITY, 0, &cs->disk.refine_radius);
   if (IS("xi_min"))
     return ps_yaml_real(L, v, name, -INFINITY, 0, 0.0, 1, &cs->disk.xi_min);
   if (IS("xi_max"))

@@ -71,6 +71,11 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
       fnv(&h, b);
     }
   }
+  if (cs->disk.refine_tips > 1 && cs->disk.refine_radius > 0) {
+    snprintf(b, sizeof b, "refine tips %d %.17g", cs->disk.refine_tips,
+             cs->disk.refine_radius);
+    fnv(&h, b);
+  }
   if (cs->origin[0] != 0 || cs->origin[1] != 0 || cs->origin[2] != 0) {
     snprintf(b, sizeof b, "origin %.17g %.17g %.17g", cs->origin[0], cs->origin[1],
              cs->origin[2]);

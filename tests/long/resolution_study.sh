@@ -4,7 +4,8 @@
 # reading of Eq. 118 (material.break_rule). The disk of
 # data/cases/paper-griffith.yaml (Table 1, seed 11, the sweep's stop rules
 # and max_load 2.0) with n_eta x n_xi zones of 5 x 5 particles:
-# 6 x 12 (1,800), 10 x 20 (5,000), 20 x 40 (20,000), 28 x 56 (39,200).
+# 6 x 12 (1,800), 8 x 16 (3,200), 10 x 20 (5,000), 14 x 28 (9,800),
+# 20 x 40 (20,000), 28 x 56 (39,200).
 #   elongation: eps_p r0 > delta (Eq. 118 as printed, the default);
 #   strain:     eps_p > delta / L, L = 3.441e-3 m for every arm: the mean
 #               length of the arms of the particle nearest each crack tip
@@ -14,11 +15,14 @@
 #   toughness:  eps_p r0 > delta sqrt(r0 / L), the same L: a limit
 #               elongation ~ sqrt(r0), a fixed K for an arm that spans
 #               the crack-face opening at the tip.
-# Then the fibre notched plate (notched-plate-fibre.yaml) on 60 x 60 and
+# A rule written RULE+dev runs with material.yield_rule: deviatoric (the
+# other reading of Eq. 111, doc/model.md); the default rules use the
+# literal (total) reading.
+# Then the fibre notched plate (notched-plate-fibre.yaml) on 40 x 40 to
 # 120 x 120 lattices at the same delta, each rule (below).
 # One run at a time, one thread each (-t 1): the 39,200-particle runs take
-# 10-20 minutes each on a shared 2-core machine, the whole study (12 disk
-# and 6 plate runs) about an hour. Runs already in $out (summary.txt with
+# 10-20 minutes each on a shared 2-core machine, the whole study (30 disk
+# and 25 plate runs) several hours. Runs already in $out (summary.txt with
 # the case's fingerprint) are reused; RESOLUTION_SIZES, RESOLUTION_RULES
 # and RESOLUTION_PLATES restrict the study (an empty value: none);
 # RESOLUTION_NO_RUN=1 only collects the runs already there (a missing one
@@ -34,8 +38,8 @@ top=$(cd "$(dirname "$0")/../.." && pwd)
 bin=${PERISTATIC:-$top/peristatic}
 [ -x "$bin" ] || bin=./peristatic
 out=${RESOLUTION_OUT:-$top/doc/results/resolution}
-sizes=${RESOLUTION_SIZES-"6x12 10x20 20x40 28x56"}
-rules=${RESOLUTION_RULES-"elongation strain toughness"}
+sizes=${RESOLUTION_SIZES-"6x12 8x16 10x20 14x28 20x40 28x56"}
+rules=${RESOLUTION_RULES-"elongation strain toughness elongation+dev toughness+dev"}
 L=3.441e-3
 export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
 mkdir -p "$out/runs" || exit 1
@@ -76,10 +80,13 @@ for rule in $rules; do
     sed -e "s/^name: .*/name: resolution-$rule-$s/" -e "s/^  n_eta: .*/  n_eta: $ne/" \
       -e "s/^  n_xi: .*/  n_xi: $nx/" -e '/^griffith:/,$d' \
       "$top/data/cases/paper-griffith.yaml" >"$yaml.tmp"
-    if [ "$rule" != elongation ]; then
-      sed -e "s/^  delta_over_c: .*/&\n  break_rule: $rule\n  break_length: $L/" "$yaml.tmp" >"$yaml"
+    base=${rule%+dev}
+    yr=""
+    [ "$base" != "$rule" ] && yr="\n  yield_rule: deviatoric"
+    if [ "$base" != elongation ]; then
+      sed -e "s/^  delta_over_c: .*/&\n  break_rule: $base\n  break_length: $L$yr/" "$yaml.tmp" >"$yaml"
     else
-      sed -e "s/^  delta_over_c: .*/&\n  break_rule: $rule/" "$yaml.tmp" >"$yaml"
+      sed -e "s/^  delta_over_c: .*/&\n  break_rule: $base$yr/" "$yaml.tmp" >"$yaml"
     fi
     rm -f "$yaml.tmp"
     run_one "$dir" "$yaml" "$rule $s" || continue
@@ -93,6 +100,32 @@ for rule in $rules; do
   done
 done
 cat "$csv"
+# refinement at the tips only: the 10 x 20 disk with its sub-cells within
+# 0.5 c of each tip split into k^2 (geometry.refine_tips, refine_radius;
+# k = 2: 7,400 particles, 3: 11,400), the rest of the disk as it is: the
+# tip cells shrink as 1/k^2 (elliptic coordinates), so k = 2 gives the tip
+# the resolution of the 20 x 40 disk. RESOLUTION_TIPS: the factors.
+tips=${RESOLUTION_TIPS-"2 3"}
+tcsv="$out/tips.csv"
+echo "rule,n_eta,n_xi,refine_tips,refine_radius_over_c,particles,arms,sigma_f_over_sigma_y,load_factor_at_peak,fractured,increments,newton_iterations,arms_broken,stop_reason" >"$tcsv"
+for rule in $rules; do
+  for k in $tips; do
+    dir="$out/runs/tips-$rule-$k"
+    yaml="$out/runs/tips-$rule-$k.yaml"
+    [ -f "$out/runs/$rule-10x20.yaml" ] || continue
+    sed -e "s/^name: .*/name: tips-$rule-$k/" \
+      -e "s/^  per_zone: .*/&\n  refine_tips: $k\n  refine_radius: 0.020833333333333332/" \
+      "$out/runs/$rule-10x20.yaml" >"$yaml"
+    run_one "$dir" "$yaml" "tips $rule $k" || continue
+    awk -F': ' -v rule="$rule" -v k="$k" '
+      {v[$1] = $2}
+      END {printf "%s,10,20,%s,0.5,%s,%s,%s,%s,%s,%s,%s,%s,\"%s\"\n", rule, k, v["particles"],
+             v["arms"], v["sigma_failure_over_sigma_y"], v["load_factor_at_peak"],
+             v["fractured"], v["increments"], v["newton_iterations"], v["arms_broken"],
+             v["stop_reason"]}' "$dir/summary.txt" >>"$tcsv"
+  done
+done
+[ -n "$tips" ] && cat "$tcsv"
 # the fibre notched plate (data/cases/notched-plate-fibre.yaml) on n x n
 # lattices of the same plate at the same delta (8.333e-7 m: eps_y dx at
 # n = 60), L = 8.333e-4 m (dx at n = 60, the coarsest: there every rule
@@ -102,7 +135,7 @@ cat "$csv"
 # under the strain rule at 120 x 120 a quarter of the peak load stays
 # after the crack has run, and following it to max_load costs minutes
 # without changing the peak)
-plates=${RESOLUTION_PLATES-"60 120"}
+plates=${RESOLUTION_PLATES-"40 60 80 100 120"}
 pcsv="$out/plate.csv"
 echo "rule,n,particles,arms,peak_reaction_N_per_m,load_factor_at_peak,fractured,increments,arms_broken,stop_reason" >"$pcsv"
 for rule in $rules; do
@@ -114,10 +147,13 @@ for rule in $rules; do
       -e "s/^  spacing: .*/  spacing: $dx/" -e "s/^  stop_load_drop: .*/  stop_load_drop: 0.5/" \
       -e '/^output:/,$d' \
       "$top/data/cases/notched-plate-fibre.yaml" >"$yaml.tmp"
-    if [ "$rule" != elongation ]; then
-      sed -e "s/^  delta: .*/&\n  break_rule: $rule\n  break_length: 8.333333333333333e-4/" "$yaml.tmp" >"$yaml"
+    base=${rule%+dev}
+    yr=""
+    [ "$base" != "$rule" ] && yr="\n  yield_rule: deviatoric"
+    if [ "$base" != elongation ]; then
+      sed -e "s/^  delta: .*/&\n  break_rule: $base\n  break_length: 8.333333333333333e-4$yr/" "$yaml.tmp" >"$yaml"
     else
-      cp "$yaml.tmp" "$yaml"
+      sed -e "s/^  delta: .*/&$yr/" "$yaml.tmp" >"$yaml"
     fi
     printf "output:\n  fields: false\n" >>"$yaml"
     rm -f "$yaml.tmp"

@@ -1,7 +1,8 @@
 # resolution.gp: sigma_failure/sigma_y of the disk at delta = c/1000
 # against the particle count, one line per reading of Eq. 118
-# (material.break_rule), from resolution.csv (tests/long/resolution_study.sh
-# writes both; run in the folder that holds resolution.csv:
+# (material.break_rule; dashed: with material.yield_rule: deviatoric),
+# from resolution.csv (tests/long/resolution_study.sh writes both; run
+# in the folder that holds resolution.csv:
 # gnuplot resolution.gp), and reference.csv: the elongation rule's 39,200
 # and 80,000-particle runs of session 8 (doc/performance.md), the same
 # case. Filled points: the crack ran; open points: the run reached
@@ -31,4 +32,10 @@ plot rows("elongation") using 4:6 with lines lc rgb "#1f77b4" notitle, \
         title "strain (eps_p > delta / L, L = 3.441 mm)", \
      rows("toughness") using 4:6 with lines lc rgb "#2ca02c" notitle, \
      rows("toughness") using 4:(frac($6)) with points pt 9 ps 1.6 lc rgb "#2ca02c" \
-        title "toughness (eps_p r0 > delta sqrt(r0 / L))"
+        title "toughness (eps_p r0 > delta sqrt(r0 / L))", \
+     rows("elongation+dev") using 4:6 with lines dt 2 lc rgb "#9467bd" notitle, \
+     rows("elongation+dev") using 4:(frac($6)) with points pt 13 ps 1.5 lc rgb "#9467bd" \
+        title "elongation, deviatoric yield reading", \
+     rows("toughness+dev") using 4:6 with lines dt 2 lc rgb "#8c564b" notitle, \
+     rows("toughness+dev") using 4:(frac($6)) with points pt 11 ps 1.5 lc rgb "#8c564b" \
+        title "toughness, deviatoric yield reading"

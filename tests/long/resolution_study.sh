@@ -21,8 +21,8 @@
 # Then the fibre notched plate (notched-plate-fibre.yaml) on 40 x 40 to
 # 120 x 120 lattices at the same delta, each rule (below).
 # One run at a time, one thread each (-t 1): the 39,200-particle runs take
-# 10-20 minutes each on a shared 2-core machine, the whole study (30 disk
-# and 25 plate runs) several hours. Runs already in $out (summary.txt with
+# 10-20 minutes each on a shared 2-core machine, the whole study (24 disk,
+# 8 tip-refined disk and 20 plate runs) several hours. Runs already in $out (summary.txt with
 # the case's fingerprint) are reused; RESOLUTION_SIZES, RESOLUTION_RULES
 # and RESOLUTION_PLATES restrict the study (an empty value: none);
 # RESOLUTION_NO_RUN=1 only collects the runs already there (a missing one
@@ -39,7 +39,7 @@ bin=${PERISTATIC:-$top/peristatic}
 [ -x "$bin" ] || bin=./peristatic
 out=${RESOLUTION_OUT:-$top/doc/results/resolution}
 sizes=${RESOLUTION_SIZES-"6x12 8x16 10x20 14x28 20x40 28x56"}
-rules=${RESOLUTION_RULES-"elongation strain toughness elongation+dev toughness+dev"}
+rules=${RESOLUTION_RULES-"elongation strain toughness elongation+dev"}
 L=3.441e-3
 export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
 mkdir -p "$out/runs" || exit 1
@@ -68,6 +68,20 @@ run_one() {
   echo "PASS: $3 completed"
   pass=$((pass + 1))
 }
+# rule_keys RULE KEY L ELONGATION: the case on stdin with RULE's material
+# keys after its line "  KEY: ...": break_rule and break_length L, or
+# ELONGATION (sed text) for the elongation rule, and yield_rule:
+# deviatoric for RULE+dev
+rule_keys() {
+  base=${1%+dev}
+  yr=""
+  [ "$base" != "$1" ] && yr="\\n  yield_rule: deviatoric"
+  if [ "$base" != elongation ]; then
+    sed -e "s/^  $2: .*/&\\n  break_rule: $base\\n  break_length: $3$yr/"
+  else
+    sed -e "s/^  $2: .*/&$4$yr/"
+  fi
+}
 csv="$out/resolution.csv"
 echo "rule,n_eta,n_xi,particles,arms,sigma_f_over_sigma_y,load_factor_at_peak,fractured,stalled,increments,newton_iterations,arms_broken,crack_tip_over_c,stop_reason" >"$csv"
 for rule in $rules; do
@@ -80,14 +94,7 @@ for rule in $rules; do
     sed -e "s/^name: .*/name: resolution-$rule-$s/" -e "s/^  n_eta: .*/  n_eta: $ne/" \
       -e "s/^  n_xi: .*/  n_xi: $nx/" -e '/^griffith:/,$d' \
       "$top/data/cases/paper-griffith.yaml" >"$yaml.tmp"
-    base=${rule%+dev}
-    yr=""
-    [ "$base" != "$rule" ] && yr="\n  yield_rule: deviatoric"
-    if [ "$base" != elongation ]; then
-      sed -e "s/^  delta_over_c: .*/&\n  break_rule: $base\n  break_length: $L$yr/" "$yaml.tmp" >"$yaml"
-    else
-      sed -e "s/^  delta_over_c: .*/&\n  break_rule: $base$yr/" "$yaml.tmp" >"$yaml"
-    fi
+    rule_keys "$rule" delta_over_c "$L" "\\n  break_rule: elongation" <"$yaml.tmp" >"$yaml"
     rm -f "$yaml.tmp"
     run_one "$dir" "$yaml" "$rule $s" || continue
     awk -F': ' -v rule="$rule" -v ne="$ne" -v nx="$nx" '
@@ -147,14 +154,7 @@ for rule in $rules; do
       -e "s/^  spacing: .*/  spacing: $dx/" -e "s/^  stop_load_drop: .*/  stop_load_drop: 0.5/" \
       -e '/^output:/,$d' \
       "$top/data/cases/notched-plate-fibre.yaml" >"$yaml.tmp"
-    base=${rule%+dev}
-    yr=""
-    [ "$base" != "$rule" ] && yr="\n  yield_rule: deviatoric"
-    if [ "$base" != elongation ]; then
-      sed -e "s/^  delta: .*/&\n  break_rule: $base\n  break_length: 8.333333333333333e-4$yr/" "$yaml.tmp" >"$yaml"
-    else
-      sed -e "s/^  delta: .*/&$yr/" "$yaml.tmp" >"$yaml"
-    fi
+    rule_keys "$rule" delta 8.333333333333333e-4 "" <"$yaml.tmp" >"$yaml"
     printf "output:\n  fields: false\n" >>"$yaml"
     rm -f "$yaml.tmp"
     run_one "$dir" "$yaml" "plate $rule $n" || continue

@@ -5,7 +5,8 @@
 # in the folder that holds resolution.csv:
 # gnuplot resolution.gp), and reference.csv: the elongation rule's 39,200
 # and 80,000-particle runs of session 8 (doc/performance.md), the same
-# case. Filled points: the crack ran; open points: the run reached
+# case. Stars: the 10 x 20 disk refined at the tips only (tips.csv), at
+# their particle counts. Filled points: the crack ran; open points: the run reached
 # path.max_load 2.0 (general yield) without fracture, its peak shown as a
 # lower bound of sigma_f.
 set datafile separator ","
@@ -17,11 +18,12 @@ set ylabel "sigma_failure / sigma_y"
 set logscale x
 set xrange [1200:120000]
 set yrange [0:2.2]
-set key top left
+set key bottom right
 set grid
 rows(r) = sprintf("< grep -h '^%s,' resolution.csv reference.csv 2>/dev/null | sort -t, -k4,4n", r)
 frac(v) = strcol(8) eq "yes" ? v : 1/0
 nofrac(v) = strcol(8) ne "yes" ? v : 1/0
+tips(r) = sprintf("< grep -h '^%s,' tips.csv 2>/dev/null | sort -t, -k6,6n", r)
 plot rows("elongation") using 4:6 with lines lc rgb "#1f77b4" notitle, \
      rows("elongation") using 4:(frac($6)) with points pt 7 ps 1.4 lc rgb "#1f77b4" \
         title "elongation (Eq. 118: eps_p r0 > delta)", \
@@ -38,4 +40,8 @@ plot rows("elongation") using 4:6 with lines lc rgb "#1f77b4" notitle, \
         title "elongation, deviatoric yield reading", \
      rows("toughness+dev") using 4:6 with lines dt 2 lc rgb "#8c564b" notitle, \
      rows("toughness+dev") using 4:(frac($6)) with points pt 11 ps 1.5 lc rgb "#8c564b" \
-        title "toughness, deviatoric yield reading"
+        title "toughness, deviatoric yield reading", \
+     tips("elongation") using 6:8 with points pt 3 ps 2 lc rgb "#1f77b4" \
+        title "refined at the tips only (10 x 20 disk, k = 2, 3; tips.csv)", \
+     tips("toughness") using 6:8 with points pt 3 ps 2 lc rgb "#2ca02c" notitle, \
+     tips("elongation+dev") using 6:8 with points pt 3 ps 2 lc rgb "#9467bd" notitle

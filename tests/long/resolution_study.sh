@@ -21,8 +21,8 @@
 # Then the fibre notched plate (notched-plate-fibre.yaml) on 40 x 40 to
 # 120 x 120 lattices at the same delta, each rule (below).
 # One run at a time, one thread each (-t 1): the 39,200-particle runs take
-# 10-20 minutes each on a shared 2-core machine, the whole study (24 disk,
-# 8 tip-refined disk and 20 plate runs) several hours. Runs already in $out (summary.txt with
+# 10-20 minutes each on a shared 2-core machine, the whole study (30 disk,
+# 10 tip-refined disk and 25 plate runs) several hours. Runs already in $out (summary.txt with
 # the case's fingerprint) are reused; RESOLUTION_SIZES, RESOLUTION_RULES
 # and RESOLUTION_PLATES restrict the study (an empty value: none);
 # RESOLUTION_NO_RUN=1 only collects the runs already there (a missing one
@@ -39,7 +39,7 @@ bin=${PERISTATIC:-$top/peristatic}
 [ -x "$bin" ] || bin=./peristatic
 out=${RESOLUTION_OUT:-$top/doc/results/resolution}
 sizes=${RESOLUTION_SIZES-"6x12 8x16 10x20 14x28 20x40 28x56"}
-rules=${RESOLUTION_RULES-"elongation strain toughness elongation+dev"}
+rules=${RESOLUTION_RULES-"elongation strain toughness elongation+dev toughness+dev"}
 L=3.441e-3
 export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
 mkdir -p "$out/runs" || exit 1

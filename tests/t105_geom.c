@@ -251,14 +251,16 @@ static void test_disk_geometry(ps_ctx *ctx) {
   }
 }
 
-/* the distance from the nearest tip (+-c, 0) of the particle closest to
- * one */
+/* the distance of particle a from the nearer tip (+-c, 0) */
+static double tip_distance(const ps_particles *P, ps_int a, double c) {
+  double x = P->x[2 * a], y = P->x[2 * a + 1];
+  return fmin(hypot(x - c, y), hypot(x + c, y));
+}
+
+/* the distance from the nearest tip of the particle closest to one */
 static double nearest_to_tip(const ps_particles *P, double c) {
   double best = INFINITY;
-  for (ps_int a = 0; a < P->n; a++) {
-    double x = P->x[2 * a], y = P->x[2 * a + 1];
-    best = fmin(best, fmin(hypot(x - c, y), hypot(x + c, y)));
-  }
+  for (ps_int a = 0; a < P->n; a++) best = fmin(best, tip_distance(P, a, c));
   return best;
 }
 
@@ -285,14 +287,10 @@ static void test_disk_refine(ps_ctx *ctx) {
   ps_check_rel(disk_area_sum(&P1), want, 1e-12,
                "disk 8x14x3x3 refined 3x within 0.3 c of the tips: sum V = pi a b");
   ps_int far_same = 0, far = 0, near = 0;
-  for (ps_int a = 0; a < P1.n; a++) {
-    double x = P1.x[2 * a], y = P1.x[2 * a + 1];
-    double r = fmin(hypot(x - dp.c, y), hypot(x + dp.c, y));
-    if (r < 0.3 * dp.c) near++;
-  }
+  for (ps_int a = 0; a < P1.n; a++) near += tip_distance(&P1, a, dp.c) < 0.3 * dp.c;
   for (ps_int a = 0; a < P0.n; a++) {
     double x = P0.x[2 * a], y = P0.x[2 * a + 1];
-    if (fmin(hypot(x - dp.c, y), hypot(x + dp.c, y)) < 0.6 * dp.c) continue;
+    if (tip_distance(&P0, a, dp.c) < 0.6 * dp.c) continue;
     far++;
     for (ps_int b = 0; b < P1.n; b++)
       if (P1.x[2 * b] == x && P1.x[2 * b + 1] == y && P1.volume[b] == P0.volume[a]) {

@@ -195,6 +195,14 @@ static inline int rows_of(const unsigned char *matched, ps_int p, const balance_
   return energy_rows(matched, p, L) + force_rows(L, p);
 }
 
+/* the trace of surface state q of particle p */
+static double state_trace(const balance_layout *L, ps_int p, int q) {
+  const double *e = &L->seps[(p * 3 + q) * 9];
+  double tr = 0.0;
+  for (int i = 0; i < L->N; i++) tr += e[i * L->N + i];
+  return tr;
+}
+
 /* the strain n.e.n of direction n under surface state q of particle p */
 static double state_strain(const balance_layout *L, ps_int p, int q, const double *n) {
   const double *e = &L->seps[(p * 3 + q) * 9];
@@ -223,8 +231,7 @@ static void restricted_energy(const balance_layout *L, ps_int p, const double *n
   int N = L->N, ns = L->ns[p], j = 0;
   for (int q = 0; q < ns; q++) {
     const double *e = &L->seps[(p * 3 + q) * 9];
-    double tr = 0.0, g = n ? state_strain(L, p, q, n) : 0.0;
-    for (int i = 0; i < N; i++) tr += e[i * N + i];
+    double tr = state_trace(L, p, q), g = n ? state_strain(L, p, q, n) : 0.0;
     if (m) m[j] = g - tr / N;
     if (c) c[j] = 0.0;
     j++;
@@ -258,10 +265,7 @@ static void force_coefficients(const balance_layout *L, ps_int p, const double *
     return;
   }
   for (int q = 0; q < L->ns[p]; q++) {
-    const double *e = &L->seps[(p * 3 + q) * 9];
-    double tr = 0.0;
-    for (int i = 0; i < N; i++) tr += e[i * N + i];
-    double g = state_strain(L, p, q, n) + L->beta * tr;
+    double g = state_strain(L, p, q, n) + L->beta * state_trace(L, p, q);
     for (int i = 0; i < N; i++) f[q * N + i] = g * n[i];
   }
 }
@@ -275,9 +279,7 @@ static double fixed_force(const balance_layout *L, ps_int p, ps_int i, ps_int na
   int N = L->N;
   double sf = (L->kfix[i] + L->kfix[na + i]) * L->kscale;
   for (int q = 0; q < L->ns[p]; q++) {
-    const double *e = &L->seps[(p * 3 + q) * 9];
-    double tr = 0.0;
-    for (int k = 0; k < N; k++) tr += e[k * N + k];
+    double tr = state_trace(L, p, q);
     for (int k = 0; k < N; k++) f[q * N + k] += sf * tr * n[k];
   }
   return fabs(sf);
@@ -335,16 +337,19 @@ static double column_dot(const half_arm *c, const double *x) {
 }
 
 /* The free half-arms' columns scaled by w^-1/2, gathered once for the
- * CG iterations: column c has its rows ra[c] .. ra[c] + ka[c] - 1 (its
- * particle's) and rb[c] .. rb[c] + kb[c] - 1 (the other end's force rows),
- * values val[off[c] ..] in that order. */
+ * CG iterations: column c, of particle pa[c] and other end pb[c], has its
+ * rows ra[c] .. ra[c] + ka[c] - 1 (its particle's) and rb[c] .. rb[c] +
+ * kb[c] - 1 (the other end's force rows), values val[off[c] ..] in that
+ * order. */
 typedef struct {
-  ps_int n, *ra, *rb, *off;
+  ps_int n, *pa, *pb, *ra, *rb, *off;
   unsigned char *ka, *kb;
   double *val;
 } column_cache;
 
 static void cache_free(column_cache *cc) {
+  free(cc->pa);
+  free(cc->pb);
   free(cc->ra);
   free(cc->rb);
   free(cc->off);
@@ -368,6 +373,7 @@ static int cache_build(const ps_particles *P, const ps_network *net, const doubl
       if (!c.free) continue;
       if (pass) {
         double sw = 1.0 / sqrt(w[h]);
+        cc->pa[n] = c.a, cc->pb[n] = c.b;
         cc->ra[n] = c.ra, cc->rb[n] = c.rb, cc->off[n] = nv;
         cc->ka[n] = (unsigned char)c.ka, cc->kb[n] = (unsigned char)c.kb;
         for (int j = 0; j < c.ka; j++) cc->val[nv + j] = c.ua[j] * sw;
@@ -378,13 +384,16 @@ static int cache_build(const ps_particles *P, const ps_network *net, const doubl
     }
     if (pass) break;
     cc->n = n;
+    cc->pa = ps_calloc((size_t)n + 1, sizeof *cc->pa, ctx);
+    cc->pb = ps_calloc((size_t)n + 1, sizeof *cc->pb, ctx);
     cc->ra = ps_calloc((size_t)n + 1, sizeof *cc->ra, ctx);
     cc->rb = ps_calloc((size_t)n + 1, sizeof *cc->rb, ctx);
     cc->off = ps_calloc((size_t)n + 1, sizeof *cc->off, ctx);
     cc->ka = ps_calloc((size_t)n + 1, 1, ctx);
     cc->kb = ps_calloc((size_t)n + 1, 1, ctx);
     cc->val = ps_calloc((size_t)nv + 1, sizeof *cc->val, ctx);
-    if (!cc->ra || !cc->rb || !cc->off || !cc->ka || !cc->kb || !cc->val) {
+    if (!cc->pa || !cc->pb || !cc->ra || !cc->rb || !cc->off || !cc->ka || !cc->kb ||
+        !cc->val) {
       cache_free(cc);
       return PS_ERR_NOMEM;
     }
@@ -418,7 +427,7 @@ static int balance_pcg(const ps_particles *P, const ps_network *net, const doubl
                        const unsigned char *pinned, const balance_layout *L, const double *r,
                        double *lam, int warm, int *its, ps_ctx *ctx) {
   ps_int np = net->n_particle, n = L->row0[np];
-  column_cache cc = {0, NULL, NULL, NULL, NULL, NULL, NULL};
+  column_cache cc = {0, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL};
   ps_int *boff = ps_calloc((size_t)np + 1, sizeof *boff, ctx);
   double *D = NULL, *res = NULL, *z = NULL, *pv = NULL, *q = NULL;
   int status = PS_ERR_NOMEM;
@@ -433,27 +442,28 @@ static int balance_pcg(const ps_particles *P, const ps_network *net, const doubl
   pv = ps_calloc((size_t)n, sizeof *pv, ctx);
   q = ps_calloc((size_t)n, sizeof *q, ctx);
   if (!D || !res || !z || !pv || !q) goto done;
-  /* the diagonal blocks: a's rows with themselves, b's F rows likewise */
-  for (ps_int h = 0; h < 2 * net->n_arm; h++) {
-    if (!(w[h] > 0)) continue;
-    half_arm c;
-    half_arm_get(P, net, w, k, matched, pinned, L, h, &c);
-    if (!c.free) continue;
-    double *Da = D + boff[c.a], *Db = D + boff[c.b];
-    int kb_all = (int)(L->row0[c.b + 1] - L->row0[c.b]), sh = (int)(c.rb - L->row0[c.b]);
-    for (int s = 0; s < c.ka; s++)
-      for (int t = 0; t < c.ka; t++) Da[s * c.ka + t] += c.ua[s] * c.ua[t] / w[h];
-    for (int s = 0; s < c.kb; s++)
-      for (int t = 0; t < c.kb; t++) Db[(sh + s) * kb_all + sh + t] += c.vb[s] * c.vb[t] / w[h];
+  /* the diagonal blocks, from the cached columns: a's rows with
+   * themselves, b's F rows likewise */
+  for (ps_int c = 0; c < cc.n; c++) {
+    ps_int b = cc.pb[c];
+    const double *va = cc.val + cc.off[c], *vb = va + cc.ka[c];
+    double *Da = D + boff[cc.pa[c]], *Db = D + boff[b];
+    int ka = cc.ka[c], kb = cc.kb[c];
+    int kb_all = (int)(L->row0[b + 1] - L->row0[b]), sh = (int)(cc.rb[c] - L->row0[b]);
+    for (int s = 0; s < ka; s++)
+      for (int t = 0; t < ka; t++) Da[s * ka + t] += va[s] * va[t];
+    for (int s = 0; s < kb; s++)
+      for (int t = 0; t < kb; t++) Db[(sh + s) * kb_all + sh + t] += vb[s] * vb[t];
   }
   status = PS_NOT_POSDEF;
   for (ps_int p = 0; p < np; p++)
     if (!ps_dense_cholesky((int)(L->row0[p + 1] - L->row0[p]), D + boff[p], 0.0)) goto done;
   double rr0 = 0.0, rz = 0.0;
-  if (warm)
+  if (warm) /* res = r - S lambda (res is zero from the allocation) */
     balance_apply(&cc, n, lam, res);
+  else
+    memset(lam, 0, (size_t)n * sizeof *lam);
   for (ps_int j = 0; j < n; j++) {
-    if (!warm) lam[j] = res[j] = 0.0;
     res[j] = r[j] - res[j];
     rr0 += r[j] * r[j];
   }

@@ -73,7 +73,8 @@ void tc_evaluator_create_model(tc_evaluator *ev, const ps_model_type *type,
   fixed[0] = 1; /* the system needs a free dof; nothing is solved here */
   if (ps_model_create(&ev->model, type, P, net, mat, &ctx) ||
       ps_arm_state_alloc(&ev->st, net->n_arm, &ctx) ||
-      ps_system_create(&ev->sys, net, fixed, &ctx))
+      /* forces only (tc_eval): no room for the family terms' tangent */
+      ps_system_create_pattern(&ev->sys, net, fixed, 0, &ctx))
     die("evaluator", &ctx);
   free(fixed);
   ev->f = calloc((size_t)nd, sizeof *ev->f);

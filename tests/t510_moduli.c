@@ -8,6 +8,8 @@
  *     within 1e-5 (the matching is exact; the virial stress of a strain of
  *     1e-6 carries the arms' geometric nonlinearity, O(1e-6): measured
  *     1.4e-6 at most); without it the errors are printed (up to 32% on C12).
+ *     The state model's 3D box is 21^3, the smallest with a deep interior
+ *     that its surface stage leaves alone (doc/moduli.md).
  * (2) Strips, 2D, nu 0.3: uniform tension of a strip 5W x W (grips one
  *     horizon + 1 spacing wide at both ends, x prescribed, free sideways):
  *     E = (force across the mid cut / width) / eps_xx, nu = -eps_yy /
@@ -38,17 +40,20 @@
  *     the shear force over the lines one spacing apart more than a horizon
  *     from the grips (one line on a jittered cloud: 0.8% of noise from one
  *     strip height to the next).
- * (3) A 3D bar 5W x W x W, fibre model, cubic lattice, with the surface
- *     layer balanced (its edges matched under the uniaxial state only):
- *     the corrected E and whole-width nu within 0.5% at W = 8 and 10
- *     (-0.31%, -0.36%; -0.26%, -0.17%), E not growing by more than 0.15%;
- *     W = 6 printed (+0.72%: the factors of a bar that thin vary along
- *     it, the end faces' conditions reaching its middle; doc/moduli.md).
- *     Uncorrected, W = 10: E +3.8%. In make check-long (PS_CHECK_LONG)
- *     also the shear strips of W = 8 and 10 (6H x H x W, 12,000 and
- *     19,000 particles, minutes of CG): G within 0.5% (+0.03%, -0.22%).
- *     The state model's bar, W = 6: corrected E closer than uncorrected
- *     (-6.75% against -15.95%; its surface layer is balanced in 2D only).
+ * (3) A 3D bar 5W x W x W, cubic lattice, fibre and state models, with
+ *     the surface layer balanced (its edges matched under the uniaxial
+ *     state only): the corrected E and whole-width nu within 0.5% at W = 8
+ *     and 10 (fibre -0.07%, -0.08%; -0.05%, -0.04%; state +0.32%, +0.00%;
+ *     -0.06%, -0.10%), E not growing by more than 0.15%; W = 6 printed
+ *     (fibre +0.29%, state +1.14%: a bar that thin is mostly edge layer).
+ *     Uncorrected: fibre W = 10, E +3.8%; state W = 6, E -15.95%. In make
+ *     check-long (PS_CHECK_LONG) also the shear strips 6H x H x W (fibre
+ *     W = 8 and 10: 12,000 and 19,000 particles; state W = 6 and 8: 7,000
+ *     and 12,000 with two-horizon stencils; minutes each): G within 0.5%,
+ *     and jittered (0.2) bars, fibre W = 10 and 12, state W = 8 and 10:
+ *     E and the whole-width nu within 0.5% (fibre -0.24%, -0.48%; state
+ *     +0.10%, +0.04%; uncorrected fibre W = 12 -4.99%, state W = 10
+ *     -8.41%).
  * (4) The force balance (ps_moduli_balance), fibre weights, 40 x 40 box
  *     and 18^3 box (3D: the CG path), jittered by 0.2: more than 3
  *     horizons inside, the force moment
@@ -178,7 +183,13 @@ static void bulk(const char *model, int dim, const char *lattice, int plane, dou
   double err[2][3];
   for (int corr = 0; corr < 2; corr++) {
     setup S;
-    ps_int n = dim == 2 ? 31 : 15;
+    /* the state model's 3D box is 21^3: its surface stage (doc/moduli.md)
+     * changes every factor within about four reaches (3.5 spacings) of a
+     * face, so a 15^3 box has no bulk (its centre's arm virial was off by
+     * 0.2% at nu 0.3 and 11% in C11 at nu 0.1, the factors varying through
+     * the whole box); at 21^3 the centre's arms reach only the interior's
+     * own factors */
+    ps_int n = dim == 2 ? 31 : !strcmp(model, "state") ? 21 : 15;
     make(&S, model, dim, lattice, 0.0, n, n, dim == 3 ? n : 1, nu, plane, corr);
     tc_evaluator ev;
     tc_evaluator_create_model(&ev, S.type, &S.P, &S.net, &S.mat);
@@ -395,9 +406,13 @@ static void strips_2d(const char *model, const char *lattice, int plane) {
              "strip %s %s %s W %d, corrected: E %+.2f%%, interior nu %+.2f%%, G %+.2f%% "
              "within 0.5%%", model, lattice, pl, r ? 40 : 20, 100 * e[r][0], 100 * e[r][2],
              100 * e[r][3]);
-  ps_check(fabs(e[1][1]) <= 5e-3 && fabs(e[1][1]) <= fabs(e[0][1]),
-           "strip %s %s %s, corrected: whole-width nu %+.2f%% (W 40) within 0.5%%, "
-           "not above %+.2f%% (W 20)", model, lattice, pl, 100 * e[1][1], 100 * e[0][1]);
+  /* (not growing: by no more than 0.01%, where both are exact to the
+   * strain fit's round-off, a few 1e-5 since the surface layer is
+   * balanced) */
+  ps_check(fabs(e[1][1]) <= 5e-3 && fabs(e[1][1]) <= fabs(e[0][1]) + 1e-4,
+           "strip %s %s %s, corrected: whole-width nu %+.3f%% (W 40) within 0.5%%, "
+           "not above %+.3f%% (W 20) by more than 0.01%%", model, lattice, pl, 100 * e[1][1],
+           100 * e[0][1]);
   /* the surface layer balanced (ps_moduli_balance's second stage) */
   for (int r = 0; r < 2; r++)
     ps_check(fabs(e[r][0]) <= 1e-3 && fabs(e[r][1]) <= 1e-3,
@@ -550,6 +565,45 @@ static void balance_checks(void) {
   box_spacing = 1e-3;
 }
 
+/* (3) a model's 3D bars 5W x W x W: uncorrected at W = wu (printed),
+ * corrected at W = 6 (printed: a bar mostly edge layer), 8 and 10
+ * (checked); with long_run also the shear strips of W = gw[0], gw[1]
+ * (fibre: 12,000 and 19,000 particles; state: 7,000 and 12,000 with
+ * two-horizon stencils; minutes each) */
+static void bars_3d(const char *model, ps_int wu, const ps_int gw[2], int long_run) {
+  double u[4], e[3][4]; /* W = 6, 8, 10 */
+  strip_opt(model, 3, "square", 0.0, PS_SOLID_3D, 0, wu, 0, u);
+  for (int r = 0; r < 3; r++) {
+    ps_int W = 6 + 2 * r;
+    int with_shear = long_run && (W == gw[0] || W == gw[1]);
+    strip_opt(model, 3, "square", 0.0, PS_SOLID_3D, 1, W, with_shear, e[r]);
+    if (with_shear)
+      ps_check(fabs(e[r][3]) <= 5e-3, "3D shear strip, %s, corrected, W %d: G %+.2f%% within "
+               "0.5%%", model, (int)W, 100 * e[r][3]);
+  }
+  for (int r = 1; r < 3; r++)
+    ps_check(fabs(e[r][0]) <= 5e-3 && fabs(e[r][1]) <= 5e-3,
+             "3D bar, %s, cubic lattice, corrected, W %d: E %+.2f%%, whole-width nu %+.2f%% "
+             "within 0.5%% (uncorrected at W %d: %+.2f%%, %+.2f%%)", model, 6 + 2 * r,
+             100 * e[r][0], 100 * e[r][1], (int)wu, 100 * u[0], 100 * u[1]);
+  ps_check(fabs(e[2][0]) <= fabs(e[1][0]) + 1.5e-3,
+           "3D bar, %s, corrected: E error not growing by more than 0.15%% (%+.2f%% -> "
+           "%+.2f%%; W 6: %+.2f%%, a bar mostly edge layer)",
+           model, 100 * e[1][0], 100 * e[2][0], 100 * e[0][0]);
+}
+
+/* (3) in make check-long: a model's jittered (0.2) 3D bars of W = w1 and
+ * w2, corrected, E and the whole-width nu within 0.5% (a minute each) */
+static void jittered_bars_3d(const char *model, ps_int w1, ps_int w2) {
+  double e[2][4];
+  for (int r = 0; r < 2; r++)
+    strip_opt(model, 3, "square", 0.2, PS_SOLID_3D, 1, r ? w2 : w1, 0, e[r]);
+  for (int r = 0; r < 2; r++)
+    ps_check(fabs(e[r][0]) <= 5e-3 && fabs(e[r][1]) <= 5e-3,
+             "3D bar, %s, jittered (0.2), corrected, W %d: E %+.2f%%, whole-width nu %+.2f%% "
+             "within 0.5%%", model, (int)(r ? w2 : w1), 100 * e[r][0], 100 * e[r][1]);
+}
+
 int main(void) {
   const char *models[2] = {"fibre", "state"};
   for (int m = 0; m < 2; m++) {
@@ -564,36 +618,14 @@ int main(void) {
   balance_checks();
   strips_jitter("state", 5e-3, 5e-3);
   strips_jitter("fibre", 5e-3, 5e-3);
-  /* (3) the 3D bar, fibre model (the shear strips of the corrected bars,
-   * 12,000 and 19,000 particles, in make check-long: PS_CHECK_LONG) */
+  /* (3) the 3D bars (the shear strips in make check-long: PS_CHECK_LONG) */
   int long_run = getenv("PS_CHECK_LONG") != NULL;
-  double e6[4], e8[4], e10[4], u[4];
-  strip("fibre", 3, "square", 0.0, PS_SOLID_3D, 0, 10, u);
-  strip_opt("fibre", 3, "square", 0.0, PS_SOLID_3D, 1, 6, 0, e6);
-  strip_opt("fibre", 3, "square", 0.0, PS_SOLID_3D, 1, 8, long_run, e8);
-  strip_opt("fibre", 3, "square", 0.0, PS_SOLID_3D, 1, 10, long_run, e10);
-  for (int r = 0; r < 2; r++) {
-    const double *e = r ? e10 : e8;
-    ps_check(fabs(e[0]) <= 5e-3 && fabs(e[1]) <= 5e-3,
-             "3D bar, fibre, cubic lattice, corrected, W %d: E %+.2f%%, whole-width nu %+.2f%% "
-             "within 0.5%% (uncorrected at W 10: %+.2f%%, %+.2f%%)",
-             r ? 10 : 8, 100 * e[0], 100 * e[1], 100 * u[0], 100 * u[1]);
-    if (long_run)
-      ps_check(fabs(e[3]) <= 5e-3, "3D shear strip, fibre, corrected, W %d: G %+.2f%% within 0.5%%",
-               r ? 10 : 8, 100 * e[3]);
+  const ps_int fibre_shear[2] = {8, 10}, state_shear[2] = {6, 8};
+  bars_3d("fibre", 10, fibre_shear, long_run);
+  bars_3d("state", 6, state_shear, long_run);
+  if (long_run) {
+    jittered_bars_3d("fibre", 10, 12);
+    jittered_bars_3d("state", 8, 10);
   }
-  ps_check(fabs(e10[0]) <= fabs(e8[0]) + 1.5e-3,
-           "3D bar, fibre, corrected: E error not growing by more than 0.15%% (%+.2f%% -> "
-           "%+.2f%%; W 6: %+.2f%%, a bar mostly edge layer)",
-           100 * e8[0], 100 * e10[0], 100 * e6[0]);
-  /* the state model's 3D bar: its surface layer is not balanced in 3D
-   * (doc/moduli.md), so only the improvement is checked */
-  double s0[4], s1[4];
-  strip_opt("state", 3, "square", 0.0, PS_SOLID_3D, 0, 6, 0, s0);
-  strip_opt("state", 3, "square", 0.0, PS_SOLID_3D, 1, 6, 0, s1);
-  ps_check(fabs(s1[0]) < fabs(s0[0]),
-           "3D bar, state, cubic lattice, W 6: corrected E %+.2f%% closer than uncorrected "
-           "%+.2f%% (not 0.5%%: the surface layer of the state model is balanced in 2D only)",
-           100 * s1[0], 100 * s0[0]);
   return ps_check_summary();
 }

@@ -242,7 +242,7 @@ static int fibre_correct(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
     for (ps_int a = 0; a < np; a++) t[a] = P->volume[a] / (net->dim + 2);
     int N = net->dim;
     double Gc = m->mat.G * (N + 2), Kc = N * m->mat.K - Gc;
-    ps_moduli_surface sf = {m->mat.K, m->mat.G, Kc / (N * Gc), NULL};
+    ps_moduli_surface sf = {m->mat.K, m->mat.G, Kc / (N * Gc), NULL, 0};
     /* and the surface layer (3D edges: matched under their surface states) */
     status = ps_moduli_balance(P, net, 4, w, k, t, &sf, m->arm_side, NULL, ctx);
     for (ps_int i = 0; status == PS_OK && i < na; i++) {

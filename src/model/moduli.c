@@ -17,8 +17,10 @@
 #include "../linsolve/ps_linsolve.h"
 
 #include <gsl/gsl_eigen.h>
+#include <gsl/gsl_math.h>
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -166,7 +168,10 @@ typedef struct {
   const unsigned char *type; /* [np] force rows: 0 none, 1 the moment mF,
                                 2 the surface states (below) */
   unsigned char *ns;         /* [np] surface states of a type-2 particle */
+  uint32_t *rkeep;           /* [np] the restricted rows a code-5 particle
+                                keeps (bit j: row j of restricted_all) */
   double *seps;              /* [np][3][9] their strains, times 2G */
+  int order;                 /* of the energy moment: 2 or 4 */
   double beta;               /* the arm force is s (n.eps.n + beta tr eps) n */
   double lam_over_G;         /* (K - 2G/N) / G */
   const double *kfix;        /* surf->kfix, scaled by kscale (NULL: none) */
@@ -183,12 +188,26 @@ static inline int force_rows(const balance_layout *L, ps_int p) {
   return L->type[p] == 1 ? L->nF : L->type[p] == 2 ? L->N * L->ns[p] : 0;
 }
 
+/* the rows per surface state of a particle matched under those states
+ * only (restricted_energy): order 2, 1; order 4, N (N + 1)/2, and 1 more
+ * without kfix */
+static inline int restricted_rows(const balance_layout *L) {
+  return L->order == 2 ? 1 : L->N * (L->N + 1) / 2 + (L->kfix ? 0 : 1);
+}
+
+/* the number of bits set in b */
+static inline int bits_set(uint32_t b) {
+  int k = 0;
+  for (; b; b >>= 1) k += (int)(b & 1u);
+  return k;
+}
+
 /* the number of energy rows of particle p: the moment's nE when p is
  * matched (code 1); when its energy is matched under its surface states
- * only (code 5, order 4), ns (1 + N (N + 1)/2) (restricted_energy) */
+ * only (code 5), those of its ns restricted_rows that it keeps
+ * (restricted_energy) */
 static inline int energy_rows(const unsigned char *matched, ps_int p, const balance_layout *L) {
-  int ns = L->ns[p];
-  return matched[p] == 1 ? L->nE : matched[p] == 5 ? ns * (1 + L->N * (L->N + 1) / 2) : 0;
+  return matched[p] == 1 ? L->nE : matched[p] == 5 ? bits_set(L->rkeep[p]) : 0;
 }
 
 static inline int rows_of(const unsigned char *matched, ps_int p, const balance_layout *L) {
@@ -216,31 +235,122 @@ static double state_strain(const balance_layout *L, ps_int p, int q, const doubl
  * only (code 5: one whose family cannot carry the isotropic moment with
  * factors above the floor, such as a 3D edge, where the continuum carries
  * only the stress along the edge). Of the moment's conditions sum_b w_b
- * phi_b n^(x)4 = t I_4 it keeps those its states see, per state e: the
- * mean strain sum_b w_b phi_b (n.e.n - tr e / N) = 0 and the half-arm
- * virial stress sum_b w_b phi_b (n.e.n + beta tr e) n n = t (2 e + (lambda
- * / G) tr e I), lambda = K - 2G/N (the moment's, traced: G (N + 2) times
- * it is the continuum's stress times V_a). Then under every combination
- * of its states the particle's mean strain, stress and energy are the
- * continuum's. (Its energy alone is not enough: along a 3D bar the
- * factors that match it leave stresses that vary from one cross-section
- * to the next, and a bar 5 widths long came out 4% stiff.) Coefficients
- * of direction n into m, the targets over t into c (either may be NULL). */
-static void restricted_energy(const balance_layout *L, ps_int p, const double *n, double *m,
-                              double *c) {
+ * phi_b n^(x)p = t I_p it keeps those its states see, per state e:
+ * - order 2 (the state model's dilatation): sum_b w_b phi_b n.e.n = t tr e;
+ * - order 4: the half-arm virial stress, sum_b w_b phi_b (n.e.n + beta tr
+ *   e) n n (+ the fixed part with kfix, fixed_energy) = t (2 e + (lambda
+ *   / G) tr e I), lambda = K - 2G/N (the moment's, traced: G (N + 2)
+ *   times it is the continuum's stress times V_a), and, without kfix (the
+ *   fibre model), first the mean strain, sum_b w_b phi_b (n.e.n - tr e /
+ *   N) = 0 (the state model's dilatation has its own factors: order 2).
+ * Then under every combination of its states the particle's mean strain,
+ * stress and energy are the continuum's. (Its energy alone is not enough:
+ * along a 3D bar the factors that match it leave stresses that vary from
+ * one cross-section to the next, and a bar 5 widths long came out 4%
+ * stiff.) Coefficients of direction n into m, the targets over t into c
+ * (either may be NULL). */
+static void restricted_all(const balance_layout *L, ps_int p, const double *n, double *m,
+                           double *c) {
   int N = L->N, ns = L->ns[p], j = 0;
   for (int q = 0; q < ns; q++) {
     const double *e = &L->seps[(p * 3 + q) * 9];
     double tr = state_trace(L, p, q), g = n ? state_strain(L, p, q, n) : 0.0;
-    if (m) m[j] = g - tr / N;
-    if (c) c[j] = 0.0;
-    j++;
+    if (L->order == 2) {
+      if (m) m[j] = g;
+      if (c) c[j] = tr;
+      j++;
+      continue;
+    }
+    if (!L->kfix) {
+      if (m) m[j] = g - tr / N;
+      if (c) c[j] = 0.0;
+      j++;
+    }
     for (int a = 0; a < N; a++)
       for (int b = a; b < N; b++, j++) {
         if (m) m[j] = (g + L->beta * tr) * n[a] * n[b];
         if (c) c[j] = 2.0 * e[a * N + b] + (a == b ? L->lam_over_G * tr : 0.0);
       }
   }
+}
+
+/* the rows of restricted_all that p keeps (L->rkeep), moved to the front
+ * of v (n entries in all) */
+static void keep_rows(const balance_layout *L, ps_int p, int n, double *v) {
+  int k = 0;
+  for (int j = 0; j < n; j++)
+    if (L->rkeep[p] >> j & 1u) v[k++] = v[j];
+}
+
+/* restricted_all's rows that p keeps: of several states' rows some are
+ * linearly dependent (three states at a face give 21 rows, all quartic
+ * forms of n, a space of 15 dimensions in 3D), and a dependent row would
+ * make p's block of the multipliers' system singular; select_rows keeps
+ * an independent subset, whose targets hold the dropped rows' too (every
+ * row's target is that row applied to the isotropic moment) */
+static void restricted_energy(const balance_layout *L, ps_int p, const double *n, double *m,
+                              double *c) {
+  int nr = L->ns[p] * restricted_rows(L);
+  restricted_all(L, p, n, m, c);
+  if (m) keep_rows(L, p, nr, m);
+  if (c) keep_rows(L, p, nr, c);
+}
+
+/* The rows of restricted_all for particle p that are linearly independent
+ * as functions of the direction (forms of degree order on the unit
+ * sphere, told apart by their values at 64 fixed directions spread over
+ * it, 2D: 24 on the circle), by Gram-Schmidt in order, a row kept when
+ * more than 1e-6 of its norm is left; returns the bit mask. */
+static uint32_t select_rows(const balance_layout *L, ps_int p) {
+  enum { NS = 64 };
+  int nr = L->ns[p] * restricted_rows(L), ns = L->N == 2 ? 24 : NS;
+  double F[MAXE][NS], Q[MAXE][NS];
+  for (int s = 0; s < ns; s++) {
+    double n[3] = {0, 0, 0}, m[MAXE];
+    if (L->N == 2) {
+      n[0] = cos(M_PI * (s + 0.5) / ns), n[1] = sin(M_PI * (s + 0.5) / ns);
+    } else { /* a Fibonacci lattice on the sphere */
+      double z = 1.0 - (2.0 * s + 1.0) / ns, r = sqrt(1.0 - z * z), a = 2.399963229728653 * s;
+      n[0] = r * cos(a), n[1] = r * sin(a), n[2] = z;
+    }
+    restricted_all(L, p, n, m, NULL);
+    for (int j = 0; j < nr; j++) F[j][s] = m[j];
+  }
+  uint32_t keep = 0;
+  int nq = 0;
+  for (int j = 0; j < nr; j++) {
+    double norm0 = 0.0, norm = 0.0;
+    for (int s = 0; s < ns; s++) norm0 += F[j][s] * F[j][s];
+    for (int k = 0; k < nq; k++) {
+      double d = 0.0;
+      for (int s = 0; s < ns; s++) d += Q[k][s] * F[j][s];
+      for (int s = 0; s < ns; s++) F[j][s] -= d * Q[k][s];
+    }
+    for (int s = 0; s < ns; s++) norm += F[j][s] * F[j][s];
+    if (!(norm > 1e-12 * norm0)) continue;
+    for (int s = 0; s < ns; s++) Q[nq][s] = F[j][s] / sqrt(norm);
+    nq++;
+    keep |= 1u << j;
+  }
+  return keep;
+}
+
+/* the fixed part of the restricted rows (code 5, order 4, with kfix) from
+ * p's half-arm h of length r0 in direction n: kfix_h r0 tr e_q n n per
+ * state q (the state model's dilatation force in its half-arm virial
+ * stress), added to M (p's kept rows) */
+static void fixed_energy(const balance_layout *L, const unsigned char *matched, ps_int p,
+                         ps_int h, double r0, const double *n, double *M) {
+  if (!L->kfix || L->order != 4 || matched[p] != 5) return;
+  int N = L->N, j = 0;
+  double v[MAXE];
+  for (int q = 0; q < L->ns[p]; q++) {
+    double s = L->kfix[h] * r0 * state_trace(L, p, q);
+    for (int a = 0; a < N; a++)
+      for (int b = a; b < N; b++, j++) v[j] = s * n[a] * n[b];
+  }
+  keep_rows(L, p, j, v);
+  for (int k = 0; k < energy_rows(matched, p, L); k++) M[k] += v[k];
 }
 
 /* the energy rows' coefficients of an arm of particle p with direction n
@@ -541,6 +651,14 @@ static int balance_solve(const ps_particles *P, const ps_network *net, const dou
     double cE[MAXE];
     if (ne) energy_coefficients(L, matched, p, NULL, NULL, cE);
     for (int j = 0; j < ne; j++) r[row0[p] + j] = target[p] * cE[j];
+    if (matched[p] != 5 || !L->kfix) continue;
+    double M[MAXE] = {0}, nv[3];
+    for (ps_int q = fp[p]; q < fp[p + 1]; q++) {
+      ps_int i = fa[q];
+      direction(P, net, i, p, nv);
+      fixed_energy(L, matched, p, net->a[i] == p ? i : na + i, net->r0[i], nv, M);
+    }
+    for (int j = 0; j < ne; j++) r[row0[p] + j] -= M[j];
   }
   for (ps_int h = 0; h < 2 * na; h++) {
     if (!(w[h] > 0)) continue;
@@ -683,6 +801,7 @@ static double residual(const ps_particles *P, const ps_network *net, const doubl
         energy_coefficients(L, code, c, n, m, NULL);
         for (int j = 0; j < e; j++) M[j] += w[h] * phi[h] * m[j];
       }
+      if (e) fixed_energy(L, code, c, h, net->r0[i], n, M);
     }
     for (int j = 0; j < nf; j++) worst = fmax(worst, fabs(T[j]) / sum);
     if (e) energy_coefficients(L, code, c, NULL, NULL, cE);
@@ -748,7 +867,10 @@ static int active_set(const ps_particles *P, const ps_network *net, const double
 /* the surface states of particle c: the outward normals of the surface
  * particles among c and its neighbours (u[3 p], unit first moments; 0
  * for others) span the normal space (eigenvectors of sum u u^T above a
- * quarter of its largest eigenvalue); the tangents t the rest, and the
+ * quarter of its largest eigenvalue or a tenth of its trace: near a
+ * corner of a body a few horizons wide the surface particles' normals
+ * lean towards the diagonal, and the largest eigenvalue alone made the
+ * faces' normals look like tangents); the tangents t the rest, and the
  * stresses with no traction on those faces are the symmetrised t_i t_j;
  * their strains in the model's elasticity (K, G), times 2G, into
  * L->seps. Returns their number (0: a corner, or no surface near). */
@@ -778,12 +900,12 @@ static int surface_states(const ps_network *net, const double *u, ps_int c,
   if (!ws) return 0;
   gsl_eigen_symmv(&Mv.matrix, &lv.vector, &Vv.matrix, ws);
   gsl_eigen_symmv_free(ws);
-  double big = 0.0;
-  for (int e = 0; e < N; e++) big = fmax(big, lam[e]);
+  double big = 0.0, trM = 0.0;
+  for (int e = 0; e < N; e++) big = fmax(big, lam[e]), trM += lam[e];
   double t[3][3];
   int nt = 0;
   for (int e = 0; e < N; e++)
-    if (lam[e] <= 0.25 * big) {
+    if (lam[e] <= 0.25 * big && lam[e] <= 0.1 * trM) {
       for (int i = 0; i < N; i++) t[nt][i] = vec[i * N + e]; /* column e */
       nt++;
     }
@@ -822,8 +944,10 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
   double *u = ps_calloc((size_t)(3 * np), sizeof *u, ctx);
   unsigned char *code2 = ps_calloc((size_t)np, 1, ctx), *bal2 = ps_calloc((size_t)np, 1, ctx);
   L.ns = ps_calloc((size_t)np, 1, ctx);
+  L.rkeep = ps_calloc((size_t)np, sizeof *L.rkeep, ctx);
   L.seps = surf ? ps_calloc((size_t)(27 * np), sizeof *L.seps, ctx) : NULL;
   L.type = bal;
+  L.order = order;
   L.beta = surf ? surf->beta : 0.0;
   L.kfix = surf ? surf->kfix : NULL;
   L.lam_over_G = surf ? (surf->K - 2.0 * surf->G / N) / surf->G : 0.0;
@@ -832,7 +956,7 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
   L.coff = ps_calloc((size_t)(2 * na + np), sizeof *L.coff, ctx);
   ps_moduli_stats s;
   int status = PS_ERR_NOMEM;
-  if (!code || !bal || !cut || !pinned || !ks || !u || !code2 || !bal2 || !L.ns ||
+  if (!code || !bal || !cut || !pinned || !ks || !u || !code2 || !bal2 || !L.ns || !L.rkeep ||
       (surf && !L.seps) || !local || !L.row0 || !L.coff)
     goto done;
   status = local_factors(P, net, order, w, target, local, &s, code, ctx);
@@ -898,10 +1022,17 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
    * states, and so do (order 4) the partly matched ones, whose energy is
    * then matched under those states only (restricted_energy); the factors
    * of the interior (type 1) stay as stage 1 left them */
-  int any = 0;
+  int any = 0, eonly = surf && surf->energy_only;
   for (ps_int a = 0; surf && a < np; a++)
-    if (!bal[a] && cut[a] && (code[a] == 1 || (code[a] == 2 && order == 4 && !surf->kfix))) {
+    if (!bal[a] && cut[a] && (code[a] == 2 || (code[a] == 1 && !eonly))) {
       L.ns[a] = (unsigned char)surface_states(net, u, a, surf, &L);
+      /* a partly matched particle whose states' rows span the whole
+       * moment (three states at a face, on a cloud) would be asked for
+       * the moment it could not carry: it stays out */
+      if (L.ns[a] && code[a] == 2) {
+        L.rkeep[a] = select_rows(&L, a);
+        if (bits_set(L.rkeep[a]) >= L.nE) L.ns[a] = 0;
+      }
       if (L.ns[a]) bal[a] = 2, any = 1;
     }
   if (any) {
@@ -923,7 +1054,8 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
     }
     for (ps_int a = 0; a < np; a++) {
       code2[a] = bal2[a] == 3 ? 4 : code[a] == 2 && bal[a] == 2 ? 5 : code[a];
-      if (bal2[a] == 3) bal2[a] = 0;
+      if (bal2[a] == 3 || eonly) bal2[a] = 0;
+      if (eonly && code2[a] != 5) code2[a] = 4; /* only the restricted rows */
     }
     L.type = bal2;
     status = active_set(P, net, w, ks, target, code2, pinned, local, phi, &L, &s, ctx);
@@ -963,6 +1095,7 @@ done:
   free(code2);
   free(bal2);
   free(L.ns);
+  free(L.rkeep);
   free(L.seps);
   free(local);
   free(L.row0);

@@ -125,19 +125,31 @@ int ps_moduli_factors(const ps_particles *P, const ps_network *net, int order,
  * states the continuum holds in equilibrium there are equilibria of the
  * network too; the deep interior (balanced particles with balanced
  * neighbours only) and the arms that reach it keep the first stage's
- * factors. At order 4 a partly matched particle near a surface (a 3D
- * edge, whose quarter-space family cannot carry the isotropic moment
- * above the floor) gets these force rows too, and instead of the moment
- * only the conditions its states see: per state e, its mean strain tr e /
- * N and its half-arm virial stress the continuum's (1 + N(N+1)/2 rows). */
+ * factors. A partly matched particle near a surface (a 3D edge, whose
+ * quarter-space family cannot carry the isotropic moment above the floor)
+ * gets these force rows too, and instead of the moment only the
+ * conditions its states see, per state e: order 4, its half-arm virial
+ * stress the continuum's (N(N+1)/2 rows, with the kfix part's) and,
+ * without kfix, its mean strain tr e / N (1 row more); order 2, its
+ * second moment under e, sum_b w phi n.e.n = t tr e (the state model's
+ * dilatation, 1 row). A direction is normal to the nearby faces when the
+ * surface particles' normals put more than a quarter of the largest
+ * eigenvalue, or a tenth of the trace, of sum u u^T on it (at a corner
+ * all N are). */
 typedef struct ps_moduli_surface {
   double K, G, beta;
   /* [2 n_arm] or NULL: half-arm stiffnesses (in k's units) of a part of
    * the arm force that these factors do not change, (kfix_ab + kfix_ba)
    * tr eps n under eps, added to the surface rows (the state model's
-   * dilatation, balanced by its own factors before); with it no particle
-   * is matched under its states only (that form is the fibre model's) */
+   * dilatation, balanced by its own factors before); with it the
+   * restricted rows of a partly matched particle are its half-arm virial
+   * stress only, the fixed part's included */
   const double *kfix;
+  /* 1: no force rows at the surface; only the partly matched particles
+   * near it join the stage, with their restricted rows (the state
+   * model's dilatation, order 2, whose surface force the deviatoric
+   * stage carries through kfix) */
+  int energy_only;
 } ps_moduli_surface;
 
 int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,

@@ -33,8 +33,10 @@
  * m->arm_side = ks psi (always allocated), and every particle's stiffness
  * under homogeneous strain is the continuum's; on clouds both sets of
  * factors also balance the arm forces under it in the interior
- * (ps_moduli_balance: the homogeneous state is an equilibrium), and in 2D
- * the phi balance the surface layer, with the psi part's force held. */
+ * (ps_moduli_balance: the homogeneous state is an equilibrium), and the
+ * phi balance the surface layer, with the psi part's force held (at a 3D
+ * edge, whose family cannot carry the isotropic moments, psi and phi are
+ * matched under the edge's stress state only). */
 #include "ps_model.h"
 #include "ps_moduli.h"
 
@@ -84,13 +86,17 @@ static int state_correct(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
   }
   /* the dilatation first: weights ks xi, second moment V_a/d delta; its
    * arm force 2 a d (ks'_a + ks'_b) tr eps is balanced in the interior by
-   * the first moment of ks'_a + ks'_b, ks' = ks psi */
+   * the first moment of ks'_a + ks'_b, ks' = ks psi; a partly matched
+   * family near a surface (a 3D edge) gets the dilatation right under the
+   * surface's states only (energy_only: the surface's force is balanced
+   * with the phi below) */
   for (ps_int h = 0; h < 2 * na; h++) {
     w[h] = ks[h] * net->r0[h < na ? h : h - na];
     kf[h] = ks[h];
   }
   for (ps_int a = 0; a < np; a++) t[a] = P->volume[a] / c.d;
-  status = ps_moduli_balance(P, net, 2, w, kf, t, NULL, phi, NULL, ctx);
+  ps_moduli_surface sd = {m->mat.K, m->mat.G, 0.0, NULL, 1};
+  status = ps_moduli_balance(P, net, 2, w, kf, t, &sd, phi, NULL, ctx);
   if (status != PS_OK) goto done;
   for (ps_int h = 0; h < 2 * na; h++) m->arm_side[h] = ks[h] * phi[h];
   /* then the deviatoric part: weights ks xi^2, fourth moment G V_a/(2b)
@@ -105,10 +111,8 @@ static int state_correct(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
     fix[h] = c.a * c.d / c.b * m->arm_side[h];
   }
   for (ps_int a = 0; a < np; a++) t[a] = m->mat.G * P->volume[a] / (2.0 * c.b);
-  /* (the surface layer in 2D only: in 3D the stage's least change reached
-   * the middle of a 15^3 box, whose centre stiffened by 2% at nu 0.3) */
-  ps_moduli_surface sf = {m->mat.K, m->mat.G, 0.0, fix};
-  status = ps_moduli_balance(P, net, 4, w, kf, t, net->dim == 2 ? &sf : NULL, phi, NULL, ctx);
+  ps_moduli_surface sf = {m->mat.K, m->mat.G, 0.0, fix, 0};
+  status = ps_moduli_balance(P, net, 4, w, kf, t, &sf, phi, NULL, ctx);
   if (status != PS_OK) goto done;
   for (ps_int i = 0; i < na; i++) m->arm_k[i] = 0.5 * (ks[i] * phi[i] + ks[na + i] * phi[na + i]);
 done:

@@ -20,7 +20,6 @@
 #include <gsl/gsl_math.h>
 
 #include <math.h>
-#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -168,8 +167,6 @@ typedef struct {
   const unsigned char *type; /* [np] force rows: 0 none, 1 the moment mF,
                                 2 the surface states (below) */
   unsigned char *ns;         /* [np] surface states of a type-2 particle */
-  uint32_t *rkeep;           /* [np] the restricted rows a code-5 particle
-                                keeps (bit j: row j of restricted_all) */
   double *seps;              /* [np][3][9] their strains, times 2G */
   int order;                 /* of the energy moment: 2 or 4 */
   double beta;               /* the arm force is s (n.eps.n + beta tr eps) n */
@@ -195,19 +192,11 @@ static inline int restricted_rows(const balance_layout *L) {
   return L->order == 2 ? 1 : L->N * (L->N + 1) / 2 + (L->kfix ? 0 : 1);
 }
 
-/* the number of bits set in b */
-static inline int bits_set(uint32_t b) {
-  int k = 0;
-  for (; b; b >>= 1) k += (int)(b & 1u);
-  return k;
-}
-
 /* the number of energy rows of particle p: the moment's nE when p is
  * matched (code 1); when its energy is matched under its surface states
- * only (code 5), those of its ns restricted_rows that it keeps
- * (restricted_energy) */
+ * only (code 5), ns restricted_rows (restricted_energy) */
 static inline int energy_rows(const unsigned char *matched, ps_int p, const balance_layout *L) {
-  return matched[p] == 1 ? L->nE : matched[p] == 5 ? bits_set(L->rkeep[p]) : 0;
+  return matched[p] == 1 ? L->nE : matched[p] == 5 ? L->ns[p] * restricted_rows(L) : 0;
 }
 
 static inline int rows_of(const unsigned char *matched, ps_int p, const balance_layout *L) {
@@ -249,8 +238,8 @@ static double state_strain(const balance_layout *L, ps_int p, int q, const doubl
  * one cross-section to the next, and a bar 5 widths long came out 4%
  * stiff.) Coefficients of direction n into m, the targets over t into c
  * (either may be NULL). */
-static void restricted_all(const balance_layout *L, ps_int p, const double *n, double *m,
-                           double *c) {
+static void restricted_energy(const balance_layout *L, ps_int p, const double *n, double *m,
+                              double *c) {
   int N = L->N, ns = L->ns[p], j = 0;
   for (int q = 0; q < ns; q++) {
     const double *e = &L->seps[(p * 3 + q) * 9];
@@ -274,36 +263,21 @@ static void restricted_all(const balance_layout *L, ps_int p, const double *n, d
   }
 }
 
-/* the rows of restricted_all that p keeps (L->rkeep), moved to the front
- * of v (n entries in all) */
-static void keep_rows(const balance_layout *L, ps_int p, int n, double *v) {
-  int k = 0;
-  for (int j = 0; j < n; j++)
-    if (L->rkeep[p] >> j & 1u) v[k++] = v[j];
-}
-
-/* restricted_all's rows that p keeps: of several states' rows some are
- * linearly dependent (three states at a face give 21 rows, all quartic
- * forms of n, a space of 15 dimensions in 3D), and a dependent row would
- * make p's block of the multipliers' system singular; select_rows keeps
- * an independent subset, whose targets hold the dropped rows' too (every
- * row's target is that row applied to the isotropic moment) */
-static void restricted_energy(const balance_layout *L, ps_int p, const double *n, double *m,
-                              double *c) {
-  int nr = L->ns[p] * restricted_rows(L);
-  restricted_all(L, p, n, m, c);
-  if (m) keep_rows(L, p, nr, m);
-  if (c) keep_rows(L, p, nr, c);
-}
-
-/* The rows of restricted_all for particle p that are linearly independent
- * as functions of the direction (forms of degree order on the unit
- * sphere, told apart by their values at 64 fixed directions spread over
- * it, 2D: 24 on the circle), by Gram-Schmidt in order, a row kept when
- * more than 1e-6 of its norm is left; returns the bit mask. */
-static uint32_t select_rows(const balance_layout *L, ps_int p) {
+/* 1 when the restricted rows of particle p (restricted_energy) are
+ * linearly independent as functions of the direction and fewer than the
+ * moment's nE, so that p's block of the multipliers' system is regular
+ * and p is not asked for the moment it could not carry. The rows are
+ * forms of degree order on the unit sphere, told apart by their values at
+ * 64 fixed directions spread over it (2D: 24 on the circle); Gram-Schmidt
+ * in order, a row dependent when less than 1e-6 of its norm is left. In
+ * 3D an edge's rows (one state) are independent, and a face's (three
+ * states: 21 rows of the fibre model, 18 of the state model, quartic
+ * forms in a space of 15 dimensions) span the whole moment: a partly
+ * matched particle at a face stays out of the stage. */
+static int rows_independent(const balance_layout *L, ps_int p) {
   enum { NS = 64 };
   int nr = L->ns[p] * restricted_rows(L), ns = L->N == 2 ? 24 : NS;
+  if (nr >= L->nE) return 0;
   double F[MAXE][NS], Q[MAXE][NS];
   for (int s = 0; s < ns; s++) {
     double n[3] = {0, 0, 0}, m[MAXE];
@@ -313,44 +287,37 @@ static uint32_t select_rows(const balance_layout *L, ps_int p) {
       double z = 1.0 - (2.0 * s + 1.0) / ns, r = sqrt(1.0 - z * z), a = 2.399963229728653 * s;
       n[0] = r * cos(a), n[1] = r * sin(a), n[2] = z;
     }
-    restricted_all(L, p, n, m, NULL);
+    restricted_energy(L, p, n, m, NULL);
     for (int j = 0; j < nr; j++) F[j][s] = m[j];
   }
-  uint32_t keep = 0;
-  int nq = 0;
   for (int j = 0; j < nr; j++) {
     double norm0 = 0.0, norm = 0.0;
     for (int s = 0; s < ns; s++) norm0 += F[j][s] * F[j][s];
-    for (int k = 0; k < nq; k++) {
+    for (int k = 0; k < j; k++) {
       double d = 0.0;
       for (int s = 0; s < ns; s++) d += Q[k][s] * F[j][s];
       for (int s = 0; s < ns; s++) F[j][s] -= d * Q[k][s];
     }
     for (int s = 0; s < ns; s++) norm += F[j][s] * F[j][s];
-    if (!(norm > 1e-12 * norm0)) continue;
-    for (int s = 0; s < ns; s++) Q[nq][s] = F[j][s] / sqrt(norm);
-    nq++;
-    keep |= 1u << j;
+    if (!(norm > 1e-12 * norm0)) return 0;
+    for (int s = 0; s < ns; s++) Q[j][s] = F[j][s] / sqrt(norm);
   }
-  return keep;
+  return 1;
 }
 
 /* the fixed part of the restricted rows (code 5, order 4, with kfix) from
  * p's half-arm h of length r0 in direction n: kfix_h r0 tr e_q n n per
  * state q (the state model's dilatation force in its half-arm virial
- * stress), added to M (p's kept rows) */
+ * stress), added to M */
 static void fixed_energy(const balance_layout *L, const unsigned char *matched, ps_int p,
                          ps_int h, double r0, const double *n, double *M) {
   if (!L->kfix || L->order != 4 || matched[p] != 5) return;
   int N = L->N, j = 0;
-  double v[MAXE];
   for (int q = 0; q < L->ns[p]; q++) {
     double s = L->kfix[h] * r0 * state_trace(L, p, q);
     for (int a = 0; a < N; a++)
-      for (int b = a; b < N; b++, j++) v[j] = s * n[a] * n[b];
+      for (int b = a; b < N; b++, j++) M[j] += s * n[a] * n[b];
   }
-  keep_rows(L, p, j, v);
-  for (int k = 0; k < energy_rows(matched, p, L); k++) M[k] += v[k];
 }
 
 /* the energy rows' coefficients of an arm of particle p with direction n
@@ -944,7 +911,6 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
   double *u = ps_calloc((size_t)(3 * np), sizeof *u, ctx);
   unsigned char *code2 = ps_calloc((size_t)np, 1, ctx), *bal2 = ps_calloc((size_t)np, 1, ctx);
   L.ns = ps_calloc((size_t)np, 1, ctx);
-  L.rkeep = ps_calloc((size_t)np, sizeof *L.rkeep, ctx);
   L.seps = surf ? ps_calloc((size_t)(27 * np), sizeof *L.seps, ctx) : NULL;
   L.type = bal;
   L.order = order;
@@ -956,7 +922,7 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
   L.coff = ps_calloc((size_t)(2 * na + np), sizeof *L.coff, ctx);
   ps_moduli_stats s;
   int status = PS_ERR_NOMEM;
-  if (!code || !bal || !cut || !pinned || !ks || !u || !code2 || !bal2 || !L.ns || !L.rkeep ||
+  if (!code || !bal || !cut || !pinned || !ks || !u || !code2 || !bal2 || !L.ns ||
       (surf && !L.seps) || !local || !L.row0 || !L.coff)
     goto done;
   status = local_factors(P, net, order, w, target, local, &s, code, ctx);
@@ -1019,20 +985,21 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
     failed |= status > 0;
   }
   /* stage 2, with surf: the matched particles near a surface get its
-   * states, and so do (order 4) the partly matched ones, whose energy is
-   * then matched under those states only (restricted_energy); the factors
-   * of the interior (type 1) stay as stage 1 left them */
+   * states (force rows; not with energy_only), and so do the partly
+   * matched ones, whose energy is then matched under those states only
+   * (restricted_energy); the factors of the interior (type 1) stay as
+   * stage 1 left them. (With the state model's two factor sets the
+   * surface particles and normals come from each set's own weights, ks xi
+   * and ks xi^2: on a lattice they agree by symmetry, on a cloud the
+   * deviatoric stage's states may differ slightly from those the
+   * dilatation was matched under.) */
   int any = 0, eonly = surf && surf->energy_only;
   for (ps_int a = 0; surf && a < np; a++)
     if (!bal[a] && cut[a] && (code[a] == 2 || (code[a] == 1 && !eonly))) {
       L.ns[a] = (unsigned char)surface_states(net, u, a, surf, &L);
-      /* a partly matched particle whose states' rows span the whole
-       * moment (three states at a face, on a cloud) would be asked for
-       * the moment it could not carry: it stays out */
-      if (L.ns[a] && code[a] == 2) {
-        L.rkeep[a] = select_rows(&L, a);
-        if (bits_set(L.rkeep[a]) >= L.nE) L.ns[a] = 0;
-      }
+      /* a partly matched particle joins only with independent rows that
+       * do not span the whole moment (not at a 3D face: rows_independent) */
+      if (L.ns[a] && code[a] == 2 && !rows_independent(&L, a)) L.ns[a] = 0;
       if (L.ns[a]) bal[a] = 2, any = 1;
     }
   if (any) {
@@ -1067,10 +1034,10 @@ int ps_moduli_balance(const ps_particles *P, const ps_network *net, int order,
   if (failed) {
     s.balance_passes = -s.balance_passes;
     ps_log(ctx, 1,
-           "# warning: material.surface_correction: the arm forces could not be balanced "
-           "on this cloud (order %d, %d solves); each particle keeps its own energy match "
+           "# warning: material.surface_correction: the %s could not be balanced on "
+           "this cloud (order %d, %d solves); each particle keeps its own energy match "
            "and the moduli may be up to ~1.5%% soft (doc/moduli.md)\n",
-           order, -s.balance_passes);
+           eonly ? "factors at the surface" : "arm forces", order, -s.balance_passes);
   }
   s.n_balanced = s.n_surface = 0;
   for (ps_int a = 0; !failed && a < np; a++) {
@@ -1095,7 +1062,6 @@ done:
   free(code2);
   free(bal2);
   free(L.ns);
-  free(L.rkeep);
   free(L.seps);
   free(local);
   free(L.row0);

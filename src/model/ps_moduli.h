@@ -49,8 +49,10 @@ typedef struct ps_moduli_stats {
   double phi_min, phi_max; /* over the half-arms with w > 0 */
   ps_int n_balanced; /* particles whose force moment is balanced
                         (ps_moduli_balance) */
-  ps_int n_surface;  /* particles near a surface whose forces under its
-                        traction-free states are balanced */
+  ps_int n_surface;  /* particles near a surface in the second stage:
+                        their forces under its traction-free states are
+                        balanced (with energy_only: their factors are
+                        matched under those states) */
   int balance_passes;/* solves made; negative: the balance was given up
                         and the local factors kept */
   ps_int balance_iterations; /* CG iterations of those solves (3D) */
@@ -132,10 +134,11 @@ int ps_moduli_factors(const ps_particles *P, const ps_network *net, int order,
  * stress the continuum's (N(N+1)/2 rows, with the kfix part's) and,
  * without kfix, its mean strain tr e / N (1 row more); order 2, its
  * second moment under e, sum_b w phi n.e.n = t tr e (the state model's
- * dilatation, 1 row). A direction is normal to the nearby faces when the
- * surface particles' normals put more than a quarter of the largest
- * eigenvalue, or a tenth of the trace, of sum u u^T on it (at a corner
- * all N are). */
+ * dilatation, 1 row); one whose rows are dependent or span the whole
+ * moment (three states at a 3D face) stays out. A direction is normal to
+ * the nearby faces when the surface particles' normals put more than a
+ * quarter of the largest eigenvalue, or a tenth of the trace, of sum u
+ * u^T on it (at a corner all N are). */
 typedef struct ps_moduli_surface {
   double K, G, beta;
   /* [2 n_arm] or NULL: half-arm stiffnesses (in k's units) of a part of

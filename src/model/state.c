@@ -34,9 +34,10 @@
  * under homogeneous strain is the continuum's; on clouds both sets of
  * factors also balance the arm forces under it in the interior
  * (ps_moduli_balance: the homogeneous state is an equilibrium), and the
- * phi balance the surface layer, with the psi part's force held (at a 3D
- * edge, whose family cannot carry the isotropic moments, psi and phi are
- * matched under the edge's stress state only). */
+ * phi balance the surface layer, with the psi part's force held (a partly
+ * matched family near a surface, such as a 3D edge's, which cannot carry
+ * the isotropic moments, gets psi and phi matched under its surface
+ * states only). */
 #include "ps_model.h"
 #include "ps_moduli.h"
 
@@ -87,9 +88,9 @@ static int state_correct(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
   /* the dilatation first: weights ks xi, second moment V_a/d delta; its
    * arm force 2 a d (ks'_a + ks'_b) tr eps is balanced in the interior by
    * the first moment of ks'_a + ks'_b, ks' = ks psi; a partly matched
-   * family near a surface (a 3D edge) gets the dilatation right under the
-   * surface's states only (energy_only: the surface's force is balanced
-   * with the phi below) */
+   * family near a surface (a 3D edge; in 2D a few near corners) gets the
+   * dilatation right under the surface's states only (energy_only: the
+   * surface's force is balanced with the phi below) */
   for (ps_int h = 0; h < 2 * na; h++) {
     w[h] = ks[h] * net->r0[h < na ? h : h - na];
     kf[h] = ks[h];

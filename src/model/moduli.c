@@ -618,15 +618,22 @@ static int balance_solve(const ps_particles *P, const ps_network *net, const dou
     double cE[MAXE];
     if (ne) energy_coefficients(L, matched, p, NULL, NULL, cE);
     for (int j = 0; j < ne; j++) r[row0[p] + j] = target[p] * cE[j];
-    if (matched[p] != 5 || !L->kfix) continue;
-    double M[MAXE] = {0}, nv[3];
-    for (ps_int q = fp[p]; q < fp[p + 1]; q++) {
-      ps_int i = fa[q];
-      direction(P, net, i, p, nv);
-      fixed_energy(L, matched, p, net->a[i] == p ? i : na + i, net->r0[i], nv, M);
-    }
-    for (int j = 0; j < ne; j++) r[row0[p] + j] -= M[j];
   }
+  if (L->kfix) /* the fixed part (surf->kfix): of the restricted rows
+                 (fixed_energy) and of the surface force rows (fixed_force) */
+    for (ps_int p = 0; p < np; p++) {
+      int ne = energy_rows(matched, p, L), nf = force_rows(L, p);
+      if (matched[p] != 5 && (L->type[p] != 2 || !nf)) continue;
+      double M[MAXE] = {0}, f[MAXMONO] = {0}, nv[3];
+      for (ps_int q = fp[p]; q < fp[p + 1]; q++) {
+        ps_int i = fa[q];
+        direction(P, net, i, p, nv);
+        fixed_energy(L, matched, p, net->a[i] == p ? i : na + i, net->r0[i], nv, M);
+        fixed_force(L, p, i, na, nv, f);
+      }
+      for (int j = 0; j < ne; j++) r[row0[p] + j] -= M[j]; /* 0 unless code 5 */
+      for (int j = 0; j < nf; j++) r[row0[p] + ne + j] -= f[j];
+    }
   for (ps_int h = 0; h < 2 * na; h++) {
     if (!(w[h] > 0)) continue;
     half_arm c;
@@ -635,17 +642,6 @@ static int balance_solve(const ps_particles *P, const ps_network *net, const dou
     for (int j = 0; j < c.ka; j++) r[c.ra + j] -= ph * c.ua[j];
     for (int j = 0; j < c.kb; j++) r[c.rb + j] -= ph * c.vb[j];
   }
-  if (L->kfix) /* the fixed part of the arm forces (surf->kfix) */
-    for (ps_int p = 0; p < np; p++) {
-      int nf = force_rows(L, p);
-      if (L->type[p] != 2 || !nf) continue;
-      double *rp = r + row0[p] + energy_rows(matched, p, L), f[MAXMONO] = {0}, nv[3];
-      for (ps_int q = fp[p]; q < fp[p + 1]; q++) {
-        direction(P, net, fa[q], p, nv);
-        fixed_force(L, p, fa[q], na, nv, f);
-      }
-      for (int j = 0; j < nf; j++) rp[j] -= f[j];
-    }
   if (!ls) {
     status = balance_pcg(P, net, w, k, matched, pinned, L, r, lam, warm && keep, its, ctx);
     if (status != PS_OK) goto done;

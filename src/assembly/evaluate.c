@@ -244,13 +244,13 @@ static void add_direction_along(ps_system *s, ps_int a, const double *v) {
 static const double axes[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
 
 /* free_body[a] and free_proj (the number of loose directions of a and the
- * projector onto them) from the tangent's arm data; returns how many
- * particles have any */
-static ps_int mark_free_bodies(ps_system *s, const ps_arm_state *st) {
+ * projector onto them) from the tangent's arm data, for particles
+ * [a0, a1); returns how many of them have any */
+static ps_int mark_free_range(ps_system *s, const ps_arm_state *st, ps_int a0, ps_int a1) {
   const ps_network *net = s->net;
   const int d = s->dim;
   ps_int any_free = 0;
-  for (ps_int a = 0; a < net->n_particle; a++) {
+  for (ps_int a = a0; a < a1; a++) {
     double B[9] = {0}, kmat[9], *P = &s->free_proj[(ps_int)d * d * a];
     int n = 0;
     for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
@@ -281,6 +281,30 @@ static ps_int mark_free_bodies(ps_system *s, const ps_arm_state *st) {
       if (fabs(lam[e]) <= PS_LOOSE_TOL * big) add_direction(s, a, &vec[e * d], 1.0);
     any_free += s->free_body[a] > 0;
   }
+  return any_free;
+}
+
+typedef struct {
+  ps_system *s;
+  const ps_arm_state *st;
+  ps_int n_free[PS_PARTS_MAX];
+} free_job;
+
+static void free_part(void *arg, int part) {
+  free_job *j = arg;
+  ps_int a0, a1;
+  ps_asm_part_range(j->s->net->n_particle, part, j->s->parts, &a0, &a1);
+  j->n_free[part] = mark_free_range(j->s, j->st, a0, a1);
+}
+
+/* mark_free_range over every particle, in the system's parts (each
+ * particle's own data: the same marks on any number of threads); returns
+ * how many particles have a loose direction */
+static ps_int mark_free_bodies(ps_system *s, const ps_arm_state *st) {
+  free_job j = {s, st, {0}};
+  ps_team_run(s->team, s->parts, free_part, &j);
+  ps_int any_free = 0;
+  for (int p = 0; p < s->parts; p++) any_free += j.n_free[p];
   return any_free;
 }
 

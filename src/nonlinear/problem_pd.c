@@ -26,7 +26,7 @@ static int pd_evaluate(void *prob, const double *u, double *f, double *energy,
       f[j] -= pd->lambda * pd->fext[j];
       *energy -= pd->lambda * pd->fext[j] * u[j];
     }
-  if (status == PS_OK) pd->dissipation_step = ps_pd_dissipation(pd, NULL);
+  if (status == PS_OK) pd->dissipation_valid = 0; /* ps_pd_step_dissipation */
   pd->t_assembly += ps_wtime() - t;
   return status;
 }
@@ -102,6 +102,7 @@ int ps_pd_create(ps_pd **out, const ps_particles *P, const ps_network *net,
   pd->P = P;
   pd->net = net;
   pd->matrix_free = matrix_free;
+  pd->dissipation_valid = 1; /* dissipation_step 0 before any evaluation */
   PS_CHECK_GOTO(ps_model_create(&pd->model, type, P, net, mat, ctx));
   PS_CHECK_GOTO(ps_system_create_pattern(&pd->sys, net, fixed, type->family_coupling, ctx));
   PS_CHECK_GOTO(ps_arm_state_alloc(&pd->st, net->n_arm, ctx));
@@ -151,6 +152,19 @@ double ps_pd_dissipation(const ps_pd *pd, double *g) {
       }
   }
   return D;
+}
+
+double ps_pd_step_dissipation(ps_pd *pd) {
+  if (!pd->dissipation_valid) {
+    pd->dissipation_step = ps_pd_dissipation(pd, NULL);
+    pd->dissipation_valid = 1;
+  }
+  return pd->dissipation_step;
+}
+
+void ps_pd_step_committed(ps_pd *pd) {
+  pd->dissipation_step = 0.0;
+  pd->dissipation_valid = 1;
 }
 
 int ps_pd_break_arms(ps_pd *pd, ps_int max_count, ps_int *n_broken, ps_ctx *ctx) {

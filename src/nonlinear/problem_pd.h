@@ -27,7 +27,10 @@ typedef struct ps_pd {
   const double *fext;         /* [n_dof] external forces at load factor 1,
                                  zero on prescribed dofs, or NULL; not owned */
   double t_assembly;          /* wall seconds in evaluation and assembly */
-  double dissipation_step;    /* ps_pd_dissipation at the last evaluation */
+  double dissipation_step;    /* ps_pd_dissipation at the last evaluation,
+                                 when dissipation_valid (else not yet
+                                 computed: ps_pd_step_dissipation) */
+  int dissipation_valid;
 } ps_pd;
 
 /* Create the problem: the model of `type` on the network, the system's
@@ -59,6 +62,19 @@ void ps_pd_restore(ps_pd *pd);
  * respect to the displacements there, g[n_dof] = sum_i dD_i/ddl_i
  * ddl_i/du (loading arms only). */
 double ps_pd_dissipation(const ps_pd *pd, double *g);
+
+/* ps_pd_dissipation(pd, NULL) at the last evaluation (0 before the
+ * first, and after ps_pd_step_committed), computed at the first request
+ * after each evaluation and kept: an evaluation only marks it stale, so
+ * the line search's trial evaluations do not pay for a sum over every
+ * arm. Nothing may change the arm states or the arm elongations between
+ * an evaluation and the request but another evaluation (a break or a
+ * restore is always followed by one before the value is read). */
+double ps_pd_step_dissipation(ps_pd *pd);
+
+/* the committed state dissipates nothing from itself: the step's
+ * dissipation becomes 0 (ps_solver_commit) */
+void ps_pd_step_committed(ps_pd *pd);
 
 /* one round of the model's breaking rule (Eq. 118) on the trial states:
  * at most max_count arms, *n_broken of them. Returns the model's status. */

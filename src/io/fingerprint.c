@@ -17,7 +17,7 @@ static void fnv(uint64_t *h, const char *s) { ps_fnv1a(h, s, strlen(s)); }
  * the Newton tolerance), so that `griffith --resume` does not reuse runs
  * of an older algorithm. What each version changed:
  * doc/algorithm-versions.md. */
-#define PS_ALGORITHM_VERSION 8
+#define PS_ALGORITHM_VERSION 9
 
 /* What enters the hash, as "%.17g" text (every double exactly): the
  * algorithm version; the geometry (a cloud's or mesh's file name, not its

@@ -10,7 +10,12 @@
  *   2. (models with family terms) CG preconditioned by a fresh factor of
  *      the one-horizon majorant P >= K (the problem's assemble with
  *      majorant 1; for peridynamics ps_system_assemble_majorant, whose
- *      spectrum bound is in ps_assembly.h);
+ *      spectrum bound is in ps_assembly.h). Such a model's first Newton
+ *      system is solved this way too, and the majorant's factor is made
+ *      again once lagging it has cost more than a new one
+ *      (lagging_costs_more): its factor is 2-3x smaller than K's, so its
+ *      solves are that much cheaper, and CG needs only a few more
+ *      iterations with it;
  *   3. a fresh factor of K itself, by UMFPACK where CHOLMOD finds K not
  *      positive definite;
  * and, when du points uphill in energy (K indefinite), the shifted
@@ -104,6 +109,7 @@ static int pcg(ps_solver *s, ps_linsolve *ls, int maxit, int *its, ps_ctx *ctx) 
                                s->pcg_work, its, ctx);
   s->t_pcg += ps_wtime() - t0;
   s->pcg_iterations += *its;
+  if (s->solves_since_factor == 0) s->its_fresh = *its;
   s->its_since_factor += *its;
   s->solves_since_factor++;
   return status;
@@ -196,17 +202,30 @@ static int old_factor_cap(const ps_solver *s) {
   return maxit;
 }
 
-/* 1 when keeping the old factor has cost more than a new one (no
- * majorant): a fresh factor of the current tangent solves in one CG
- * iteration, so the iterations beyond one per solve since the last
- * factorisation are what lagging it cost; once they are more than a
- * factorisation's worth (factor_in_iterations), refactor. (A crack that runs changes the tangent a
- * little at every breaking round: each CG stays under the cap of
- * old_factor_cap, yet the rounds add up.) */
+/* 1 when keeping the old factor has cost more than a new one. A fresh
+ * factor of the current tangent solves in one CG iteration, so the
+ * iterations beyond one per solve since the last factorisation are what
+ * lagging it cost; once they are more than a factorisation's worth
+ * (factor_in_iterations), refactor. (A crack that runs changes the
+ * tangent a little at every breaking round: each CG stays under the cap
+ * of old_factor_cap, yet the rounds add up.) With a majorant the new
+ * factor is the majorant's (solve_with_old_factor), and a majorant's
+ * factor is lagged by the same rule with two changes: a fresh one solves
+ * in the iterations of its first solve (s->its_fresh), which are the
+ * baseline of its excess instead of one; and its solves run in single
+ * precision from the first (half the bytes of the double solves that
+ * factor_in_iterations counts), so it is worth twice the iterations. An
+ * UMFPACK or LDL^T factor beside a majorant is not lagged by this rule
+ * (CG's cap and a fresh majorant factor decide, old_factor_cap). */
 static int lagging_costs_more(const ps_solver *s) {
   const ps_linsolve_stats *ls = &s->ls_last->stats;
-  if (s->have_majorant || ls->n_factor == 0) return 0;
-  return (double)(s->its_since_factor - s->solves_since_factor) > factor_in_iterations(ls);
+  if (ls->n_factor == 0) return 0;
+  if (!s->have_majorant || s->ls_last == &s->ls)
+    return (double)(s->its_since_factor - s->solves_since_factor) > factor_in_iterations(ls);
+  if (s->ls_last != &s->ls_pre) return 0;
+  ps_int base = s->its_fresh > 1 ? s->its_fresh : 1;
+  double worth = factor_in_iterations(ls) * (s->ls_pre.single_precision ? 2.0 : 1.0);
+  return (double)(s->its_since_factor - s->solves_since_factor * base) > worth;
 }
 
 /* Steps 1 and 2 of the strategy. Returns PS_OK (du found), PS_DIVERGED
@@ -227,7 +246,7 @@ static int solve_with_old_factor(ps_solver *s, ps_ctx *ctx) {
     s->pcg_skipped++;
     ps_log(ctx, 2, "    CG with the old factor has cost more than a factorisation since "
                    "it was made: refactoring\n");
-    return PS_DIVERGED;
+    return s->have_majorant ? solve_by_majorant(s, ctx) : PS_DIVERGED;
   }
   int its;
   int status = pcg(s, (ps_linsolve *)s->ls_last, maxit, &its, ctx);
@@ -248,6 +267,12 @@ static int solve_with_old_factor(ps_solver *s, ps_ctx *ctx) {
 }
 
 int ps_nl_direction(ps_solver *s, ps_ctx *ctx) {
+  /* with a majorant, its factor preconditions from the first system on
+   * (the tangent's factor at rest only proved the supports) */
+  if (s->opts.reuse_factor && s->have_majorant && s->ls_pre.stats.n_factor == 0) {
+    int status = solve_by_majorant(s, ctx);
+    if (status <= 0) return status;
+  }
   if (s->opts.reuse_factor && s->have_factor) {
     int status = solve_with_old_factor(s, ctx);
     if (status <= 0) return status;

@@ -216,9 +216,10 @@ cleanup:
 void ps_solver_commit(ps_solver *s) {
   /* the committed state dissipates nothing from itself: the incremental
    * energy there is the stored one */
-  s->dissipated += s->pd->dissipation_step;
-  s->energy -= s->pd->dissipation_step;
-  s->pd->dissipation_step = 0.0;
+  double D = ps_pd_step_dissipation(s->pd);
+  s->dissipated += D;
+  s->energy -= D;
+  ps_pd_step_committed(s->pd);
   ps_pd_commit(s->pd);
   memcpy(s->u_saved, s->u, (size_t)s->prob.n_dof * sizeof *s->u);
   s->lambda_saved = s->pd->lambda;
@@ -506,7 +507,7 @@ static int dissipation_correct(ps_solver *s, void *data, const double *dr, const
  * in steps of that arm's share */
 static int dissipation_holds(ps_solver *s, void *data) {
   const dissipation_constraint *c = data;
-  return fabs(s->pd->dissipation_step - c->tau) <= 1e-2 * fabs(c->tau);
+  return fabs(ps_pd_step_dissipation(s->pd) - c->tau) <= 1e-2 * fabs(c->tau);
 }
 
 static const step_constraint arc_length_constraint = {arc_predict, arc_correct, arc_holds, 0};
@@ -657,7 +658,7 @@ int ps_solver_dissipation_step(ps_solver *s, double tau, ps_ctx *ctx) {
 
 double ps_solver_dissipated(const ps_solver *s) { return s->dissipated; }
 
-double ps_solver_step_dissipation(const ps_solver *s) { return s->pd->dissipation_step; }
+double ps_solver_step_dissipation(const ps_solver *s) { return ps_pd_step_dissipation(s->pd); }
 
 int ps_solver_break_round(ps_solver *s, ps_int max_count, ps_int *n_broken,
                           ps_ctx *ctx) {
@@ -703,7 +704,7 @@ int ps_solver_evaluate(ps_solver *s, ps_ctx *ctx) {
 }
 
 double ps_solver_stored_energy(const ps_solver *s) {
-  double psi = s->energy - s->pd->dissipation_step;
+  double psi = s->energy - ps_pd_step_dissipation(s->pd);
   if (s->pd->fext)
     for (ps_int j = 0; j < s->pd->sys.n_dof; j++) psi += s->pd->lambda * s->pd->fext[j] * s->u[j];
   return psi;
@@ -809,6 +810,7 @@ int ps_solver_state_list(ps_solver *s, ps_state_list *l, ps_ctx *ctx) {
   PS_ITEM("pcg_skipped", s->pcg_skipped);
   PS_ITEM("its_since_factor", s->its_since_factor);
   PS_ITEM("solves_since_factor", s->solves_since_factor);
+  PS_ITEM("its_fresh", s->its_fresh);
   PS_ITEM("pre_failures", s->pre_failures);
   PS_ITEM("pcg_truncated", s->pcg_truncated);
   PS_ITEM("n_handovers", s->n_handovers);
@@ -818,6 +820,7 @@ int ps_solver_state_list(ps_solver *s, ps_state_list *l, ps_ctx *ctx) {
   PS_ITEM("last_reason", s->last_reason);
   PS_ITEM("last_iterations", s->last_iterations);
   PS_ITEM("last_residual", s->last_residual);
+  ps_pd_step_dissipation(s->pd); /* computed before it is written (or read over) */
   PS_ITEM("pd.dissipation_step", s->pd->dissipation_step);
   PS_ITEM("pd.t_assembly", s->pd->t_assembly);
   PS_CHECK(ps_state_add(l, "pd.arm_state_at_factor", s->pd->arm_state_at_factor, na + 1, ctx));

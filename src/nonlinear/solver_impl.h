@@ -82,6 +82,7 @@ struct ps_solver {
                                more than a new one */
   ps_int its_since_factor, solves_since_factor; /* CG with the current
                                factor: iterations and solves */
+  ps_int its_fresh;         /* CG iterations of the first solve with it */
   ps_int pre_failures;      /* CG with a fresh majorant factor that failed */
   ps_int pcg_truncated;     /* Newton directions from CG truncated at
                                negative curvature (opts.cg_truncate) */

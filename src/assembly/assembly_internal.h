@@ -20,12 +20,6 @@
  * (ps_asm_add_parts), so the sums are formed in the same order on any
  * number of threads. */
 
-/* [*lo, *hi): part `part`'s share of n items in `parts` parts */
-static inline void ps_asm_part_range(ps_int n, int part, int parts, ps_int *lo, ps_int *hi) {
-  *lo = n * part / parts;
-  *hi = n * (part + 1) / parts;
-}
-
 /* y[n_dof] += the sums of parts 1 .. parts - 1 in out[(parts - 1) n_dof],
  * y_k = ((y_k + out_1,k) + out_2,k) + ... for each k: the same numbers
  * however the dofs are shared among the team (evaluate.c) */

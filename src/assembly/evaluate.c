@@ -132,7 +132,7 @@ static void arm_tangent(eval_job *j, ps_int i0, ps_int i1) {
 static void eval_part(void *arg, int part) {
   eval_job *j = arg;
   ps_int i0, i1;
-  ps_asm_part_range(j->s->net->n_arm, part, j->s->parts, &i0, &i1);
+  ps_part_range(j->s->net->n_arm, part, j->s->parts, &i0, &i1);
   if (j->phase == 0)
     arm_geometry(j, part, i0, i1);
   else {
@@ -177,7 +177,7 @@ static void gradient_part(void *arg, int part) {
   eval_job *j = arg;
   ps_system *s = j->s;
   ps_int c0, c1;
-  ps_asm_part_range(s->net->n_particle, part, s->parts, &c0, &c1);
+  ps_part_range(s->net->n_particle, part, s->parts, &c0, &c1);
   for (ps_int c = c0; c < c1; c++)
     for (int term = 0; term < 2; term++) {
       double cc = term == 0 ? s->tan.c[c] : s->tan.c2[c];
@@ -293,7 +293,7 @@ typedef struct {
 static void free_part(void *arg, int part) {
   free_job *j = arg;
   ps_int a0, a1;
-  ps_asm_part_range(j->s->net->n_particle, part, j->s->parts, &a0, &a1);
+  ps_part_range(j->s->net->n_particle, part, j->s->parts, &a0, &a1);
   j->n_free[part] = mark_free_range(j->s, j->st, a0, a1);
 }
 
@@ -486,7 +486,7 @@ static void add_part(void *arg, int part) {
   const add_job *j = arg;
   const ps_system *s = j->s;
   ps_int k0, k1;
-  ps_asm_part_range(s->n_dof, part, s->parts, &k0, &k1);
+  ps_part_range(s->n_dof, part, s->parts, &k0, &k1);
   size_t n = (size_t)s->n_dof;
   for (ps_int k = k0; k < k1; k++) {
     double v = j->y[k];

@@ -97,8 +97,8 @@ static void apply_part(void *arg, int part) {
   const apply_job *j = arg;
   const ps_system *s = j->s;
   ps_int i0, i1, c0, c1;
-  ps_asm_part_range(s->net->n_arm, part, s->parts, &i0, &i1);
-  ps_asm_part_range(s->net->n_particle, part, s->parts, &c0, &c1);
+  ps_part_range(s->net->n_arm, part, s->parts, &i0, &i1);
+  ps_part_range(s->net->n_particle, part, s->parts, &c0, &c1);
   double *y = part == 0 ? j->y : s->yw_part + (size_t)(part - 1) * (size_t)s->n_dof;
   if (s->dim == 2) /* constant loop bounds, unrolled */
     apply_terms_dim(s, j->x, y, i0, i1, c0, c1, 2);

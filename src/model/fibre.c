@@ -42,10 +42,11 @@ static inline double side_weight(const ps_model *m, ps_int i, ps_int p) {
 }
 
 /* R_a = sum_b A_ab r0 and the mean strain epsbar_a over a's intact arms,
- * into m->R and m->epsbar */
-static void mean_strains(const ps_model *m, const double *dl, const ps_arm_state *st) {
+ * into m->R and m->epsbar, for particles [a0, a1) */
+static void mean_strains_range(const ps_model *m, const double *dl, const ps_arm_state *st,
+                               ps_int a0, ps_int a1) {
   const ps_network *net = m->net;
-  for (ps_int a = 0; a < net->n_particle; a++) {
+  for (ps_int a = a0; a < a1; a++) {
     double Ra = 0.0, num = 0.0;
     for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
       ps_int i = net->fam_arm[k];
@@ -59,41 +60,77 @@ static void mean_strains(const ps_model *m, const double *dl, const ps_arm_state
   }
 }
 
+static void mean_strains(const ps_model *m, const double *dl, const ps_arm_state *st) {
+  mean_strains_range(m, dl, st, 0, m->net->n_particle);
+}
+
 static int fibre_evaluate_deviatoric(const ps_model *m, const double *dl, ps_arm_state *st,
                                      double *T, double *energy, ps_arm_tangent *tan);
 
-static int fibre_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
-                          double *T, double *energy, ps_arm_tangent *tan,
-                          ps_ctx *ctx) {
-  (void)ctx;
-  if (m->mat.yield_rule == PS_YIELD_DEVIATORIC)
-    return fibre_evaluate_deviatoric(m, dl, st, T, energy, tan);
+/* one evaluate of the (default) fibre model, split into the model's
+ * parts: particles, then arms */
+typedef struct {
+  const ps_model *m;
+  const double *dl;
+  ps_arm_state *st;
+  double *T;
+  ps_arm_tangent *tan;
+  double psi[PS_PARTS_MAX]; /* each part's energy: the particles' terms
+                               (phase 0), the arms' (phase 1) */
+  double psi_arm[PS_PARTS_MAX];
+} fibre_job;
+
+/* particles [a0, a1) of one part: R_a and epsbar_a, their energy
+ * 1/2 (N K - G(N+2)) R_a epsbar_a^2, and the tangent's family terms: c_a
+ * = (N K - G(N+2)) / R_a with the side weights w of a's intact arms */
+static void fibre_particles(void *arg, int part) {
+  fibre_job *j = arg;
+  const ps_model *m = j->m;
+  const ps_network *net = m->net;
+  ps_int a0, a1;
+  ps_part_range(net->n_particle, part, m->parts > 1 ? m->parts : 1, &a0, &a1);
+  double Kc = net->dim * m->mat.K - m->mat.G * (net->dim + 2), psi = 0.0;
+  mean_strains_range(m, j->dl, j->st, a0, a1);
+  for (ps_int a = a0; a < a1; a++) {
+    double R = m->R[a], eb = m->epsbar[a];
+    psi += 0.5 * Kc * R * eb * eb;
+    if (!j->tan) continue;
+    j->tan->c[a] = R > 0 ? Kc / R : 0.0;
+    for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
+      ps_int i = net->fam_arm[k];
+      j->tan->w[k] = j->st->broken[i] ? 0.0 : side_weight(m, i, a);
+    }
+  }
+  j->psi[part] = psi;
+}
+
+/* arms [i0, i1) of one part: the return mapping (Eq. 111), the tension
+ * (Eq. 110, 70), the arm's energy and stiffness */
+static void fibre_arms(void *arg, int part) {
+  fibre_job *j = arg;
+  const ps_model *m = j->m;
   const ps_network *net = m->net;
   const ps_material *mat = &m->mat;
+  ps_arm_state *st = j->st;
+  ps_arm_tangent *tan = j->tan;
   int N = net->dim;
   double Gc = mat->G * (N + 2);      /* G(N+2) */
   double Kc = N * mat->K - Gc;       /* N K - G(N+2) */
-  double ey = mat->yield_strain;
+  double ey = mat->yield_strain, psi = 0.0;
   int plastic = mat->plastic;
-  double *R = m->R, *eb = m->epsbar;
-  double psi = 0.0;
-
-  mean_strains(m, dl, st);
-  for (ps_int a = 0; a < net->n_particle; a++) {
-    psi += 0.5 * Kc * R[a] * eb[a] * eb[a];
-    if (tan) tan->c[a] = R[a] > 0 ? Kc / R[a] : 0.0;
-  }
-
-  for (ps_int i = 0; i < net->n_arm; i++) {
+  const double *eb = m->epsbar;
+  ps_int i0, i1;
+  ps_part_range(net->n_arm, part, m->parts > 1 ? m->parts : 1, &i0, &i1);
+  for (ps_int i = i0; i < i1; i++) {
     if (st->broken[i]) {
-      T[i] = 0.0;
+      j->T[i] = 0.0;
       st->eps_p_trial[i] = st->eps_p[i];
       st->yielding[i] = 0;
       if (tan) tan->D[i] = 0.0;
       continue;
     }
     double r0 = net->r0[i];
-    double eps = dl[i] / r0;
+    double eps = j->dl[i] / r0;
     double e = eps - st->eps_p[i]; /* trial elastic strain */
     double ee = e;                 /* returned elastic strain */
     int yielding = 0;
@@ -112,15 +149,25 @@ static int fibre_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
     st->yielding[i] = (unsigned char)yielding;
     double Sa = Gc * ee + Kc * eb[net->a[i]]; /* Eq. 110 */
     double Sb = Gc * ee + Kc * eb[net->b[i]];
-    T[i] = w_ab(m, i) * Sa + w_ba(m, i) * Sb; /* Eq. 70 */
+    j->T[i] = w_ab(m, i) * Sa + w_ba(m, i) * Sb; /* Eq. 70 */
     if (tan) tan->D[i] = yielding ? 0.0 : Gc * (w_ab(m, i) + w_ba(m, i)) / r0;
   }
-  if (tan)
-    for (ps_int a = 0; a < net->n_particle; a++)
-      for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
-        ps_int i = net->fam_arm[k];
-        tan->w[k] = st->broken[i] ? 0.0 : side_weight(m, i, a);
-      }
+  j->psi_arm[part] = psi;
+}
+
+static int fibre_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
+                          double *T, double *energy, ps_arm_tangent *tan,
+                          ps_ctx *ctx) {
+  (void)ctx;
+  if (m->mat.yield_rule == PS_YIELD_DEVIATORIC)
+    return fibre_evaluate_deviatoric(m, dl, st, T, energy, tan);
+  int parts = m->parts > 1 ? m->parts : 1;
+  fibre_job j = {m, dl, st, T, tan, {0}, {0}};
+  ps_team_run(m->team, parts, fibre_particles, &j); /* the arms need every epsbar */
+  ps_team_run(m->team, parts, fibre_arms, &j);
+  double psi = 0.0;
+  for (int p = 0; p < parts; p++) psi += j.psi[p];
+  for (int p = 0; p < parts; p++) psi += j.psi_arm[p];
   *energy = psi;
   return PS_OK;
 }

@@ -252,6 +252,11 @@ int ps_model_create(ps_model *m, const ps_model_type *type,
   return PS_OK;
 }
 
+void ps_model_set_team(ps_model *m, ps_team *team, int parts) {
+  m->team = team;
+  m->parts = parts < 1 ? 1 : parts > PS_PARTS_MAX ? PS_PARTS_MAX : parts;
+}
+
 void ps_model_free(ps_model *m) {
   free(m->R);
   free(m->epsbar);

@@ -299,7 +299,17 @@ struct ps_model {
                       psi' and psi'' per half-arm, their family means),
                       else NULL; like R and epsbar, written by evaluate
                       through the const model */
+  ps_team *team;   /* threads for a model's evaluate that splits its
+                      loops (fibre; not owned; NULL: the caller's), in */
+  int parts;       /* parts (0 or 1: one; ps_model_set_team): the
+                      numbers depend on parts, never on the team */
 };
+
+/* Split the loops of m's evaluate into `parts` parts run on `team` (a
+ * model that does not split its loops ignores both): the energy's sums
+ * are then formed part by part in the parts' order, other round-off than
+ * one part's. */
+void ps_model_set_team(ps_model *m, ps_team *team, int parts);
 
 /* The virtual-fibre model: Eq. 110 force flux density with the
  * energy-consistent mean strain epsbar_a = sum_b A_ab r0 eps_ab / sum_b A_ab

@@ -123,7 +123,9 @@ cleanup:
 
 int ps_pd_set_team(ps_pd *pd, ps_team *team, int parts, ps_ctx *ctx) {
   pd->sys.team = team;
-  return ps_system_set_parts(&pd->sys, parts, ctx);
+  PS_CHECK(ps_system_set_parts(&pd->sys, parts, ctx));
+  ps_model_set_team(&pd->model, team, parts);
+  return PS_OK;
 }
 
 void ps_pd_commit(ps_pd *pd) {

@@ -238,6 +238,12 @@ typedef struct ps_team ps_team;
 #define PS_PARTS_DEFAULT 2
 #define PS_PARTS_MAX 64
 
+/* [*lo, *hi): part `part`'s share of n items in `parts` parts */
+static inline void ps_part_range(ps_int n, int part, int parts, ps_int *lo, ps_int *hi) {
+  *lo = n * part / parts;
+  *hi = n * (part + 1) / parts;
+}
+
 /* *team = a team of n_threads members (NULL when n_threads <= 1; fewer
  * members if the system refuses threads). PS_OK or PS_ERR_NOMEM. */
 int ps_team_create(ps_team **team, int n_threads, ps_ctx *ctx);

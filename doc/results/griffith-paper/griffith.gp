@@ -11,5 +11,5 @@ set yrange [0:*]
 plot 'griffith.csv' every ::1 using (strcol(4) eq "yes" ? $2 : 1/0):3 with points pt 7 ps 1.5 title 'fractured', \
      'griffith.csv' every ::1 using (strcol(4) eq "no" ? $2 : 1/0):3 with points pt 6 ps 1.5 title 'no fracture (peak load)', \
      'griffith.csv' every ::1 using (strcol(4) eq "stalled" ? $2 : 1/0):3 with points pt 4 ps 1.5 title 'no fracture: solve stalled (last settled load)', \
-     -0.2880360699 + 57.21968739*x title 'least-squares fit' lw 2, \
+     -0.2880360692 + 57.21968726*x title 'least-squares fit' lw 2, \
      17.84124116*x title 'nominal Griffith sqrt(2/(pi eps_y)) x' dt 2

@@ -75,9 +75,8 @@ typedef struct {
   ps_arm_state *st;
   double *T;
   ps_arm_tangent *tan;
-  double psi[PS_PARTS_MAX]; /* each part's energy: the particles' terms
-                               (phase 0), the arms' (phase 1) */
-  double psi_arm[PS_PARTS_MAX];
+  double psi[PS_PARTS_MAX];     /* each part's energy: its particles' terms */
+  double psi_arm[PS_PARTS_MAX]; /* and its arms' */
 } fibre_job;
 
 /* particles [a0, a1) of one part: R_a and epsbar_a, their energy

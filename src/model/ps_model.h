@@ -299,10 +299,11 @@ struct ps_model {
                       psi' and psi'' per half-arm, their family means),
                       else NULL; like R and epsbar, written by evaluate
                       through the const model */
-  ps_team *team;   /* threads for a model's evaluate that splits its
-                      loops (fibre; not owned; NULL: the caller's), in */
-  int parts;       /* parts (0 or 1: one; ps_model_set_team): the
-                      numbers depend on parts, never on the team */
+  ps_team *team;   /* threads of evaluate for a model that splits its
+                      loops (fibre), not owned; NULL: the calling thread */
+  int parts;       /* the parts of those loops (ps_model_set_team; 0 or
+                      1: one): the numbers depend on the parts, never on
+                      the team */
 };
 
 /* Split the loops of m's evaluate into `parts` parts run on `team` (a

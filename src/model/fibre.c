@@ -75,6 +75,7 @@ typedef struct {
   ps_arm_state *st;
   double *T;
   ps_arm_tangent *tan;
+  int parts;                    /* m->parts, at least 1 */
   double psi[PS_PARTS_MAX];     /* each part's energy: its particles' terms */
   double psi_arm[PS_PARTS_MAX]; /* and its arms' */
 } fibre_job;
@@ -87,7 +88,7 @@ static void fibre_particles(void *arg, int part) {
   const ps_model *m = j->m;
   const ps_network *net = m->net;
   ps_int a0, a1;
-  ps_part_range(net->n_particle, part, m->parts > 1 ? m->parts : 1, &a0, &a1);
+  ps_part_range(net->n_particle, part, j->parts, &a0, &a1);
   double Kc = net->dim * m->mat.K - m->mat.G * (net->dim + 2), psi = 0.0;
   mean_strains_range(m, j->dl, j->st, a0, a1);
   for (ps_int a = a0; a < a1; a++) {
@@ -119,7 +120,7 @@ static void fibre_arms(void *arg, int part) {
   int plastic = mat->plastic;
   const double *eb = m->epsbar;
   ps_int i0, i1;
-  ps_part_range(net->n_arm, part, m->parts > 1 ? m->parts : 1, &i0, &i1);
+  ps_part_range(net->n_arm, part, j->parts, &i0, &i1);
   for (ps_int i = i0; i < i1; i++) {
     if (st->broken[i]) {
       j->T[i] = 0.0;
@@ -160,13 +161,12 @@ static int fibre_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
   (void)ctx;
   if (m->mat.yield_rule == PS_YIELD_DEVIATORIC)
     return fibre_evaluate_deviatoric(m, dl, st, T, energy, tan);
-  int parts = m->parts > 1 ? m->parts : 1;
-  fibre_job j = {m, dl, st, T, tan, {0}, {0}};
-  ps_team_run(m->team, parts, fibre_particles, &j); /* the arms need every epsbar */
-  ps_team_run(m->team, parts, fibre_arms, &j);
+  fibre_job j = {m, dl, st, T, tan, m->parts > 1 ? m->parts : 1, {0}, {0}};
+  ps_team_run(m->team, j.parts, fibre_particles, &j); /* the arms need every epsbar */
+  ps_team_run(m->team, j.parts, fibre_arms, &j);
   double psi = 0.0;
-  for (int p = 0; p < parts; p++) psi += j.psi[p];
-  for (int p = 0; p < parts; p++) psi += j.psi_arm[p];
+  for (int p = 0; p < j.parts; p++) psi += j.psi[p];
+  for (int p = 0; p < j.parts; p++) psi += j.psi_arm[p];
   *energy = psi;
   return PS_OK;
 }

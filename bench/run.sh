@@ -7,7 +7,8 @@
 #                  particles (elastic, 6.7 GB), and runs to fracture
 #                  of the paper's disk at its 20k particles, delta = c/3250
 #                  (repeated) and c/1000 (once), and that disk at 10k and
-#                  20k under dissipation control through the peak (once)
+#                  20k under dissipation control through the peak (once),
+#                  from the start and after a load phase (load_until_unstable)
 #   BENCH_HUGE=1   with BENCH_LARGE: also the paper's disk at 40k and 80k
 #                  particles run to fracture at c/1000 with the sweep's
 #                  settings (once each; ~9 and ~40 minutes)
@@ -189,6 +190,13 @@ if [ "${BENCH_LARGE:-0}" = 1 ]; then
       "$top/data/cases/paper-griffith.yaml" > "$fd"
     grep -q '^  control: dissipation$' "$fd" || { echo "bench: cannot set the control" >&2; exit 1; }
     run_file "$fd" "disk-dissipation-$3-c1000" fracture cholmod true 1
+    # the same with load control's increments until the crack runs at one
+    # load (path.load_until_unstable)
+    fh="$work/disk-load-dissipation-$3.yaml"
+    sed 's/^  control: dissipation$/  control: dissipation\n  load_until_unstable: true/' \
+      "$fd" > "$fh"
+    grep -q '^  load_until_unstable: true$' "$fh" || { echo "bench: cannot set the phase" >&2; exit 1; }
+    run_file "$fh" "disk-load-dissipation-$3-c1000" fracture cholmod true 1
   done
   # the same on one thread (a sweep's job with -j 2 on 2 cores)
   RUN_THREADS=1 run_file "$f" paper-griffith-c3250-t1 fracture cholmod true 1

@@ -21,7 +21,18 @@
  *     displacement along the converged states, Psi the stored energy, D
  *     the dissipated energy: an independent check of the path being a
  *     sequence of equilibrium states and of the bookkeeping; the 1% is
- *     the trapezoid rule's error on the curved softening branch). */
+ *     the trapezoid rule's error on the curved softening branch).
+ * (4) The same plate with path.load_until_unstable: the increments are
+ *     load control's (each load factor a multiple of load_step and the
+ *     boundary stress that of a load-controlled run at that load, 1e-9
+ *     relative: the same solves) until a load increment fails or its
+ *     rounds break more than path.unstable_arms arms; then the path goes
+ *     back to the last settled state and goes on under dissipation
+ *     control to below 10% of the peak, every increment converged, with
+ *     the energy balance of (3).
+ * (5) The solver's snapshot (the path's way back): a state taken, a step
+ *     taken from it and committed, the state put back equals the one
+ *     taken, bit for bit. */
 #include "check.h"
 #include "common.h"
 #include "nonlinear/problem_pd.h"
@@ -315,6 +326,36 @@ static void fibre_gradient(void) {
   ps_problem_free(&pb);
 }
 
+/* The energy balance along a path: W, the trapezoid sum of the reaction
+ * times the grip's displacement over the converged states, against the
+ * stored energy Psi and the dissipated D (plastic or softening, and the
+ * broken arms'): W - Psi = D on a path of equilibrium states. */
+typedef struct balance {
+  double ubar;            /* the grip's prescribed displacement at load factor 1 */
+  double W, R0, l0, R_peak, D, error;
+} balance;
+
+static balance balance_start(const ps_problem *pb) {
+  balance b = {0};
+  for (ps_int j = 0; j < pb->net.n_particle * 2; j++)
+    if (pb->fixed[j] && fabs(pb->ubar[j]) > b.ubar) b.ubar = fabs(pb->ubar[j]);
+  b.error = 1;
+  return b;
+}
+
+/* the path's last increment into b (b->error the relative balance error
+ * there) */
+static void balance_add(balance *b, const ps_path *path, const ps_problem *pb,
+                        const ps_solver *s) {
+  double R = path->last.sigma * pb->measure_length, l = path->last.lambda;
+  b->W += 0.5 * (R + b->R0) * (l - b->l0) * b->ubar;
+  b->R0 = R;
+  b->l0 = l;
+  if (R > b->R_peak) b->R_peak = R;
+  b->D = ps_solver_dissipated(s) + ps_solver_arm_state(s)->broken_energy;
+  if (b->D > 0) b->error = fabs(b->W - ps_solver_stored_energy(s) - b->D) / b->D;
+}
+
 static void controlled_run(void) {
   ps_problem pb;
   ps_ctx ctx;
@@ -336,31 +377,23 @@ static void controlled_run(void) {
   ps_path path;
   if (ps_path_init(&path, s, &pp, &pb.cs.path, ps_step_control_find(pb.cs.path.control), &ctx))
     die_ctx("path", &ctx);
-  /* the grip's prescribed displacement at load factor 1 */
-  double ubar = 0;
-  for (ps_int j = 0; j < pb.net.n_particle * 2; j++)
-    if (pb.fixed[j] && fabs(pb.ubar[j]) > ubar) ubar = fabs(pb.ubar[j]);
-  double W = 0, R0 = 0, l0 = 0, D_last = 0, worst_bal = 0, R_peak = 0;
+  balance b = balance_start(&pb);
+  double D_last = 0;
   int all_converged = 1, monotone = 1, n_diss = 0, n_inc = 0;
   while (ps_path_test(&path) == PS_PATH_CONTINUE) {
     if (ps_path_iterate(&path, &ctx)) die_ctx("iterate", &ctx);
     if (path.end) break;
     n_inc++;
     all_converged &= path.last.converged;
-    double R = path.last.sigma * pb.measure_length, l = path.last.lambda;
-    W += 0.5 * (R + R0) * (l - l0) * ubar;
-    R0 = R;
-    l0 = l;
-    if (R > R_peak) R_peak = R;
-    double D = ps_solver_dissipated(s) + ps_solver_arm_state(s)->broken_energy;
-    double Psi = ps_solver_stored_energy(s);
-    if (D < D_last - 1e-12 * fabs(D_last)) monotone = 0;
-    if (D > D_last) n_diss++;
-    D_last = D;
+    balance_add(&b, &path, &pb, s);
+    if (b.D < D_last - 1e-12 * fabs(D_last)) monotone = 0;
+    if (b.D > D_last) n_diss++;
+    D_last = b.D;
     if (getenv("T425_VERBOSE"))
-      printf("    %3d lambda %.8f R %.6g W %.8g Psi %.8g D %.8g\n", n_inc, l, R, W, Psi, D);
-    if (D > 0) worst_bal = fabs(W - Psi - D) / D; /* the last one */
+      printf("    %3d lambda %.8f R %.6g W %.8g Psi %.8g D %.8g\n", n_inc, path.last.lambda,
+             b.R0, b.W, ps_solver_stored_energy(s), b.D);
   }
+  double R0 = b.R0, R_peak = b.R_peak, W = b.W, worst_bal = b.error;
   printf("  (3) %d increments (%d dissipating), end: %s; reaction %.4g of its peak, %lld "
          "arms broken; dissipated %.6g J/m, W - Psi = %.6g J/m (balance error %.2e)\n",
          n_inc, n_diss, path.stop_reason, R0 / R_peak, (long long)path.broken_total, D_last,
@@ -376,9 +409,125 @@ static void controlled_run(void) {
   ps_problem_free(&pb);
 }
 
+/* (4): the load phase of dissipation control */
+static void load_phase_run(void) {
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  char text[4096];
+  ps_problem pb, pl;
+  /* the reference: load control over the same load factors */
+  plate_text(text, sizeof text, "  load_step: 0.01\n  load_step_after_break: 0.01\n"
+                                "  max_increments: 3000\n  max_load: 2.0\n");
+  setup_text(&pl, "t425-load.yaml", text);
+  plate_text(text, sizeof text,
+             "  load_step: 0.01\n  load_step_after_break: 0.01\n  control: dissipation\n"
+             "  load_until_unstable: true\n  unstable_arms: 10\n  stop_load_drop: 0.1\n"
+             "  max_increments: 3000\n");
+  setup_text(&pb, "t425-phase.yaml", text);
+  ps_solver *s = NULL, *sl = NULL;
+  ps_solver_opts o = pb.cs.solver;
+  o.threads = 1;
+  const ps_model_type *bond = ps_model_type_find("bond");
+  if (ps_solver_create(&s, &pb.P, &pb.net, bond, &pb.mat, pb.fixed, pb.ubar, &o, &ctx) ||
+      ps_solver_create(&sl, &pl.P, &pl.net, bond, &pl.mat, pl.fixed, pl.ubar, &o, &ctx))
+    die_ctx("solver", &ctx);
+  ps_path_problem pp = {.P = &pb.P, .net = &pb.net, .model = bond, .mat = &pb.mat,
+                        .measure = pb.measure, .measure_length = pb.measure_length,
+                        .name = "t425"};
+  ps_path_problem ppl = pp;
+  ppl.P = &pl.P, ppl.net = &pl.net, ppl.mat = &pl.mat, ppl.measure = pl.measure;
+  ps_path path, pload;
+  if (ps_path_init(&path, s, &pp, &pb.cs.path, ps_step_control_find(pb.cs.path.control),
+                   &ctx) ||
+      ps_path_init(&pload, sl, &ppl, &pl.cs.path, ps_step_control_find(PS_CONTROL_LOAD), &ctx))
+    die_ctx("path", &ctx);
+  balance b = balance_start(&pb);
+  double worst_load = 0;
+  int all_converged = 1, n_load = 0, n_after = 0, load_ok = 1;
+  while (ps_path_test(&path) == PS_PATH_CONTINUE) {
+    if (ps_path_iterate(&path, &ctx)) die_ctx("iterate", &ctx);
+    if (path.end) break;
+    all_converged &= path.last.converged;
+    double l = path.last.lambda;
+    if (!n_after && ps_path_load_phase_arms(&path) > 0) {
+      /* still load control: the same increment as the load-controlled run */
+      n_load++;
+      if (ps_path_test(&pload) != PS_PATH_CONTINUE || ps_path_iterate(&pload, &ctx))
+        die_ctx("load-controlled run", &ctx);
+      double e = fabs(path.last.sigma - pload.last.sigma) / fabs(pload.last.sigma);
+      if (e > worst_load) worst_load = e;
+      load_ok &= fabs(l - 0.01 * n_load) < 1e-12 && pload.last.lambda == l;
+    } else {
+      n_after++;
+    }
+    balance_add(&b, &path, &pb, s);
+  }
+  double R0 = b.R0, R_peak = b.R_peak, bal = b.error;
+  printf("  (4) %d load-controlled increments (boundary stress within %.1e of load "
+         "control's), then %d under dissipation control; end: %s; reaction %.4g of its "
+         "peak; balance error %.2e\n",
+         n_load, worst_load, n_after, path.stop_reason, R0 / R_peak, bal);
+  ps_check(n_load >= 5 && load_ok && worst_load < 1e-9,
+           "the load phase is load control's path (load factors and boundary stresses)");
+  ps_check(n_after >= 10, "dissipation control took over from the load phase");
+  ps_check(all_converged, "every increment converged");
+  ps_check(path.end == PS_PATH_FRACTURED && R0 < 0.1 * R_peak,
+           "past the peak to below 10%% of the peak reaction");
+  ps_check(bal < 0.01, "energy balance W - Psi = D within 1%% after the switch");
+  ps_path_free(&path);
+  ps_path_free(&pload);
+  ps_solver_free(s);
+  ps_solver_free(sl);
+  ps_problem_free(&pb);
+  ps_problem_free(&pl);
+}
+
+/* (5): a snapshot put back is the state taken */
+static void snapshot(void) {
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  char text[4096];
+  ps_problem pb;
+  plate_text(text, sizeof text, "  load_step: 0.01\n");
+  setup_text(&pb, "t425-snap.yaml", text);
+  ps_solver *s = NULL;
+  ps_solver_opts o = pb.cs.solver;
+  o.threads = 1;
+  if (ps_solver_create(&s, &pb.P, &pb.net, ps_model_type_find("bond"), &pb.mat, pb.fixed,
+                       pb.ubar, &o, &ctx))
+    die_ctx("solver", &ctx);
+  ps_solver_snapshot snap = {0}, back = {0};
+  /* into the softening range: arms soften and dissipate */
+  for (int k = 1; k <= 15; k++) {
+    if (ps_solver_step(s, 0.01 * k, &ctx)) die_ctx("step", &ctx);
+    ps_solver_commit(s);
+  }
+  if (ps_solver_snapshot_take(s, &snap, &ctx)) die_ctx("snapshot", &ctx);
+  double lambda = ps_solver_lambda(s), D = ps_solver_dissipated(s);
+  int moved = 1;
+  for (int k = 16; k <= 19; k++) {
+    moved &= ps_solver_step(s, 0.01 * k, &ctx) == PS_OK;
+    ps_solver_commit(s);
+  }
+  moved &= ps_solver_dissipated(s) > D;
+  if (ps_solver_snapshot_restore(s, &snap, &ctx) < 0) die_ctx("restore", &ctx);
+  if (ps_solver_snapshot_take(s, &back, &ctx)) die_ctx("snapshot", &ctx);
+  printf("  (5) snapshot of %zu bytes at load factor %g, a step to 0.19 (%s), put back\n",
+         snap.size, lambda, moved ? "dissipating" : "NOT dissipating");
+  ps_check(moved && back.size == snap.size && !memcmp(back.data, snap.data, snap.size) &&
+               ps_solver_lambda(s) == lambda && ps_solver_dissipated(s) == D,
+           "a snapshot put back is the state taken, bit for bit");
+  ps_solver_snapshot_free(&snap);
+  ps_solver_snapshot_free(&back);
+  ps_solver_free(s);
+  ps_problem_free(&pb);
+}
+
 int main(void) {
   arm_law();
   fibre_gradient();
   controlled_run();
+  load_phase_run();
+  snapshot();
   return ps_check_summary();
 }

@@ -178,6 +178,11 @@ sed 's/^  load_step: 0.05/  control: event\n&/' "$srcdir/data/cases/tension-bar.
 expect 1 "event_unbreakable.yaml:27: path.control event ends each increment where the next arm reaches its breaking criterion, but no arm of this fibre model can break: give material.delta" -- info "$T/event_unbreakable.yaml"
 sed 's/  stop_load_drop: 0.05/  stop_load_drop: 0.05\n  control: event\n  event_tolerance: 0/' "$N" > "$T/event_tol.yaml"
 expect 1 "event_tol.yaml:50: path.event_tolerance must be" -- info "$T/event_tol.yaml"
+# the load phase belongs to dissipation control; unstable_arms is a count
+sed 's/  stop_load_drop: 0.05/  stop_load_drop: 0.05\n  load_until_unstable: true/' "$N" > "$T/phase_load.yaml"
+expect 1 "phase_load.yaml:49: path.load_until_unstable starts dissipation control with load control; it needs path.control dissipation" -- info "$T/phase_load.yaml"
+sed 's/  stop_load_drop: 0.05/  stop_load_drop: 0.05\n  unstable_arms: -3/' "$N" > "$T/phase_arms.yaml"
+expect 1 "phase_arms.yaml:49: path.unstable_arms must be" -- info "$T/phase_arms.yaml"
 
 # loading fields, names and path.steps (issue 21 item 5): the tension bar
 # with its path or its last boundary entry replaced

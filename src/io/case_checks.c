@@ -242,6 +242,15 @@ static int dissipation_check(ps_loader *L) {
                             : bond ? " without softening_ratio" : "");
 }
 
+/* path.load_until_unstable is a phase of dissipation control */
+static int load_phase_check(ps_loader *L) {
+  const ps_path_opts *o = &L->cs->path;
+  if (!o->load_until_unstable || o->control == PS_CONTROL_DISSIPATION) return PS_OK;
+  return ps_yaml_fail(L, L->line_load_until_unstable,
+                      "path.load_until_unstable starts dissipation control with load "
+                      "control; it needs path.control dissipation");
+}
+
 /* path.control event follows arms to their breaking criterion: the
  * material needs one (material.fracture, or the fibre model's delta: given,
  * or on a disk delta_over_c c) */
@@ -421,7 +430,7 @@ int ps_case_cross_checks(ps_loader *L) {
                         gname[cs->geometry]);
   if (fixed_poisson_check(L) != PS_OK || particle_counts_check(L) != PS_OK ||
       model_keys_check(L) != PS_OK || dissipation_check(L) != PS_OK ||
-      event_check(L) != PS_OK)
+      event_check(L) != PS_OK || load_phase_check(L) != PS_OK)
     return PS_ERR_INPUT;
   if (L->line_delta_over_c && cs->geometry != PS_GEOM_DISK)
     return ps_yaml_fail(

@@ -34,6 +34,7 @@ typedef struct ps_loader {
   int line_fracture_criterion, n_fracture_given; /* within material.fracture */
   int line_softening;                            /* material.fracture.softening_ratio */
   int line_control, line_yield_rule;             /* path.control, material.yield_rule */
+  int line_load_until_unstable;                  /* path.load_until_unstable */
   int line_break_rule, line_break_length;        /* material.break_rule, break_length */
   int line_steps, line_load_step, line_load_step_after_break, line_max_load; /* path */
   int line_horizon, line_horizon_factor;

@@ -96,7 +96,7 @@ const char *const ps_case_path_keys[] = {
     "stop_crack_tip", "stop_tip_advance", "stop_load_drop", "max_break_rounds",
     "max_arms_per_round", "round_tolerance", "control", "arc_length_max", "arc_length_psi",
     "arc_length_iterations", "max_arms_per_step", "dissipation_step", "dissipation_max",
-    "event_tolerance", "steps", NULL};
+    "event_tolerance", "steps", "load_until_unstable", "unstable_arms", NULL};
 
 /* path.steps: a list of load factors > 0, each above the one before */
 static int get_steps(ps_loader *L, yaml_node_t *v, const char *name) {
@@ -158,6 +158,11 @@ int ps_case_on_path(ps_loader *L, void *arg, const char *key, const char *name,
   if (IS("arc_length_max")) return ps_yaml_pos(L, v, name, &o->arc_length_max);
   if (IS("max_arms_per_step"))
     return ps_yaml_int(L, v, name, 0, INT_MAX, &o->max_arms_per_step);
+  if (IS("load_until_unstable")) {
+    L->line_load_until_unstable = line_of(v);
+    return ps_yaml_bool(L, v, name, &o->load_until_unstable);
+  }
+  if (IS("unstable_arms")) return ps_yaml_int(L, v, name, 0, INT_MAX, &o->unstable_arms);
   if (IS("dissipation_step")) return ps_yaml_pos(L, v, name, &o->dissipation_step);
   if (IS("dissipation_max")) return ps_yaml_pos(L, v, name, &o->dissipation_max);
   if (IS("event_tolerance"))

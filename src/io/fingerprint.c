@@ -188,6 +188,10 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
              po->dissipation_step, po->dissipation_max);
     fnv(&h, b);
   }
+  if (po->load_until_unstable) { /* newer keys: only when set */
+    snprintf(b, sizeof b, "load until unstable %d", po->unstable_arms);
+    fnv(&h, b);
+  }
   if (po->control == PS_CONTROL_EVENT) {
     snprintf(b, sizeof b, "event %.17g", po->event_tolerance);
     fnv(&h, b);

@@ -259,6 +259,27 @@ int ps_solver_keep_factors(ps_solver *s, ps_ctx *ctx);
  * Returns PS_OK, PS_ERR_NOMEM or ps_state_add's status. */
 int ps_solver_state_list(ps_solver *s, ps_state_list *l, ps_ctx *ctx);
 
+/* A copy of the solver's state (the items of ps_solver_state_list less
+ * its counters and statistics), to go back to after steps that are
+ * rejected as a whole: the path's way back to its last settled state. */
+typedef struct ps_solver_snapshot {
+  unsigned char *data;
+  size_t size, cap;
+} ps_solver_snapshot;
+
+/* Copy the solver's state into snap (zeroed at first; its buffer is
+ * reused). Returns PS_OK or PS_ERR_NOMEM. */
+int ps_solver_snapshot_take(ps_solver *s, ps_solver_snapshot *snap, ps_ctx *ctx);
+
+/* Put the state of snap (taken from this solver) back, the counters
+ * going on counting, and make a fresh factor of its tangent, as after a
+ * failed step. Returns PS_OK, PS_SINGULAR (no factor: the next step
+ * will say so), or fatal. */
+int ps_solver_snapshot_restore(ps_solver *s, const ps_solver_snapshot *snap, ps_ctx *ctx);
+
+/* Free snap's buffer. */
+void ps_solver_snapshot_free(ps_solver_snapshot *snap);
+
 /* The factor the next directions reuse: *which = 0 none, 1 the chosen
  * backend's, 2 the majorant's, 3 UMFPACK's, 4 LDL^T's, and *A the matrix
  * it was made of (NULL for none; the solver's, valid until its next

@@ -783,9 +783,10 @@ static ps_linsolve *linsolve_of(ps_solver *s, int which) {
   return which >= 1 && which <= 4 ? all[which - 1] : NULL;
 }
 
-int ps_solver_state_list(ps_solver *s, ps_state_list *l, ps_ctx *ctx) {
+/* the items that make the solver's state: where it is, what it
+ * committed, what its next step starts from */
+static int state_items(ps_solver *s, ps_state_list *l, ps_ctx *ctx) {
   const size_t nd = (size_t)s->prob.n_dof * sizeof(double);
-  const size_t na = (size_t)s->pd->net->n_arm;
 #define PS_ITEM(name, field) PS_CHECK(ps_state_add(l, name, &(field), sizeof(field), ctx))
   PS_CHECK(ps_state_add(l, "u", s->u, nd, ctx));
   PS_CHECK(ps_state_add(l, "u_saved", s->u_saved, nd, ctx));
@@ -800,6 +801,25 @@ int ps_solver_state_list(ps_solver *s, ps_state_list *l, ps_ctx *ctx) {
   PS_ITEM("al_scale", s->al_scale);
   PS_ITEM("al_have_dir", s->al_have_dir);
   PS_ITEM("dissipated", s->dissipated);
+  PS_ITEM("cg_rtol", s->cg_rtol);
+  PS_ITEM("last_reason", s->last_reason);
+  PS_ITEM("last_iterations", s->last_iterations);
+  PS_ITEM("last_residual", s->last_residual);
+  ps_pd_step_dissipation(s->pd); /* computed before it is written (or read over) */
+  PS_ITEM("pd.dissipation_step", s->pd->dissipation_step);
+#undef PS_ITEM
+  PS_CHECK(ps_arm_state_list(&s->pd->st, "st.", l, ctx));
+  PS_CHECK(ps_arm_state_list(&s->pd->st_saved, "st_saved.", l, ctx));
+  return ps_system_state_list(&s->pd->sys, l, ctx);
+}
+
+/* the items that count the work done: iterations, failures, times, the
+ * backends' statistics; and those of the factor in use: its lag, the arms'
+ * state it was made at */
+static int counter_items(ps_solver *s, ps_state_list *l, ps_ctx *ctx) {
+  const size_t na = (size_t)s->pd->net->n_arm;
+  PS_CHECK(ps_state_add(l, "pd.arm_state_at_factor", s->pd->arm_state_at_factor, na + 1, ctx));
+#define PS_ITEM(name, field) PS_CHECK(ps_state_add(l, name, &(field), sizeof(field), ctx))
   PS_ITEM("newton_iterations", s->newton_iterations);
   PS_ITEM("n_fallback", s->n_fallback);
   PS_ITEM("n_line_search_cuts", s->n_line_search_cuts);
@@ -815,15 +835,8 @@ int ps_solver_state_list(ps_solver *s, ps_state_list *l, ps_ctx *ctx) {
   PS_ITEM("pcg_truncated", s->pcg_truncated);
   PS_ITEM("n_handovers", s->n_handovers);
   PS_ITEM("n_stagnated", s->n_stagnated);
-  PS_ITEM("cg_rtol", s->cg_rtol);
   PS_ITEM("t_pcg", s->t_pcg);
-  PS_ITEM("last_reason", s->last_reason);
-  PS_ITEM("last_iterations", s->last_iterations);
-  PS_ITEM("last_residual", s->last_residual);
-  ps_pd_step_dissipation(s->pd); /* computed before it is written (or read over) */
-  PS_ITEM("pd.dissipation_step", s->pd->dissipation_step);
   PS_ITEM("pd.t_assembly", s->pd->t_assembly);
-  PS_CHECK(ps_state_add(l, "pd.arm_state_at_factor", s->pd->arm_state_at_factor, na + 1, ctx));
   static const char *const ls_names[4][2] = {{"ls.stats", "ls.n_since_factor"},
                                              {"ls_pre.stats", "ls_pre.n_since_factor"},
                                              {"ls_umfpack.stats", "ls_umfpack.n_since_factor"},
@@ -834,9 +847,70 @@ int ps_solver_state_list(ps_solver *s, ps_state_list *l, ps_ctx *ctx) {
     PS_ITEM(ls_names[k][1], ls->n_since_factor);
   }
 #undef PS_ITEM
-  PS_CHECK(ps_arm_state_list(&s->pd->st, "st.", l, ctx));
-  PS_CHECK(ps_arm_state_list(&s->pd->st_saved, "st_saved.", l, ctx));
-  return ps_system_state_list(&s->pd->sys, l, ctx);
+  return PS_OK;
+}
+
+int ps_solver_state_list(ps_solver *s, ps_state_list *l, ps_ctx *ctx) {
+  PS_CHECK(state_items(s, l, ctx));
+  return counter_items(s, l, ctx);
+}
+
+int ps_solver_snapshot_take(ps_solver *s, ps_solver_snapshot *snap, ps_ctx *ctx) {
+  ps_state_list l = {0};
+  int status = PS_OK;
+  PS_CHECK_GOTO(state_items(s, &l, ctx));
+  size_t size = 0;
+  for (int k = 0; k < l.n; k++) size += l.item[k].bytes;
+  if (size > snap->cap) {
+    void *p = realloc(snap->data, size);
+    if (!p) {
+      status = ps_error(ctx, PS_ERR_NOMEM, "out of memory for a copy of the solver's state "
+                                           "(%zu bytes)", size);
+      goto cleanup;
+    }
+    snap->data = p;
+    snap->cap = size;
+  }
+  snap->size = 0;
+  for (int k = 0; k < l.n; k++) {
+    memcpy(snap->data + snap->size, l.item[k].data, l.item[k].bytes);
+    snap->size += l.item[k].bytes;
+  }
+cleanup:
+  ps_state_list_free(&l);
+  return status;
+}
+
+int ps_solver_snapshot_restore(ps_solver *s, const ps_solver_snapshot *snap, ps_ctx *ctx) {
+  ps_state_list l = {0};
+  int status = PS_OK;
+  PS_CHECK_GOTO(state_items(s, &l, ctx));
+  size_t at = 0;
+  for (int k = 0; k < l.n; k++) at += l.item[k].bytes;
+  if (at != snap->size) {
+    status = ps_error(ctx, PS_ERR_INTERNAL, "a copy of the solver's state of %zu bytes does "
+                      "not fit its %zu", snap->size, at);
+    goto cleanup;
+  }
+  at = 0;
+  for (int k = 0; k < l.n; k++) {
+    memcpy(l.item[k].data, snap->data + at, l.item[k].bytes);
+    at += l.item[k].bytes;
+  }
+  /* the tangent of the restored evaluation (assembled again from its
+   * data, as after a restart), a fresh factor of it as after a failed
+   * step */
+  s->have_factor = 0;
+  s->pd->sys.assembled = 0;
+  status = ps_nl_fresh_factor(s, ctx);
+cleanup:
+  ps_state_list_free(&l);
+  return status;
+}
+
+void ps_solver_snapshot_free(ps_solver_snapshot *snap) {
+  free(snap->data);
+  *snap = (ps_solver_snapshot){0};
 }
 
 int ps_solver_factor_matrix(const ps_solver *s, int *which, const ps_csc **A, ps_ctx *ctx) {

@@ -67,6 +67,11 @@ int ps_path_break_rounds(ps_path *p, ps_int its0, ps_int *n_broken, int *settle,
     *settle = round_with_retries(p, &nr, ctx);
     if (*settle < 0) return *settle;
     *n_broken += nr;
+    ps_int limit = ps_path_load_phase_arms(p);
+    if (limit > 0 && nr > 0 && (*settle != PS_OK || *n_broken > limit || crack_has_run(p))) {
+      p->unstable = 1; /* the controller's load phase ends (ps_path_iterate) */
+      return PS_OK;
+    }
     if (*settle == PS_OK && nr > 0 && p->o.round_tolerance > 0) loose = 1;
     if (*settle == PS_OK && nr == 0 && loose) {
       /* nothing past the criterion in the loose state: the equilibrium to

@@ -64,7 +64,7 @@ static int arc_step(void *state, ps_solver *s, const ps_path_opts *o, double *la
 
 static const ps_step_control_type arc_type = {"arc_length", sizeof(arc_state), arc_init,
                                               NULL,   arc_cut,           arc_accept,
-                                              arc_step};
+                                              arc_step, NULL, NULL};
 
 const ps_step_control_type *const ps_step_control_arc_length = &arc_type;
 

@@ -151,6 +151,6 @@ static int event_step(void *state, ps_solver *s, const ps_path_opts *o, double *
 
 static const ps_step_control_type event_type = {"event",      sizeof(event_state), event_init,
                                                 NULL, event_cut,           event_accept,
-                                                event_step};
+                                                event_step, NULL, NULL};
 
 const ps_step_control_type *const ps_step_control_event = &event_type;

@@ -59,6 +59,6 @@ static void load_accept(void *state, ps_int broken_total, const ps_path_opts *o)
 }
 
 static const ps_step_control_type load_type = {
-    "load", sizeof(load_state), load_init, load_target, load_cut, load_accept, NULL};
+    "load", sizeof(load_state), load_init, load_target, load_cut, load_accept, NULL, NULL, NULL};
 
 const ps_step_control_type *const ps_step_control_load = &load_type;

@@ -47,6 +47,7 @@ int ps_path_init(ps_path *p, ps_solver *s, const ps_path_problem *pb, const ps_p
 }
 
 void ps_path_free(ps_path *p) {
+  ps_solver_snapshot_free(&p->settled_state);
   free(p->control_state);
   p->control_state = NULL;
 }
@@ -84,6 +85,17 @@ static int check_interrupt(ps_path *p) {
   return 1;
 }
 
+ps_int ps_path_load_phase_arms(const ps_path *p) {
+  return p->control->load_phase_arms ? p->control->load_phase_arms(p->control_state, &p->o)
+                                     : 0;
+}
+
+/* 1 when the increments break arms in rounds at their load (load
+ * control, a controller's load phase) */
+static int rounds_at_load(const ps_path *p) {
+  return p->o.control == PS_CONTROL_LOAD || ps_path_load_phase_arms(p) > 0;
+}
+
 /* Attempts at the controller's targets until Newton converges: returns
  * PS_OK with *its0 = the Newton iterations before the successful attempt,
  * or PS_OK with p->end set (a stall below min_step, an interruption
@@ -104,14 +116,21 @@ static int attempt(ps_path *p, ps_int *its0, ps_ctx *ctx) {
     }
     if (status < 0) return status;
     ps_int past = 0;
-    if (status == PS_OK && p->o.control != PS_CONTROL_LOAD && p->o.max_arms_per_step > 0 &&
+    int loading = ps_path_load_phase_arms(p) > 0;
+    if (status == PS_OK && !rounds_at_load(p) && p->o.max_arms_per_step > 0 &&
         (past = ps_solver_count_past_criterion(s)) > p->o.max_arms_per_step)
       PS_CHECK(ps_solver_reject(s, ctx)); /* too many arms at once: a shorter increment */
     else if (status != PS_DIVERGED)
       return PS_OK;
     p->step_cuts++;
     double dl = p->control->cut(p->control_state, &p->o);
-    if (past)
+    if (loading && ps_path_load_phase_arms(p) == 0)
+      ps_log(ctx, 1, "  step %d: Newton did not converge at load factor %.6g (%s): the "
+                     "%s controller goes on from load factor %.6g\n",
+             (int)(p->increments + 1), target,
+             ps_newton_reason_text(ps_solver_last_reason(s)), p->control->name,
+             ps_solver_lambda(s));
+    else if (past)
       ps_log(ctx, 1, "  step %d: %lld arms past the criterion at load factor %.6g "
                      "(path.max_arms_per_step %d); cutting the increment to %.4g\n",
              (int)(p->increments + 1), (long long)past, target, p->o.max_arms_per_step, dl);
@@ -142,7 +161,7 @@ int ps_path_iterate(ps_path *p, ps_ctx *ctx) {
      * first solve is at that load */
     PS_CHECK(ps_solver_break_in_place(p->s, 0, &nb, ctx));
     p->broken_total += nb;
-  } else if (p->o.control != PS_CONTROL_LOAD) {
+  } else if (!rounds_at_load(p)) {
     /* the last increment's arms past the criterion break; one
      * re-equilibration at that load (Newton with its line search) puts
      * the next constrained step's start back in equilibrium, where the
@@ -157,12 +176,32 @@ int ps_path_iterate(ps_path *p, ps_ctx *ctx) {
     }
     p->broken_total += nb;
   }
+  /* a load phase keeps the settled state it starts from, to come back to
+   * when the crack runs at the increment's load */
+  if (ps_path_load_phase_arms(p) > 0) PS_CHECK(ps_solver_snapshot_take(s, &p->settled_state, ctx));
+again:
   PS_CHECK(attempt(p, &its0, ctx));
   if (p->end) return PS_OK;
   ps_solver_commit(s);
   p->tip_start = ps_path_crack_tip(p);
-  if (p->o.control == PS_CONTROL_LOAD) {
+  if (rounds_at_load(p)) {
+    ps_int limit = ps_path_load_phase_arms(p);
     PS_CHECK(ps_path_break_rounds(p, its0, &nb, &settle, &settled, ctx));
+    if (p->unstable) {
+      /* the load-controlled path has passed its stable part: the
+       * controller's own steps from the last settled state */
+      p->unstable = 0;
+      double lambda = ps_solver_lambda(s);
+      int st = ps_solver_snapshot_restore(s, &p->settled_state, ctx);
+      if (st < 0) return st;
+      p->control->leave_load_phase(p->control_state, &p->o);
+      ps_log(ctx, 1, "  step %d: the crack runs at load factor %.6g (%lld arms broken at "
+                     "that load, more than %lld, or the stop rules met): the %s controller "
+                     "goes on from load factor %.6g\n",
+             (int)(p->increments + 1), lambda, (long long)nb, (long long)limit,
+             p->control->name, ps_solver_lambda(s));
+      goto again;
+    }
   } else {
     /* path control: the converged state is the increment's; the arms
      * past the criterion break at the start of the next one, whose

@@ -72,6 +72,14 @@ typedef struct ps_step_control_type {
    * from). Returns PS_OK, PS_DIVERGED (the solver is back at the last
    * commit) or a fatal status. */
   int (*step)(void *state, ps_solver *s, const ps_path_opts *o, double *lambda, ps_ctx *ctx);
+  /* optional, for a controller whose path starts with load-controlled
+   * increments and breaking rounds at each load (as load control's):
+   * while it does, the number of arms whose breaking at one load ends
+   * that phase (the crack runs), else 0 (NULL: never such a phase) */
+  ps_int (*load_phase_arms)(const void *state, const ps_path_opts *o);
+  /* optional, with load_phase_arms: end that phase; the solver is back at
+   * the path's last settled state */
+  void (*leave_load_phase)(void *state, const ps_path_opts *o);
 } ps_step_control_type;
 
 /* Load control: increments of load_step (min(load_step,
@@ -101,8 +109,12 @@ extern const ps_step_control_type *const ps_step_control_arc_length;
  * most dissipation_max (0: 1/50 of the largest stored energy so far), adapted to
  * the Newton iterations as ds is, halved on a failure; an increment in
  * which no arm dissipates goes back to arc-length until one does again.
- * Needs a model that measures its dissipation (arm_dissipation: the bond
- * model with material.fracture.softening_ratio). */
+ * With load_until_unstable the path starts under load control instead
+ * (load_phase_arms), and dissipation control starts where the crack runs
+ * at one load or a load increment fails (the path goes back to the last
+ * settled state first). Needs a model that measures its dissipation
+ * (arm_dissipation: the fibre model, the bond model with
+ * material.fracture.softening_ratio). */
 extern const ps_step_control_type *const ps_step_control_dissipation;
 
 /* Event control (control_event.c): each increment ends at the load factor
@@ -191,6 +203,8 @@ typedef struct ps_path {
   const ps_step_control_type *control;
   void *control_state;
   double tip_start;           /* crack tip before the last breaking rounds */
+  ps_solver_snapshot settled_state; /* a load phase's last settled state */
+  int unstable;               /* the rounds at one load ended the load phase */
   double recent[3];           /* boundary stresses of the last converged
                                  increments, the newest last */
   int n_recent;
@@ -242,9 +256,16 @@ int ps_path_state_list(ps_path *p, ps_state_list *l, ps_ctx *ctx);
  * Newton iterations before the increment (for the progress note).
  * *n_broken = arms broken, *settle = the last round's status (PS_OK or
  * PS_DIVERGED), *settled = 1 when no arm is left past delta. Returns PS_OK
- * or a fatal status. */
+ * or a fatal status. In a controller's load phase (ps_path_load_phase_arms
+ * > 0) a round that breaks arms and fails, breaks more than that many in
+ * all, or meets the stop rules ends the rounds with p->unstable = 1: the
+ * crack runs at this load. */
 int ps_path_break_rounds(ps_path *p, ps_int its0, ps_int *n_broken, int *settle,
                          int *settled, ps_ctx *ctx);
+
+/* The arms whose breaking at one load ends the controller's load phase
+ * (ps_step_control_type load_phase_arms), 0 when it is not in one. */
+ps_int ps_path_load_phase_arms(const ps_path *p);
 
 /* Boundary stress (Pa) and crack tip (c; 0 without a crack) of the
  * solver's current state. */

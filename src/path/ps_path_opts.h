@@ -70,6 +70,18 @@ typedef struct ps_path_opts {
   double dissipation_max;       /* dissipation control: the largest tau, J;
                                    0: 1/50 of the largest stored energy so
                                    far (default) */
+  int load_until_unstable;      /* dissipation control: load-controlled
+                                   increments with breaking rounds (as
+                                   PS_CONTROL_LOAD) while the path is
+                                   stable; at the first load whose rounds
+                                   break more than unstable_arms arms (the
+                                   crack runs), or whose Newton fails, back
+                                   to the last settled state and
+                                   dissipation control from there. 0: no
+                                   (default) */
+  int unstable_arms;            /* with load_until_unstable: 0 (default):
+                                   four times the most arms a settled load
+                                   broke, at least 50 */
   double event_tolerance;       /* event control: an increment ends where
                                    the largest relative excess over the
                                    breaking criterion (break_excess) is in

@@ -613,6 +613,10 @@ typedef struct {
   int evaluations, tangents, marks;
   ps_int dofs[2];
   unsigned char fixed[2];
+  int with_majorant;        /* 1: a majorant P = diag(4 K00, K11) */
+  ps_int Pp[3], Pi[2];
+  double Px[2];
+  ps_csc P;
 } quartic;
 
 static int q_evaluate(void *prob, const double *u, double *f, double *energy,
@@ -639,6 +643,12 @@ static void q_apply(void *prob, const double *x, double *y) {
 }
 static int q_assemble(void *prob, int majorant, ps_csc **A, ps_ctx *ctx) {
   quartic *q = prob;
+  if (majorant && q->with_majorant) {
+    q->Px[0] = 4 * q->K[0];
+    q->Px[1] = q->K[2];
+    *A = &q->P;
+    return PS_OK;
+  }
   if (majorant) return ps_error(ctx, PS_ERR_INPUT, "no majorant");
   memcpy(q->Ax, q->K, sizeof q->K); /* upper triangle: (0,0); (0,1), (1,1) */
   *A = &q->A;
@@ -714,6 +724,62 @@ static void test_hand_problem(void) {
   }
 }
 
+/* The first Newton system of a problem with a majorant, when CG with the
+ * majorant's fresh factor fails (capped at one iteration, and P is not a
+ * multiple of K): the tangent is factored next and solves it. The
+ * majorant is factored once (CG with that same factor again, and a second
+ * factor of the same P, would fail the same way), the tangent once. */
+static void test_first_system_majorant(void) {
+  static const ps_nl_problem_ops ops = {q_evaluate, q_apply, q_assemble,
+                                        q_mark,     q_changed, q_dof_name};
+  ps_ctx ctx;
+  ps_ctx_init(&ctx);
+  ctx.verbosity = getenv("PS_TEST_VERBOSE") ? 2 : 0;
+  quartic q;
+  memset(&q, 0, sizeof q);
+  q.Ap[1] = 1;
+  q.Ap[2] = 3;
+  q.Ai[2] = 1;
+  q.A = (ps_csc){2, q.Ap, q.Ai, q.Ax};
+  q.with_majorant = 1;
+  q.Pp[1] = 1;
+  q.Pp[2] = 2;
+  q.Pi[1] = 1;
+  q.P = (ps_csc){2, q.Pp, q.Pi, q.Px};
+  q.dofs[1] = 1;
+  ps_solver *s = calloc(1, sizeof *s);
+  if (!s) {
+    ps_check(0, "first system: out of memory");
+    return;
+  }
+  ps_solver_opts_default(&s->opts);
+  s->opts.pcg_max_iterations = 1;
+  s->prob = (ps_nl_problem){&ops, &q, 2, 2, q.dofs, q.fixed, 1};
+  int status = ps_linsolve_create(&s->ls, ps_linsolve_cholmod, &ctx);
+  if (status == PS_OK) status = ps_linsolve_create(&s->ls_pre, ps_linsolve_cholmod, &ctx);
+  if (status == PS_OK) status = ps_nl_alloc_work(s, &ctx);
+  s->have_majorant = 1;
+  s->cg_rtol = 1e-10;
+  double Kdu[2] = {0, 0};
+  if (status == PS_OK) {
+    s->u[0] = 3.0; /* x = 2 */
+    status = ps_nl_eval(s, s->u, s->f, &s->energy, 1, &ctx);
+    s->rhs[0] = -s->f[0];
+    s->rhs[1] = -s->f[1];
+    if (status == PS_OK) status = ps_nl_direction(s, &ctx);
+    q_apply(&q, s->du, Kdu);
+  }
+  double err = hypot(Kdu[0] - s->rhs[0], Kdu[1] - s->rhs[1]) / hypot(s->rhs[0], s->rhs[1]);
+  ps_check(status == PS_OK && err < 1e-12 && s->pre_failures == 1 &&
+               s->ls_pre.stats.n_factor == 1 && s->ls.stats.n_factor == 1,
+           "first system, CG with the fresh majorant factor fails: solved by the tangent's "
+           "factor (|K du - rhs| / |rhs| = %.1e), majorant factored %lld time(s), CG failures "
+           "with it %lld, tangent factored %lld time(s)",
+           err, (long long)s->ls_pre.stats.n_factor, (long long)s->pre_failures,
+           (long long)s->ls.stats.n_factor);
+  ps_solver_free(s);
+}
+
 /* the linear solver is named in the options and resolved by
  * ps_solver_create: an unknown name is an input error, and *s stays NULL */
 static void test_unknown_linear(void) {
@@ -743,6 +809,7 @@ int main(void) {
   test_unknown_linear();
   test_forcing();
   test_hand_problem();
+  test_first_system_majorant();
   ps_solver_opts o;
   ps_solver_opts_default(&o);
   o.tolerance = 1e-10;

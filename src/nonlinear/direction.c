@@ -268,12 +268,13 @@ static int solve_with_old_factor(ps_solver *s, ps_ctx *ctx) {
 
 int ps_nl_direction(ps_solver *s, ps_ctx *ctx) {
   /* with a majorant, its factor preconditions from the first system on
-   * (the tangent's factor at rest only proved the supports) */
+   * (the tangent's factor at rest only proved the supports); when CG
+   * fails with it, the tangent is factored (CG with that same factor, and
+   * another factor of the same majorant, would fail the same way) */
   if (s->opts.reuse_factor && s->have_majorant && s->ls_pre.stats.n_factor == 0) {
     int status = solve_by_majorant(s, ctx);
     if (status <= 0) return status;
-  }
-  if (s->opts.reuse_factor && s->have_factor) {
+  } else if (s->opts.reuse_factor && s->have_factor) {
     int status = solve_with_old_factor(s, ctx);
     if (status <= 0) return status;
   }

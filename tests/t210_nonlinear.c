@@ -665,32 +665,51 @@ static void q_dof_name(void *prob, ps_int k, char *buf, size_t len) {
   snprintf(buf, len, "dof %lld", (long long)k);
 }
 
+static const ps_nl_problem_ops quartic_ops = {q_evaluate, q_apply,   q_assemble,
+                                              q_mark,     q_changed, q_dof_name};
+
+/* the quartic (with its majorant: with_majorant) and a solver made by
+ * hand around it (its options at their defaults, CHOLMOD; ls_pre too with
+ * a majorant), or NULL when out of memory */
+static ps_solver *quartic_solver(quartic *q, int with_majorant, ps_ctx *ctx, int *status) {
+  memset(q, 0, sizeof *q);
+  q->Ap[1] = 1;
+  q->Ap[2] = 3;
+  q->Ai[2] = 1;
+  q->A = (ps_csc){2, q->Ap, q->Ai, q->Ax};
+  q->with_majorant = with_majorant;
+  q->Pp[1] = 1;
+  q->Pp[2] = 2;
+  q->Pi[1] = 1;
+  q->P = (ps_csc){2, q->Pp, q->Pi, q->Px};
+  q->dofs[1] = 1;
+  ps_solver *s = calloc(1, sizeof *s);
+  if (!s) return NULL;
+  ps_solver_opts_default(&s->opts);
+  s->prob = (ps_nl_problem){&quartic_ops, q, 2, 2, q->dofs, q->fixed, with_majorant};
+  *status = ps_linsolve_create(&s->ls, ps_linsolve_cholmod, ctx);
+  if (*status == PS_OK && with_majorant)
+    *status = ps_linsolve_create(&s->ls_pre, ps_linsolve_cholmod, ctx);
+  if (*status == PS_OK) *status = ps_nl_alloc_work(s, ctx);
+  s->have_majorant = with_majorant;
+  return s;
+}
+
 static void test_hand_problem(void) {
-  static const ps_nl_problem_ops ops = {q_evaluate, q_apply, q_assemble,
-                                        q_mark,     q_changed, q_dof_name};
   const char *names[2] = {"a fresh factor each iteration", "CG with the old factor"};
   for (int reuse = 1; reuse >= 0; reuse--) {
     ps_ctx ctx;
     ps_ctx_init(&ctx);
     ctx.verbosity = getenv("PS_TEST_VERBOSE") ? 2 : 0;
     quartic q;
-    memset(&q, 0, sizeof q);
-    q.Ap[1] = 1;
-    q.Ap[2] = 3;
-    q.Ai[2] = 1;
-    q.A = (ps_csc){2, q.Ap, q.Ai, q.Ax};
-    q.dofs[1] = 1;
-    ps_solver *s = calloc(1, sizeof *s);
+    int status = PS_OK;
+    ps_solver *s = quartic_solver(&q, 0, &ctx, &status);
     if (!s) {
       ps_check(0, "hand-made problem: out of memory");
       return;
     }
-    ps_solver_opts_default(&s->opts);
     s->opts.tolerance = 1e-12;
     s->opts.reuse_factor = reuse;
-    s->prob = (ps_nl_problem){&ops, &q, 2, 2, q.dofs, q.fixed, 0};
-    int status = ps_linsolve_create(&s->ls, ps_linsolve_cholmod, &ctx);
-    if (status == PS_OK) status = ps_nl_alloc_work(s, &ctx);
     if (status == PS_OK) {
       s->u[0] = 5.0; /* x = 4: far from the minimiser, where K changes */
       s->u[1] = 0.0;
@@ -730,35 +749,17 @@ static void test_hand_problem(void) {
  * majorant is factored once (CG with that same factor again, and a second
  * factor of the same P, would fail the same way), the tangent once. */
 static void test_first_system_majorant(void) {
-  static const ps_nl_problem_ops ops = {q_evaluate, q_apply, q_assemble,
-                                        q_mark,     q_changed, q_dof_name};
   ps_ctx ctx;
   ps_ctx_init(&ctx);
   ctx.verbosity = getenv("PS_TEST_VERBOSE") ? 2 : 0;
   quartic q;
-  memset(&q, 0, sizeof q);
-  q.Ap[1] = 1;
-  q.Ap[2] = 3;
-  q.Ai[2] = 1;
-  q.A = (ps_csc){2, q.Ap, q.Ai, q.Ax};
-  q.with_majorant = 1;
-  q.Pp[1] = 1;
-  q.Pp[2] = 2;
-  q.Pi[1] = 1;
-  q.P = (ps_csc){2, q.Pp, q.Pi, q.Px};
-  q.dofs[1] = 1;
-  ps_solver *s = calloc(1, sizeof *s);
+  int status = PS_OK;
+  ps_solver *s = quartic_solver(&q, 1, &ctx, &status);
   if (!s) {
     ps_check(0, "first system: out of memory");
     return;
   }
-  ps_solver_opts_default(&s->opts);
   s->opts.pcg_max_iterations = 1;
-  s->prob = (ps_nl_problem){&ops, &q, 2, 2, q.dofs, q.fixed, 1};
-  int status = ps_linsolve_create(&s->ls, ps_linsolve_cholmod, &ctx);
-  if (status == PS_OK) status = ps_linsolve_create(&s->ls_pre, ps_linsolve_cholmod, &ctx);
-  if (status == PS_OK) status = ps_nl_alloc_work(s, &ctx);
-  s->have_majorant = 1;
   s->cg_rtol = 1e-10;
   double Kdu[2] = {0, 0};
   if (status == PS_OK) {

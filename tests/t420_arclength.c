@@ -334,6 +334,15 @@ static void load_maximum(void) {
   ps_check_rel(lmax, lambda_load, 0.01, "the arc-length maximum against load control's last "
                                         "converged load factor (1%)");
   ps_check(grows, "past the maximum the largest displacement grows at every increment");
+  /* past the maximum the tangent is indefinite: the corrector's solves go
+   * by GMRES with the shifted tangent's factor before any UMFPACK factor
+   * (solve_tangent); the checks above are on that route's path */
+  ps_solver_stats st;
+  ps_solver_get_stats(s, &st);
+  printf("  arc-length: %lld GMRES iterations, %lld UMFPACK factors\n",
+         (long long)st.gmres_iterations, (long long)st.n_fallback);
+  ps_check(st.gmres_iterations > 0, "the indefinite tangents were solved by GMRES (%lld "
+           "iterations)", (long long)st.gmres_iterations);
   ps_path_free(&p);
   ps_solver_free(s);
   ps_problem_free(&pb);

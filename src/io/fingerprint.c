@@ -18,6 +18,12 @@ static void fnv(uint64_t *h, const char *s) { ps_fnv1a(h, s, strlen(s)); }
  * of an older algorithm. What each version changed:
  * doc/algorithm-versions.md. */
 #define PS_ALGORITHM_VERSION 9
+/* The same for what only arc-length, dissipation and event control
+ * compute; it enters only off load control, so that a change there keeps
+ * the fingerprints of load-controlled runs (the committed paper sweep):
+ * 1 until algorithm version 9, 2 since the constrained steps on an
+ * indefinite tangent solve by GMRES with the shifted tangent's factor. */
+#define PS_PATH_CONTROL_VERSION 2
 
 /* What enters the hash, as "%.17g" text (every double exactly): the
  * algorithm version; the geometry (a cloud's or mesh's file name, not its
@@ -182,6 +188,10 @@ uint64_t ps_case_fingerprint(const ps_case *cs) {
     snprintf(b, sizeof b, "control %d %.17g %.17g %d", po->control, po->arc_length_max,
              po->arc_length_psi, po->arc_length_iterations);
     fnv(&h, b);
+    if (PS_PATH_CONTROL_VERSION > 1) { /* the fingerprints of version 1 stay */
+      snprintf(b, sizeof b, "path control algorithm %d", PS_PATH_CONTROL_VERSION);
+      fnv(&h, b);
+    }
   }
   if (po->max_arms_per_step > 0 || po->control == PS_CONTROL_DISSIPATION) {
     snprintf(b, sizeof b, "path control %d %.17g %.17g", po->max_arms_per_step,

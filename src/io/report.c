@@ -154,6 +154,7 @@ static const value_spec summary_keys[] = {
     {"cg_s", V_F, 3, S(t_cg), 0},
     {"shifted_steps", V_I64, 0, S(shifted_steps), 0},
     {"cg_truncated", V_I64, 0, S(cg_truncated), 0},
+    {"gmres_iterations", V_I64, 0, S(gmres_iterations), 0},
     {"newton_stagnated", V_I64, 0, S(stagnated), 0},
     {"line_search_cuts", V_I64, 0, S(line_search_cuts), 0},
     {"newton_handovers", V_I64, 0, S(handovers), 0},

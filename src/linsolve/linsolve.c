@@ -180,3 +180,79 @@ int ps_linsolve_pcg(ps_linsolve *M, const ps_operator *A, const double *b,
   }
   return PS_DIVERGED;
 }
+
+int ps_linsolve_gmres(ps_linsolve *M, const ps_operator *A, const double *b, double *x,
+                      double rtol, int maxit, int *its, ps_ctx *ctx) {
+  const ps_int n = A->n;
+  const int m = maxit > 0 ? maxit : 1;
+  *its = 0;
+  memset(x, 0, (size_t)n * sizeof *x);
+  double beta = sqrt(dot(n, b, b));
+  if (beta == 0.0) return PS_OK;
+  /* V: the Krylov basis (m + 1 columns of n); H: the Hessenberg matrix,
+   * column j at H + j (m + 1), made upper triangular by the rotations
+   * (c, sn); g: the rotated right-hand side beta e1 */
+  double *V = malloc((size_t)(m + 1) * (size_t)n * sizeof *V);
+  double *z = malloc((size_t)n * sizeof *z);
+  double *H = calloc((size_t)(m + 1) * (size_t)m, sizeof *H);
+  double *rot = calloc((size_t)(3 * m + 1), sizeof *rot);
+  if (!V || !z || !H || !rot) {
+    free(V), free(z), free(H), free(rot);
+    return ps_error(ctx, PS_ERR_NOMEM, "out of memory for GMRES (%d vectors of %lld)", m + 1,
+                    (long long)n);
+  }
+  double *c = rot, *sn = rot + m, *g = rot + 2 * m;
+  int status = PS_DIVERGED, k = 0;
+  for (ps_int i = 0; i < n; i++) V[i] = b[i] / beta;
+  g[0] = beta;
+  for (int j = 0; j < m; j++) {
+    double *v = V + (size_t)j * n, *w = V + (size_t)(j + 1) * n, *h = H + (size_t)j * (m + 1);
+    int st = ps_linsolve_solve(M, v, z, ctx); /* z = M^-1 v_j */
+    if (st < 0) {
+      status = st;
+      goto cleanup;
+    }
+    A->apply(A->data, z, w); /* w = A z, orthogonalised (modified Gram-Schmidt) */
+    for (int i = 0; i <= j; i++) {
+      const double *vi = V + (size_t)i * n;
+      h[i] = dot(n, w, vi);
+      for (ps_int q = 0; q < n; q++) w[q] -= h[i] * vi[q];
+    }
+    double hn = h[j + 1] = sqrt(dot(n, w, w));
+    if (hn > 0)
+      for (ps_int q = 0; q < n; q++) w[q] /= hn;
+    for (int i = 0; i < j; i++) { /* the earlier rotations on column j */
+      double t = c[i] * h[i] + sn[i] * h[i + 1];
+      h[i + 1] = -sn[i] * h[i] + c[i] * h[i + 1];
+      h[i] = t;
+    }
+    double d = hypot(h[j], h[j + 1]);
+    if (!(d > 0)) break; /* A M^-1 singular on the basis */
+    c[j] = h[j] / d;
+    sn[j] = h[j + 1] / d;
+    h[j] = d;
+    h[j + 1] = 0.0;
+    g[j + 1] = -sn[j] * g[j];
+    g[j] *= c[j];
+    k = *its = j + 1;
+    if (fabs(g[j + 1]) <= rtol * beta || hn == 0.0) { /* hn = 0: exact in the span */
+      status = PS_OK;
+      break;
+    }
+  }
+  /* y = H^-1 g (back substitution, into g), x = M^-1 V y */
+  for (int i = k - 1; i >= 0; i--) {
+    for (int l = i + 1; l < k; l++) g[i] -= H[(size_t)l * (m + 1) + i] * g[l];
+    g[i] /= H[(size_t)i * (m + 1) + i];
+  }
+  memset(z, 0, (size_t)n * sizeof *z);
+  for (int i = 0; i < k; i++)
+    for (ps_int q = 0; q < n; q++) z[q] += g[i] * V[(size_t)i * n + q];
+  if (k > 0) {
+    int st = ps_linsolve_solve(M, z, x, ctx);
+    if (st < 0) status = st;
+  }
+cleanup:
+  free(V), free(z), free(H), free(rot);
+  return status;
+}

@@ -209,4 +209,17 @@ int ps_linsolve_pcg(ps_linsolve *M, const ps_operator *A, const double *b,
                     double *x, double rtol, int maxit, double *work, int *its,
                     ps_ctx *ctx);
 
+/* GMRES on A x = b (A any nonsingular operator: an indefinite tangent),
+ * started from x = 0 and preconditioned on the right by the factor held
+ * by M in double precision (ps_linsolve_solve: a factor of a nearby
+ * matrix, such as the positive definite factor of a shifted indefinite
+ * one), without restarts: at most maxit iterations, each one solve with
+ * M and one product with A, and one more solve at the end. Stops when
+ * ||b - A x|| <= rtol ||b|| (the residual of GMRES's least-squares
+ * problem). *its gets the iterations. Returns PS_OK, PS_DIVERGED (not
+ * converged within maxit: x is then GMRES's best iterate), PS_ERR_NOMEM,
+ * or a fatal status of the solve. */
+int ps_linsolve_gmres(ps_linsolve *M, const ps_operator *A, const double *b, double *x,
+                      double rtol, int maxit, int *its, ps_ctx *ctx);
+
 #endif

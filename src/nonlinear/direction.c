@@ -72,6 +72,9 @@ int ps_nl_factor_tangent(ps_solver *s, ps_ctx *ctx) {
   if (status == PS_OK) {
     s->ls_last = first;
     s->have_factor = 1;
+    s->indefinite = first != &s->ls; /* LDL^T: lu_first on an indefinite K */
+    s->lu_current = s->indefinite;
+    s->shifted_current = 0;
     return PS_OK;
   }
   if (bad >= 0 && bad < s->prob.n_free) s->prob.ops->dof_name(s->prob.data, bad, name, sizeof name);
@@ -90,6 +93,8 @@ int ps_nl_factor_tangent(ps_solver *s, ps_ctx *ctx) {
     if (status == PS_OK) {
       s->ls_last = &s->ls_fallback;
       s->have_factor = 1;
+      s->indefinite = s->lu_current = 1;
+      s->shifted_current = 0;
       return PS_OK;
     }
   }
@@ -143,6 +148,7 @@ static int factor_majorant(ps_solver *s, ps_ctx *ctx) {
   }
   s->ls_last = &s->ls_pre;
   s->have_factor = 1;
+  s->indefinite = s->lu_current = s->shifted_current = 0;
   snapshot_arm_state(s, ctx);
   return PS_OK;
 }
@@ -288,7 +294,7 @@ int ps_nl_direction(ps_solver *s, ps_ctx *ctx) {
   return status;
 }
 
-int ps_nl_shifted_direction(ps_solver *s, ps_ctx *ctx) {
+int ps_nl_factor_shifted(ps_solver *s, ps_ctx *ctx) {
   ps_csc *A = NULL;
   PS_CHECK(assemble(s, 0, &A, ctx));
   ps_int n = A->n, bad;
@@ -302,6 +308,8 @@ int ps_nl_shifted_direction(ps_solver *s, ps_ctx *ctx) {
     if (status == PS_OK) ps_log(ctx, 2, "    indefinite tangent: shifted by %.0e diag\n", mu);
   }
   for (ps_int k = 0; k < n; k++) A->x[A->p[k + 1] - 1] = s->diag_saved[k];
+  s->lu_current = 0;
+  s->shifted_current = status == PS_OK;
   if (status != PS_OK) {
     s->have_factor = 0;
     return status < 0 ? status
@@ -309,7 +317,31 @@ int ps_nl_shifted_direction(ps_solver *s, ps_ctx *ctx) {
   }
   s->ls_last = &s->ls;
   s->have_factor = 1;
-  s->n_shifted++;
   snapshot_arm_state(s, ctx);
+  return PS_OK;
+}
+
+int ps_nl_shifted_direction(ps_solver *s, ps_ctx *ctx) {
+  int status = ps_nl_factor_shifted(s, ctx);
+  if (status != PS_OK) return status;
+  s->n_shifted++;
   return ps_linsolve_solve(&s->ls, s->rhs, s->du, ctx);
+}
+
+int ps_nl_shifted_gmres(ps_solver *s, int refactor, ps_ctx *ctx) {
+  if (refactor) {
+    int status = ps_nl_factor_shifted(s, ctx);
+    if (status != PS_OK) return status < 0 ? status : PS_DIVERGED;
+  }
+  ps_operator K = {s->prob.n_free, apply_tangent, &s->prob};
+  int its = 0;
+  double t0 = ps_wtime();
+  int status = ps_linsolve_gmres(&s->ls, &K, s->rhs, s->du, s->cg_rtol, PS_GMRES_MAX_ITERATIONS,
+                                 &its, ctx);
+  s->t_pcg += ps_wtime() - t0;
+  s->gmres_iterations += its;
+  if (status < 0) return status;
+  ps_log(ctx, 2, "    GMRES with the shifted tangent's factor: %d iterations%s\n", its,
+         status == PS_OK ? "" : ", not converged");
+  return status == PS_OK ? PS_OK : PS_DIVERGED;
 }

@@ -22,6 +22,8 @@ typedef struct ps_solver_stats {
   ps_int majorant_factorisations, majorant_failures; /* opts.majorant */
   ps_int shifted_steps;       /* Newton directions from a shifted tangent */
   ps_int cg_truncated;        /* from CG truncated at negative curvature */
+  ps_int gmres_iterations;    /* GMRES on an indefinite tangent (path
+                                 control past a peak) */
   ps_int stagnated;           /* Newton solves ended as stagnated */
   ps_int handovers;           /* adaptive CG solves that went on with the
                                  fixed rule at max_iterations */

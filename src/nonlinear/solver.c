@@ -327,26 +327,39 @@ static void load_vector(ps_solver *s, double *q) {
     q[k] = (fext ? fext[sys->dof_of_free[k]] : 0.0) - q[k];
 }
 
-/* x = K_ff^-1 b by the direction strategy; or, when the last factor was
- * an indefinite one (UMFPACK's or LDL^T's: softening or perfectly plastic
- * arms past a peak), by a factor of the current tangent made straight by
- * LDL^T (UMFPACK where it meets a zero pivot) when fresh = 1 and reused
- * for the iteration's second right-hand side (fresh = 0): CG
- * preconditioned by the factor of another indefinite matrix fails at
- * nearly every iteration there, and CHOLMOD's LL^T refuses it. Returns
- * PS_OK, PS_SINGULAR or fatal. */
+/* x = K_ff^-1 b by the direction strategy; or, once the tangent has
+ * needed an indefinite factor (UMFPACK's or LDL^T's: softening or
+ * perfectly plastic arms past a peak; s->indefinite), by a route of its
+ * own: CG preconditioned by the factor of another indefinite matrix fails
+ * at nearly every iteration there, and CHOLMOD's LL^T refuses K. For
+ * models with family terms (whose LDL^T is slow: ldl_ok 0), first GMRES
+ * preconditioned by the LL^T factor of the shifted current tangent
+ * (ps_nl_shifted_gmres: a CHOLMOD factor instead of an LU of twice its
+ * flops); where that fails, and for the others, a factor of the current
+ * tangent made straight by LDL^T (UMFPACK where it meets a zero pivot).
+ * fresh = 1: the tangent changed since the last call (a new iteration),
+ * 0: the same tangent (the iteration's second right-hand side), whose
+ * factor is reused. Returns PS_OK, PS_SINGULAR or fatal. */
 static int solve_tangent(ps_solver *s, const double *b, double *x, int fresh, ps_ctx *ctx) {
   size_t bytes = (size_t)s->prob.n_free * sizeof *b;
   memcpy(s->rhs, b, bytes);
   int status;
-  if (s->have_factor && (s->ls_last == &s->ls_fallback || s->ls_last == &s->ls_ldl)) {
-    if (fresh) {
-      s->lu_first = 1;
-      status = ps_nl_factor_tangent(s, ctx);
-      s->lu_first = 0;
-      if (status != PS_OK) return status;
+  if (s->have_factor && s->indefinite) {
+    if (fresh) s->lu_current = s->shifted_current = 0;
+    status = PS_DIVERGED;
+    if (!s->lu_current && !s->ldl_ok && s->opts.reuse_factor) {
+      status = ps_nl_shifted_gmres(s, !s->shifted_current, ctx);
+      if (status < 0) return status;
     }
-    status = ps_linsolve_solve((ps_linsolve *)s->ls_last, s->rhs, s->du, ctx);
+    if (status != PS_OK) {
+      if (!s->lu_current) {
+        s->lu_first = 1;
+        status = ps_nl_factor_tangent(s, ctx); /* sets lu_current */
+        s->lu_first = 0;
+        if (status != PS_OK) return status;
+      }
+      status = ps_linsolve_solve((ps_linsolve *)s->ls_last, s->rhs, s->du, ctx);
+    }
   } else {
     status = ps_nl_direction(s, ctx);
   }
@@ -728,6 +741,7 @@ void ps_solver_get_stats(const ps_solver *s, ps_solver_stats *st) {
   st->majorant_failures = s->pre_failures;
   st->shifted_steps = s->n_shifted;
   st->cg_truncated = s->pcg_truncated;
+  st->gmres_iterations = s->gmres_iterations;
   st->stagnated = s->n_stagnated;
   st->handovers = s->n_handovers;
   st->line_search_cuts = s->n_line_search_cuts;
@@ -833,6 +847,10 @@ static int counter_items(ps_solver *s, ps_state_list *l, ps_ctx *ctx) {
   PS_ITEM("its_fresh", s->its_fresh);
   PS_ITEM("pre_failures", s->pre_failures);
   PS_ITEM("pcg_truncated", s->pcg_truncated);
+  PS_ITEM("gmres_iterations", s->gmres_iterations);
+  PS_ITEM("indefinite", s->indefinite);
+  PS_ITEM("lu_current", s->lu_current);
+  PS_ITEM("shifted_current", s->shifted_current);
   PS_ITEM("n_handovers", s->n_handovers);
   PS_ITEM("n_stagnated", s->n_stagnated);
   PS_ITEM("t_pcg", s->t_pcg);

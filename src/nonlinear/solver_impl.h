@@ -50,6 +50,17 @@ struct ps_solver {
                                indefinite factor, LDL^T (UMFPACK when it
                                meets a zero pivot): the constrained step
                                on an indefinite tangent */
+  int indefinite;           /* 1: the last factor of the tangent itself
+                               was an indefinite one (UMFPACK's, LDL^T's):
+                               K is indefinite (a constrained step then
+                               solves by solve_tangent's route) */
+  int lu_current;           /* 1: ls_last holds an indefinite factor of
+                               the current tangent (set by the factors,
+                               cleared by solve_tangent when the tangent
+                               changes) */
+  int shifted_current;      /* 1: ls holds the factor of the current
+                               tangent shifted (ps_nl_factor_shifted);
+                               likewise */
   int have_prev;            /* u_prev valid: no arm broke since */
   double *ubar;             /* [n_dof] prescribed displacement at lambda 1 */
   double *f;                /* [n_dof] internal forces at u (reactions at
@@ -84,6 +95,8 @@ struct ps_solver {
                                factor: iterations and solves */
   ps_int its_fresh;         /* CG iterations of the first solve with it */
   ps_int pre_failures;      /* CG with a fresh majorant factor that failed */
+  ps_int gmres_iterations;  /* GMRES on an indefinite tangent
+                               (ps_nl_shifted_gmres) */
   ps_int pcg_truncated;     /* Newton directions from CG truncated at
                                negative curvature (opts.cg_truncate) */
   ps_int n_handovers;       /* Newton solves that reached max_iterations
@@ -140,5 +153,20 @@ int ps_nl_factor_tangent(ps_solver *s, ps_ctx *ctx);
  * positive definite, else the tangent's (ps_nl_factor_tangent). Returns
  * PS_OK, PS_SINGULAR, or fatal. */
 int ps_nl_fresh_factor(ps_solver *s, ps_ctx *ctx);
+
+/* A positive definite factor of the shifted tangent K + mu diag K of the
+ * last evaluation with one (mu = 1e-4, 1e-3, .., 10, the first that
+ * CHOLMOD's LL^T takes; a zero diagonal entry shifted to 1) into s->ls,
+ * the factor the next directions reuse. Returns PS_OK, PS_SINGULAR (no
+ * such mu), or fatal. */
+int ps_nl_factor_shifted(ps_solver *s, ps_ctx *ctx);
+
+/* du = K_ff^-1 rhs for an indefinite K by GMRES preconditioned by the
+ * factor of the shifted tangent (ps_nl_factor_shifted, made first when
+ * refactor = 1), to the relative residual s->cg_rtol in at most
+ * PS_GMRES_MAX_ITERATIONS. Returns PS_OK, PS_DIVERGED (no such factor,
+ * or GMRES did not converge), or fatal. */
+#define PS_GMRES_MAX_ITERATIONS 30
+int ps_nl_shifted_gmres(ps_solver *s, int refactor, ps_ctx *ctx);
 
 #endif

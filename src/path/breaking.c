@@ -68,9 +68,12 @@ int ps_path_break_rounds(ps_path *p, ps_int its0, ps_int *n_broken, int *settle,
     if (*settle < 0) return *settle;
     *n_broken += nr;
     ps_int limit = ps_path_load_phase_arms(p);
-    if (limit > 0 && nr > 0 && (*settle != PS_OK || *n_broken > limit || crack_has_run(p))) {
-      p->unstable = 1; /* the controller's load phase ends (ps_path_iterate) */
-      return PS_OK;
+    if (limit > 0 && nr > 0) { /* the controller's load phase ends (ps_path_iterate) */
+      p->unstable = *settle != PS_OK       ? PS_UNSTABLE_ROUND_FAILED
+                    : *n_broken > limit    ? PS_UNSTABLE_ARMS
+                    : crack_has_run(p)     ? PS_UNSTABLE_STOP_RULE
+                                           : 0;
+      if (p->unstable) return PS_OK;
     }
     if (*settle == PS_OK && nr > 0 && p->o.round_tolerance > 0) loose = 1;
     if (*settle == PS_OK && nr == 0 && loose) {

@@ -190,16 +190,23 @@ again:
     if (p->unstable) {
       /* the load-controlled path has passed its stable part: the
        * controller's own steps from the last settled state */
+      char why[96];
+      if (p->unstable == PS_UNSTABLE_ARMS)
+        snprintf(why, sizeof why, "%lld arms broken at that load, more than %lld",
+                 (long long)nb, (long long)limit);
+      else
+        snprintf(why, sizeof why, "%s after %lld arms broke",
+                 p->unstable == PS_UNSTABLE_STOP_RULE ? "a stop rule met"
+                                                      : "a breaking round failed",
+                 (long long)nb);
       p->unstable = 0;
       double lambda = ps_solver_lambda(s);
       int st = ps_solver_snapshot_restore(s, &p->settled_state, ctx);
       if (st < 0) return st;
       p->control->leave_load_phase(p->control_state, &p->o);
-      ps_log(ctx, 1, "  step %d: the crack runs at load factor %.6g (%lld arms broken at "
-                     "that load, more than %lld, or the stop rules met): the %s controller "
-                     "goes on from load factor %.6g\n",
-             (int)(p->increments + 1), lambda, (long long)nb, (long long)limit,
-             p->control->name, ps_solver_lambda(s));
+      ps_log(ctx, 1, "  step %d: the crack runs at load factor %.6g (%s): the %s "
+                     "controller goes on from load factor %.6g\n",
+             (int)(p->increments + 1), lambda, why, p->control->name, ps_solver_lambda(s));
       goto again;
     }
   } else {

@@ -131,6 +131,13 @@ extern const ps_step_control_type *const ps_step_control_event;
 /* The controller of path.control (enum ps_path_control). */
 const ps_step_control_type *ps_step_control_find(int control);
 
+/* Why the rounds at one load ended a controller's load phase. */
+enum ps_path_unstable {
+  PS_UNSTABLE_ARMS = 1,         /* more arms broke than load_phase_arms */
+  PS_UNSTABLE_STOP_RULE = 2,    /* the state met a stop rule (tip, load drop) */
+  PS_UNSTABLE_ROUND_FAILED = 3  /* a round's re-equilibration failed */
+};
+
 /* How a path ended (ps_path_test). */
 enum ps_path_end {
   PS_PATH_CONTINUE = 0,
@@ -204,7 +211,8 @@ typedef struct ps_path {
   void *control_state;
   double tip_start;           /* crack tip before the last breaking rounds */
   ps_solver_snapshot settled_state; /* a load phase's last settled state */
-  int unstable;               /* the rounds at one load ended the load phase */
+  int unstable;               /* the rounds at one load ended the load
+                                 phase: enum ps_path_unstable */
   double recent[3];           /* boundary stresses of the last converged
                                  increments, the newest last */
   int n_recent;

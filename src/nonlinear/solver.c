@@ -873,12 +873,18 @@ int ps_solver_state_list(ps_solver *s, ps_state_list *l, ps_ctx *ctx) {
   return counter_items(s, l, ctx);
 }
 
+/* the bytes of l's items */
+static size_t list_bytes(const ps_state_list *l) {
+  size_t size = 0;
+  for (int k = 0; k < l->n; k++) size += l->item[k].bytes;
+  return size;
+}
+
 int ps_solver_snapshot_take(ps_solver *s, ps_solver_snapshot *snap, ps_ctx *ctx) {
   ps_state_list l = {0};
   int status = PS_OK;
   PS_CHECK_GOTO(state_items(s, &l, ctx));
-  size_t size = 0;
-  for (int k = 0; k < l.n; k++) size += l.item[k].bytes;
+  size_t size = list_bytes(&l);
   if (size > snap->cap) {
     void *p = realloc(snap->data, size);
     if (!p) {
@@ -903,14 +909,12 @@ int ps_solver_snapshot_restore(ps_solver *s, const ps_solver_snapshot *snap, ps_
   ps_state_list l = {0};
   int status = PS_OK;
   PS_CHECK_GOTO(state_items(s, &l, ctx));
-  size_t at = 0;
-  for (int k = 0; k < l.n; k++) at += l.item[k].bytes;
-  if (at != snap->size) {
+  if (list_bytes(&l) != snap->size) {
     status = ps_error(ctx, PS_ERR_INTERNAL, "a copy of the solver's state of %zu bytes does "
-                      "not fit its %zu", snap->size, at);
+                      "not fit its %zu", snap->size, list_bytes(&l));
     goto cleanup;
   }
-  at = 0;
+  size_t at = 0;
   for (int k = 0; k < l.n; k++) {
     memcpy(l.item[k].data, snap->data + at, l.item[k].bytes);
     at += l.item[k].bytes;

@@ -149,6 +149,31 @@ static int attempt(ps_path *p, ps_int *its0, ps_ctx *ctx) {
   }
 }
 
+/* The rounds at one load ended the controller's load phase (p->unstable,
+ * after nb arms broke; limit: the phase's arms): the load-controlled path
+ * has passed its stable part. Back to the settled state of
+ * p->settled_state, and the controller's own steps from there. Returns
+ * PS_OK or fatal. */
+static int end_load_phase(ps_path *p, ps_int nb, ps_int limit, ps_ctx *ctx) {
+  char why[96];
+  if (p->unstable == PS_UNSTABLE_ARMS)
+    snprintf(why, sizeof why, "%lld arms broken at that load, more than %lld", (long long)nb,
+             (long long)limit);
+  else
+    snprintf(why, sizeof why, "%s after %lld arms broke",
+             p->unstable == PS_UNSTABLE_STOP_RULE ? "a stop rule met" : "a breaking round failed",
+             (long long)nb);
+  p->unstable = 0;
+  double lambda = ps_solver_lambda(p->s);
+  int st = ps_solver_snapshot_restore(p->s, &p->settled_state, ctx);
+  if (st < 0) return st;
+  p->control->leave_load_phase(p->control_state, &p->o);
+  ps_log(ctx, 1, "  step %d: the crack runs at load factor %.6g (%s): the %s controller goes "
+                 "on from load factor %.6g\n",
+         (int)(p->increments + 1), lambda, why, p->control->name, ps_solver_lambda(p->s));
+  return PS_OK;
+}
+
 int ps_path_iterate(ps_path *p, ps_ctx *ctx) {
   ps_solver *s = p->s;
   ps_int its0, nb;
@@ -188,25 +213,7 @@ again:
     ps_int limit = ps_path_load_phase_arms(p);
     PS_CHECK(ps_path_break_rounds(p, its0, &nb, &settle, &settled, ctx));
     if (p->unstable) {
-      /* the load-controlled path has passed its stable part: the
-       * controller's own steps from the last settled state */
-      char why[96];
-      if (p->unstable == PS_UNSTABLE_ARMS)
-        snprintf(why, sizeof why, "%lld arms broken at that load, more than %lld",
-                 (long long)nb, (long long)limit);
-      else
-        snprintf(why, sizeof why, "%s after %lld arms broke",
-                 p->unstable == PS_UNSTABLE_STOP_RULE ? "a stop rule met"
-                                                      : "a breaking round failed",
-                 (long long)nb);
-      p->unstable = 0;
-      double lambda = ps_solver_lambda(s);
-      int st = ps_solver_snapshot_restore(s, &p->settled_state, ctx);
-      if (st < 0) return st;
-      p->control->leave_load_phase(p->control_state, &p->o);
-      ps_log(ctx, 1, "  step %d: the crack runs at load factor %.6g (%s): the %s "
-                     "controller goes on from load factor %.6g\n",
-             (int)(p->increments + 1), lambda, why, p->control->name, ps_solver_lambda(s));
+      PS_CHECK(end_load_phase(p, nb, limit, ctx));
       goto again;
     }
   } else {

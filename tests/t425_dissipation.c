@@ -326,6 +326,41 @@ static void fibre_gradient(void) {
   ps_problem_free(&pb);
 }
 
+/* The plate of plate_text with the path lines `path_lines` (written to
+ * `file` and read back), its solver on one thread and its path under the
+ * case's path.control. */
+typedef struct plate_run {
+  ps_problem pb;
+  ps_solver *s;
+  ps_path path;
+} plate_run;
+
+static void plate_run_start(plate_run *r, const char *file, const char *path_lines,
+                            ps_ctx *ctx) {
+  char text[4096];
+  plate_text(text, sizeof text, path_lines);
+  setup_text(&r->pb, file, text);
+  ps_problem *pb = &r->pb;
+  ps_solver_opts o = pb->cs.solver;
+  o.threads = 1;
+  const ps_model_type *bond = ps_model_type_find("bond");
+  r->s = NULL;
+  if (ps_solver_create(&r->s, &pb->P, &pb->net, bond, &pb->mat, pb->fixed, pb->ubar, &o, ctx))
+    die_ctx("solver", ctx);
+  ps_path_problem pp = {.P = &pb->P, .net = &pb->net, .model = bond, .mat = &pb->mat,
+                        .measure = pb->measure, .measure_length = pb->measure_length,
+                        .name = "t425"};
+  if (ps_path_init(&r->path, r->s, &pp, &pb->cs.path, ps_step_control_find(pb->cs.path.control),
+                   ctx))
+    die_ctx("path", ctx);
+}
+
+static void plate_run_free(plate_run *r) {
+  ps_path_free(&r->path);
+  ps_solver_free(r->s);
+  ps_problem_free(&r->pb);
+}
+
 /* The energy balance along a path: W, the trapezoid sum of the reaction
  * times the grip's displacement over the converged states, against the
  * stored energy Psi and the dissipated D (plastic or softening, and the
@@ -357,145 +392,106 @@ static void balance_add(balance *b, const ps_path *path, const ps_problem *pb,
 }
 
 static void controlled_run(void) {
-  ps_problem pb;
   ps_ctx ctx;
   ps_ctx_init(&ctx);
-  char text[4096];
-  plate_text(text, sizeof text,
-             "  load_step: 0.01\n  control: dissipation\n  stop_load_drop: 0.1\n"
-             "  max_increments: 3000\n");
-  setup_text(&pb, "t425-run.yaml", text);
-  ps_solver *s = NULL;
-  ps_solver_opts o = pb.cs.solver;
-  o.threads = 1;
-  if (ps_solver_create(&s, &pb.P, &pb.net, ps_model_type_find("bond"), &pb.mat, pb.fixed,
-                       pb.ubar, &o, &ctx))
-    die_ctx("solver", &ctx);
-  ps_path_problem pp = {.P = &pb.P, .net = &pb.net, .model = ps_model_type_find("bond"),
-                        .mat = &pb.mat, .measure = pb.measure,
-                        .measure_length = pb.measure_length, .name = "t425"};
-  ps_path path;
-  if (ps_path_init(&path, s, &pp, &pb.cs.path, ps_step_control_find(pb.cs.path.control), &ctx))
-    die_ctx("path", &ctx);
-  balance b = balance_start(&pb);
+  plate_run r;
+  plate_run_start(&r, "t425-run.yaml",
+                  "  load_step: 0.01\n  control: dissipation\n  stop_load_drop: 0.1\n"
+                  "  max_increments: 3000\n",
+                  &ctx);
+  ps_solver *s = r.s;
+  ps_path *path = &r.path;
+  balance b = balance_start(&r.pb);
   double D_last = 0;
   int all_converged = 1, monotone = 1, n_diss = 0, n_inc = 0;
-  while (ps_path_test(&path) == PS_PATH_CONTINUE) {
-    if (ps_path_iterate(&path, &ctx)) die_ctx("iterate", &ctx);
-    if (path.end) break;
+  while (ps_path_test(path) == PS_PATH_CONTINUE) {
+    if (ps_path_iterate(path, &ctx)) die_ctx("iterate", &ctx);
+    if (path->end) break;
     n_inc++;
-    all_converged &= path.last.converged;
-    balance_add(&b, &path, &pb, s);
+    all_converged &= path->last.converged;
+    balance_add(&b, path, &r.pb, s);
     if (b.D < D_last - 1e-12 * fabs(D_last)) monotone = 0;
     if (b.D > D_last) n_diss++;
     D_last = b.D;
     if (getenv("T425_VERBOSE"))
-      printf("    %3d lambda %.8f R %.6g W %.8g Psi %.8g D %.8g\n", n_inc, path.last.lambda,
+      printf("    %3d lambda %.8f R %.6g W %.8g Psi %.8g D %.8g\n", n_inc, path->last.lambda,
              b.R0, b.W, ps_solver_stored_energy(s), b.D);
   }
   double R0 = b.R0, R_peak = b.R_peak, W = b.W, worst_bal = b.error;
   printf("  (3) %d increments (%d dissipating), end: %s; reaction %.4g of its peak, %lld "
          "arms broken; dissipated %.6g J/m, W - Psi = %.6g J/m (balance error %.2e)\n",
-         n_inc, n_diss, path.stop_reason, R0 / R_peak, (long long)path.broken_total, D_last,
+         n_inc, n_diss, path->stop_reason, R0 / R_peak, (long long)path->broken_total, D_last,
          W - ps_solver_stored_energy(s), worst_bal);
   ps_check(all_converged, "every increment converged");
-  ps_check(path.end == PS_PATH_FRACTURED && R0 < 0.1 * R_peak,
+  ps_check(path->end == PS_PATH_FRACTURED && R0 < 0.1 * R_peak,
            "past the peak along the descending branch to below 10%% of the peak reaction");
   ps_check(n_diss >= 10, "dissipation control took over once the arms softened");
   ps_check(monotone, "the dissipated energy never falls");
   ps_check(worst_bal < 0.01, "energy balance W - Psi = D within 1%%");
-  ps_path_free(&path);
-  ps_solver_free(s);
-  ps_problem_free(&pb);
+  plate_run_free(&r);
 }
 
 /* (4): the load phase of dissipation control */
 static void load_phase_run(void) {
   ps_ctx ctx;
   ps_ctx_init(&ctx);
-  char text[4096];
-  ps_problem pb, pl;
+  plate_run r, ref;
   /* the reference: load control over the same load factors */
-  plate_text(text, sizeof text, "  load_step: 0.01\n  load_step_after_break: 0.01\n"
-                                "  max_increments: 3000\n  max_load: 2.0\n");
-  setup_text(&pl, "t425-load.yaml", text);
-  plate_text(text, sizeof text,
-             "  load_step: 0.01\n  load_step_after_break: 0.01\n  control: dissipation\n"
-             "  load_until_unstable: true\n  unstable_arms: 10\n  stop_load_drop: 0.1\n"
-             "  max_increments: 3000\n");
-  setup_text(&pb, "t425-phase.yaml", text);
-  ps_solver *s = NULL, *sl = NULL;
-  ps_solver_opts o = pb.cs.solver;
-  o.threads = 1;
-  const ps_model_type *bond = ps_model_type_find("bond");
-  if (ps_solver_create(&s, &pb.P, &pb.net, bond, &pb.mat, pb.fixed, pb.ubar, &o, &ctx) ||
-      ps_solver_create(&sl, &pl.P, &pl.net, bond, &pl.mat, pl.fixed, pl.ubar, &o, &ctx))
-    die_ctx("solver", &ctx);
-  ps_path_problem pp = {.P = &pb.P, .net = &pb.net, .model = bond, .mat = &pb.mat,
-                        .measure = pb.measure, .measure_length = pb.measure_length,
-                        .name = "t425"};
-  ps_path_problem ppl = pp;
-  ppl.P = &pl.P, ppl.net = &pl.net, ppl.mat = &pl.mat, ppl.measure = pl.measure;
-  ps_path path, pload;
-  if (ps_path_init(&path, s, &pp, &pb.cs.path, ps_step_control_find(pb.cs.path.control),
-                   &ctx) ||
-      ps_path_init(&pload, sl, &ppl, &pl.cs.path, ps_step_control_find(PS_CONTROL_LOAD), &ctx))
-    die_ctx("path", &ctx);
-  balance b = balance_start(&pb);
+  plate_run_start(&ref, "t425-load.yaml",
+                  "  load_step: 0.01\n  load_step_after_break: 0.01\n"
+                  "  max_increments: 3000\n  max_load: 2.0\n",
+                  &ctx);
+  plate_run_start(&r, "t425-phase.yaml",
+                  "  load_step: 0.01\n  load_step_after_break: 0.01\n  control: dissipation\n"
+                  "  load_until_unstable: true\n  unstable_arms: 10\n  stop_load_drop: 0.1\n"
+                  "  max_increments: 3000\n",
+                  &ctx);
+  ps_solver *s = r.s;
+  ps_path *path = &r.path, *pload = &ref.path;
+  balance b = balance_start(&r.pb);
   double worst_load = 0;
   int all_converged = 1, n_load = 0, n_after = 0, load_ok = 1;
-  while (ps_path_test(&path) == PS_PATH_CONTINUE) {
-    if (ps_path_iterate(&path, &ctx)) die_ctx("iterate", &ctx);
-    if (path.end) break;
-    all_converged &= path.last.converged;
-    double l = path.last.lambda;
-    if (!n_after && ps_path_load_phase_arms(&path) > 0) {
+  while (ps_path_test(path) == PS_PATH_CONTINUE) {
+    if (ps_path_iterate(path, &ctx)) die_ctx("iterate", &ctx);
+    if (path->end) break;
+    all_converged &= path->last.converged;
+    double l = path->last.lambda;
+    if (!n_after && ps_path_load_phase_arms(path) > 0) {
       /* still load control: the same increment as the load-controlled run */
       n_load++;
-      if (ps_path_test(&pload) != PS_PATH_CONTINUE || ps_path_iterate(&pload, &ctx))
+      if (ps_path_test(pload) != PS_PATH_CONTINUE || ps_path_iterate(pload, &ctx))
         die_ctx("load-controlled run", &ctx);
-      double e = fabs(path.last.sigma - pload.last.sigma) / fabs(pload.last.sigma);
+      double e = fabs(path->last.sigma - pload->last.sigma) / fabs(pload->last.sigma);
       if (e > worst_load) worst_load = e;
-      load_ok &= fabs(l - 0.01 * n_load) < 1e-12 && pload.last.lambda == l;
+      load_ok &= fabs(l - 0.01 * n_load) < 1e-12 && pload->last.lambda == l;
     } else {
       n_after++;
     }
-    balance_add(&b, &path, &pb, s);
+    balance_add(&b, path, &r.pb, s);
   }
   double R0 = b.R0, R_peak = b.R_peak, bal = b.error;
   printf("  (4) %d load-controlled increments (boundary stress within %.1e of load "
          "control's), then %d under dissipation control; end: %s; reaction %.4g of its "
          "peak; balance error %.2e\n",
-         n_load, worst_load, n_after, path.stop_reason, R0 / R_peak, bal);
+         n_load, worst_load, n_after, path->stop_reason, R0 / R_peak, bal);
   ps_check(n_load >= 5 && load_ok && worst_load < 1e-9,
            "the load phase is load control's path (load factors and boundary stresses)");
   ps_check(n_after >= 10, "dissipation control took over from the load phase");
   ps_check(all_converged, "every increment converged");
-  ps_check(path.end == PS_PATH_FRACTURED && R0 < 0.1 * R_peak,
+  ps_check(path->end == PS_PATH_FRACTURED && R0 < 0.1 * R_peak,
            "past the peak to below 10%% of the peak reaction");
   ps_check(bal < 0.01, "energy balance W - Psi = D within 1%% after the switch");
-  ps_path_free(&path);
-  ps_path_free(&pload);
-  ps_solver_free(s);
-  ps_solver_free(sl);
-  ps_problem_free(&pb);
-  ps_problem_free(&pl);
+  plate_run_free(&r);
+  plate_run_free(&ref);
 }
 
 /* (5): a snapshot put back is the state taken */
 static void snapshot(void) {
   ps_ctx ctx;
   ps_ctx_init(&ctx);
-  char text[4096];
-  ps_problem pb;
-  plate_text(text, sizeof text, "  load_step: 0.01\n");
-  setup_text(&pb, "t425-snap.yaml", text);
-  ps_solver *s = NULL;
-  ps_solver_opts o = pb.cs.solver;
-  o.threads = 1;
-  if (ps_solver_create(&s, &pb.P, &pb.net, ps_model_type_find("bond"), &pb.mat, pb.fixed,
-                       pb.ubar, &o, &ctx))
-    die_ctx("solver", &ctx);
+  plate_run r;
+  plate_run_start(&r, "t425-snap.yaml", "  load_step: 0.01\n", &ctx);
+  ps_solver *s = r.s;
   ps_solver_snapshot snap = {0}, back = {0};
   /* into the softening range: arms soften and dissipate */
   for (int k = 1; k <= 15; k++) {
@@ -519,8 +515,7 @@ static void snapshot(void) {
            "a snapshot put back is the state taken, bit for bit");
   ps_solver_snapshot_free(&snap);
   ps_solver_snapshot_free(&back);
-  ps_solver_free(s);
-  ps_problem_free(&pb);
+  plate_run_free(&r);
 }
 
 int main(void) {

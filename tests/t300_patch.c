@@ -156,7 +156,7 @@ static void irregular(void) {
     } else {
       double perim = 2 * ((hi[0] - lo[0] - 2 * w) + (hi[1] - lo[1] - 2 * w));
       double sig = ps_post_boundary_stress(&net, ps_solver_arm_tension(s),
-                                           ps_solver_arm_direction(s), meas, perim);
+                                           ps_solver_arm_direction(s), meas, perim, NULL);
       double want = 2 * mat.K * E[1][0]; /* N K eps, plane strain K (Eq. 81) */
       ps_check_rel(sig, want, 0.06, "irregular cloud: equibiaxial boundary stress vs N K eps");
     }

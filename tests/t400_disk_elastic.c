@@ -71,7 +71,7 @@ static double run(int n_eta, int n_xi, ps_int *np, double *sig_ratio) {
   const double *q = ps_solver_arm_direction(s);
   double err = ps_post_rms_error(2, n, u, uref, interior);
   double L = ps_geom_ellipse_perimeter(dp.c, M_PI - 2 * M_PI / n_xi);
-  *sig_ratio = ps_post_boundary_stress(&net, T, q, meas, L) / (lambda * S);
+  *sig_ratio = ps_post_boundary_stress(&net, T, q, meas, L, NULL) / (lambda * S);
   printf("# disk %dx%d: %lld particles, %lld arms, size ratio %.0f, RMS error %.4f, "
          "boundary stress / S %.4f\n",
          n_eta, n_xi, (long long)n, (long long)net.n_arm, net.max_h_ratio, err, *sig_ratio);

@@ -32,7 +32,16 @@
  *     the energy balance of (3).
  * (5) The solver's snapshot (the path's way back): a state taken, a step
  *     taken from it and committed, the state put back equals the one
- *     taken, bit for bit. */
+ *     taken, bit for bit.
+ * (6) The run's reductions go through ctx->comm (ps_util.h; step 1 of
+ *     doc/design-distributed.md): the path of (4) with a comm of one
+ *     process whose operations are the identity but count their calls
+ *     gives every increment's load factor, boundary stress, stored and
+ *     dissipated energy and broken arms bit for bit as with no comm, and
+ *     the residual norms (the one reduction of two values per Newton
+ *     iterate) and the energies and slopes (one value) reach the comm at
+ *     least once per Newton iteration each. The operations on several MPI
+ *     processes are checked by tests/comm_check under t990_petsc.sh. */
 #include "check.h"
 #include "common.h"
 #include "nonlinear/problem_pd.h"
@@ -518,11 +527,77 @@ static void snapshot(void) {
   plate_run_free(&r);
 }
 
+/* (6): a comm of one process that counts its calls by the number of
+ * values reduced */
+typedef struct counting {
+  long sums[8], others;
+} counting;
+static void count_sum(void *data, double *x, int n) {
+  (void)x;
+  counting *c = data;
+  c->sums[n < 8 ? n : 7]++;
+}
+static void count_other(void *data, double *x, int n) {
+  (void)x;
+  (void)n;
+  ((counting *)data)->others++;
+}
+
+static void routed_run(void) {
+  const char *lines = "  load_step: 0.01\n  load_step_after_break: 0.01\n  control: dissipation\n"
+                      "  load_until_unstable: true\n  unstable_arms: 10\n  stop_load_drop: 0.1\n"
+                      "  max_increments: 3000\n";
+  counting cnt = {{0}, 0};
+  const ps_comm comm = {0, 1, &cnt, count_sum, count_other, count_other};
+  ps_ctx ctx, ctx_c;
+  ps_ctx_init(&ctx);
+  ps_ctx_init(&ctx_c);
+  ctx_c.comm = &comm;
+  plate_run a, b;
+  plate_run_start(&a, "t425-comm0.yaml", lines, &ctx);
+  plate_run_start(&b, "t425-comm1.yaml", lines, &ctx_c);
+  int same = 1, n_inc = 0, ta;
+  while ((ta = ps_path_test(&a.path)) == PS_PATH_CONTINUE) {
+    if (ps_path_iterate(&a.path, &ctx)) die_ctx("iterate", &ctx);
+    if (ps_path_test(&b.path) != PS_PATH_CONTINUE) {
+      same = 0;
+      break;
+    }
+    if (ps_path_iterate(&b.path, &ctx_c)) die_ctx("iterate with the comm", &ctx_c);
+    if (a.path.end || b.path.end) {
+      same &= a.path.end == b.path.end;
+      break;
+    }
+    n_inc++;
+    const ps_path_increment *x = &a.path.last, *y = &b.path.last;
+    same &= x->lambda == y->lambda && x->sigma == y->sigma &&
+            ps_solver_stored_energy(a.s) == ps_solver_stored_energy(b.s) &&
+            ps_solver_dissipated(a.s) == ps_solver_dissipated(b.s) &&
+            a.path.broken_total == b.path.broken_total;
+  }
+  ps_solver_stats st;
+  ps_solver_get_stats(b.s, &st);
+  printf("  (6) %d increments, %lld Newton iterations, %lld arms broken; the comm summed "
+         "%ld single values and %ld pairs (%ld other calls)\n",
+         n_inc, (long long)st.newton_iterations, (long long)b.path.broken_total, cnt.sums[1],
+         cnt.sums[2], cnt.others);
+  if (ta != PS_PATH_CONTINUE) same &= ps_path_test(&b.path) == ta && b.path.end == a.path.end;
+  ps_check(same && n_inc >= 10,
+           "a comm of one process changes no number of the path (bit for bit)");
+  ps_check(cnt.sums[2] >= st.newton_iterations && st.newton_iterations > 0,
+           "every Newton iterate's residual norms go through the comm");
+  ps_check(cnt.sums[1] >= 2 * st.newton_iterations,
+           "energies and slopes go through the comm");
+  plate_run_free(&a);
+  plate_run_free(&b);
+}
+
 int main(void) {
   arm_law();
   fibre_gradient();
   controlled_run();
   load_phase_run();
   snapshot();
+  routed_run();
   return ps_check_summary();
 }

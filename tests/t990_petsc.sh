@@ -28,6 +28,8 @@
 #     line: CG + GAMG with the rigid-body near-null space, and CG + block
 #     Jacobi ICC on the symmetric (sbaij) storage: J within 1e-6 (Newton's
 #     tolerance 1e-8 and CG's bound the difference, not round-off);
+# (g) ps_comm on 1, 2 and 3 ranks (tests/comm_check: sums, maxima, minima,
+#     counts and agreed flags against their closed forms on every rank);
 # (f) an unknown -pc_type is a clear error (exit 2, PETSc's words) and
 #     leaves no output folder; solver.petsc_options that are not options
 #     are refused naming the file and line (exit 1).
@@ -230,6 +232,16 @@ if run tiny-chol 0 "$T/tiny.yaml" && run tiny-n3 3 "$T/tiny-petsc.yaml"; then
   if [ "$nf" = 1 ]; then ok "tiny: 1 free dof, 2 particles on 3 ranks"; else ko "tiny: free_dofs $nf, want 1"; fi
   u_ok tiny-n3 tiny-chol 1e-8
 fi
+
+# (g) the reductions of a distributed run (ps_comm over MPI)
+for np in 1 2 3; do
+  out=$("$MPIEXEC" -n "$np" ./tests/comm_check 2>&1)
+  rc=$?
+  n=$(printf '%s\n' "$out" | grep -c "^comm_check: rank [0-9]* of $np: ok$")
+  if [ "$rc" -eq 0 ] && [ "$n" -eq "$np" ]; then
+    ok "ps_comm on $np ranks: every rank's sums, maxima, minima, counts and flags exact"
+  else ko "ps_comm on $np ranks: exit $rc, $n of $np ranks ok: $(printf '%s' "$out" | head -3)"; fi
+done
 
 # (f) bad PETSc options
 out=$("$MPIEXEC" -n 2 $P run -q -t 1 -o "$T/badrows" -peristatic_rows diagonal "$T/edge.yaml" 2>&1 >/dev/null)

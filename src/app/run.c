@@ -233,12 +233,13 @@ static double row_displacement(const run_state *r, double lambda) {
   double d = measured_displacement(pb);
   if (!isnan(d) || !pb->fext) return lambda * d;
   const double *u = ps_solver_u(r->s);
-  double w = 0, a = 0;
+  double wa[2] = {0, 0}; /* fext . u, sum |fext| */
   for (ps_int j = 0; j < pb->P.n * pb->P.dim; j++) {
-    w += pb->fext[j] * u[j];
-    a += fabs(pb->fext[j]);
+    wa[0] += pb->fext[j] * u[j];
+    wa[1] += fabs(pb->fext[j]);
   }
-  return a > 0 ? w / a : NAN;
+  ps_comm_sum(ps_solver_comm(r->s), wa, 2);
+  return wa[1] > 0 ? wa[0] / wa[1] : NAN;
 }
 
 /* The reactions of the named loading.boundary entries into
@@ -257,6 +258,7 @@ static void group_reactions(run_state *r) {
       }
       r->reactions[g * d + k] = sum;
     }
+  ps_comm_sum(ps_solver_comm(r->s), r->reactions, pb->n_groups * d);
 }
 
 /* The progress line, history row and (every output.vtk_every) fields of
@@ -267,6 +269,12 @@ static int record_increment(run_state *r, const ps_path *p, ps_ctx *ctx) {
   ps_log(ctx, 1, "  %4d %9.5f %10.5f %6d %9.2e %8lld %7lld %6.2f\n", step, inc->lambda,
          inc->sigma / r->mat.sigma_y, inc->newton_iterations, inc->residual,
          (long long)inc->yielding, (long long)p->broken_total, inc->tip);
+  /* the sums over the run's processes, in one order on every process
+   * (an initialiser list's order is unspecified) */
+  const double displacement = row_displacement(r, inc->lambda);
+  const double broken_energy =
+      ps_comm_sum1(ps_solver_comm(r->s), ps_solver_arm_state(r->s)->broken_energy);
+  const double stored_energy = ps_solver_stored_energy(r->s);
   ps_history_row row = {.step = inc->step,
                         .load_factor = inc->lambda,
                         .boundary_stress = inc->sigma,
@@ -279,9 +287,9 @@ static int record_increment(run_state *r, const ps_path *p, ps_ctx *ctx) {
                         .crack_tip = inc->tip,
                         .wall = ps_wtime() - r->t0,
                         .reaction = inc->sigma * r->pb->measure_length,
-                        .displacement = row_displacement(r, inc->lambda),
-                        .broken_energy = ps_solver_arm_state(r->s)->broken_energy,
-                        .stored_energy = ps_solver_stored_energy(r->s),
+                        .displacement = displacement,
+                        .broken_energy = broken_energy,
+                        .stored_energy = stored_energy,
                         .dissipated_energy = ps_solver_dissipated(r->s),
                         .reactions = r->reactions};
   if (r->reactions) group_reactions(r);

@@ -516,12 +516,13 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
   if (!(s->geom_valid && X == s->X_geom && !memcmp(u, s->u_geom, u_bytes))) {
     s->geom_valid = 0;
     ps_team_run(s->team, s->parts, eval_part, &job);
-    for (int p = 0; p < s->parts; p++)
-      if (job.bad[p] >= 0) {
-        ps_int i = job.bad[p];
-        return ps_error(ctx, PS_ERR_SOLVER, "arm %lld: particles %lld and %lld: length %g",
-                        (long long)i, (long long)net->a[i], (long long)net->b[i], s->l[i]);
-      }
+    ps_int bad = -1; /* the first bad arm of the parts in order */
+    for (int p = 0; p < s->parts && bad < 0; p++) bad = job.bad[p];
+    if (ps_comm_any(ctx->comm, bad >= 0)) { /* every process fails alike */
+      if (bad < 0) return ps_error(ctx, PS_ERR_SOLVER, "an arm of another process degenerated");
+      return ps_error(ctx, PS_ERR_SOLVER, "arm %lld: particles %lld and %lld: length %g",
+                      (long long)bad, (long long)net->a[bad], (long long)net->b[bad], s->l[bad]);
+    }
     if (!model->type->rotations) { /* force_vectors below overwrites q */
       memcpy(s->u_geom, u, u_bytes);
       s->X_geom = X;
@@ -555,12 +556,16 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
   if (fragments > s->fragments_max) s->fragments_max = fragments;
   PS_CHECK(family_storage(s, ctx));
   ps_team_run(s->team, s->parts, gradient_part, &job);
-  /* the loose particles' spring: the stiffest diagonal entry of K */
+  /* the loose particles' spring: the stiffest diagonal entry of K (of
+   * the run: every process takes the same; the groups cut loose by cracks
+   * are found in this process's network only, which step 3 of
+   * doc/design-distributed.md must make global) */
   s->spring = 0.0;
-  if (any_free) {
+  if (ps_comm_any(ctx->comm, any_free != 0)) {
     double *diag = s->yw;
     ps_asm_tangent_diagonal(s, diag);
     for (ps_int j = 0; j < s->n_dof; j++) s->spring = fmax(s->spring, diag[j]);
+    ps_comm_max(ctx->comm, &s->spring, 1);
   }
   if (want == PS_EVAL_TANGENT) return ps_system_assemble(s, ctx);
   return PS_OK;

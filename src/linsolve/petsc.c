@@ -86,6 +86,29 @@ int ps_parallel_size(void) {
   return n;
 }
 
+/* ps_comm's operations on PETSC_COMM_WORLD (MPI_Allreduce in place) */
+static void world_sum(void *data, double *x, int n) {
+  (void)data;
+  MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+}
+static void world_max(void *data, double *x, int n) {
+  (void)data;
+  MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD);
+}
+static void world_min(void *data, double *x, int n) {
+  (void)data;
+  MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_MIN, PETSC_COMM_WORLD);
+}
+
+int ps_parallel_comm(ps_comm *comm, ps_ctx *ctx) {
+  PetscBool up = PETSC_FALSE;
+  PetscInitialized(&up);
+  if (!up) return ps_error(ctx, PS_ERR_INTERNAL, "ps_parallel_comm before ps_parallel_init");
+  *comm = (ps_comm){ps_parallel_rank(), ps_parallel_size(), NULL, world_sum, world_max,
+                    world_min};
+  return PS_OK;
+}
+
 void ps_parallel_finalize(void) {
   PetscBool up = PETSC_FALSE, down = PETSC_FALSE;
   PetscInitialized(&up);
@@ -831,6 +854,10 @@ int ps_parallel_init(const char *options, ps_ctx *ctx) {
 }
 int ps_parallel_rank(void) { return 0; }
 int ps_parallel_size(void) { return 1; }
+int ps_parallel_comm(ps_comm *comm, ps_ctx *ctx) {
+  *comm = (ps_comm){0, 1, NULL, NULL, NULL, NULL};
+  return ps_parallel_init(NULL, ctx);
+}
 void ps_parallel_finalize(void) {}
 
 static int pt_create(void **state, const ps_linsolve *ls, ps_ctx *ctx) {

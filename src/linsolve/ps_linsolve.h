@@ -91,6 +91,10 @@ int ps_parallel_init(const char *options, ps_ctx *ctx);
 /* this process's rank and the number of ranks (0 and 1 before init) */
 int ps_parallel_rank(void);
 int ps_parallel_size(void);
+/* *comm = the processes of the MPI launch (PETSC_COMM_WORLD) as a
+ * ps_comm (ps_util.h), after ps_parallel_init. PS_OK, PS_ERR_INTERNAL
+ * before init, PS_ERR_INPUT in a build without PETSc. */
+int ps_parallel_comm(ps_comm *comm, ps_ctx *ctx);
 /* PetscFinalize (and MPI's) if init ran; no-op otherwise */
 void ps_parallel_finalize(void);
 

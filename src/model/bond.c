@@ -195,7 +195,7 @@ static int bond_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
       st->eps_p_trial[i] = st->eps_p[i];
       st->yielding[i] = 0;
       T[i] = k * dl[i];
-      psi += 0.5 * k * dl[i] * dl[i];
+      if (ps_model_owns_arm(m, i)) psi += 0.5 * k * dl[i] * dl[i];
       if (tan) tan->D[i] = k;
     }
   for (ps_int i = 0; soft && i < net->n_arm; i++) {
@@ -211,10 +211,10 @@ static int bond_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
                            &st->eps_p_trial[i]);
       /* loading on the softening branch: counted with the yielding arms */
       st->yielding[i] = dl[i] > 0 && dl[i] >= st->eps_p[i] && st->eps_p_trial[i] > a.dl0;
-      psi += phi;
+      if (ps_model_owns_arm(m, i)) psi += phi;
     } else {
       T[i] = k * dl[i];
-      psi += 0.5 * k * dl[i] * dl[i];
+      if (ps_model_owns_arm(m, i)) psi += 0.5 * k * dl[i] * dl[i];
     }
     if (tan) tan->D[i] = D;
   }

@@ -20,14 +20,18 @@ typedef struct {
   ps_int arm;
 } candidate;
 
+/* the larger excess first; ties by arm number (the order qsort, which is
+ * not stable, must not choose) */
 static int by_excess_desc(const void *u, const void *v) {
-  double x = ((const candidate *)u)->excess, y = ((const candidate *)v)->excess;
-  return x > y ? -1 : x < y;
+  const candidate *cu = u, *cv = v;
+  if (cu->excess != cv->excess) return cu->excess > cv->excess ? -1 : 1;
+  return (cu->arm > cv->arm) - (cu->arm < cv->arm);
 }
 
 /* arm i breaks: its energy goes into st->broken_energy */
 static void break_one(const ps_model *m, ps_arm_state *st, ps_int i) {
-  st->broken_energy += m->type->arm_energy ? m->type->arm_energy(m, st, i) : NAN;
+  if (ps_model_owns_arm(m, i))
+    st->broken_energy += m->type->arm_energy ? m->type->arm_energy(m, st, i) : NAN;
   st->broken[i] = 1;
 }
 
@@ -35,7 +39,8 @@ ps_int ps_model_count_past(const ps_model *m, const ps_arm_state *st) {
   double (*excess)(const ps_model *, const ps_arm_state *, ps_int) = m->type->break_excess;
   ps_int nc = 0;
   if (!ps_material_breaks(&m->mat) || !excess) return 0;
-  for (ps_int i = 0; i < m->net->n_arm; i++) nc += !st->broken[i] && excess(m, st, i) > 0;
+  for (ps_int i = 0; i < m->net->n_arm; i++)
+    nc += ps_model_owns_arm(m, i) && !st->broken[i] && excess(m, st, i) > 0;
   return nc;
 }
 
@@ -54,7 +59,9 @@ int ps_model_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
   double (*excess)(const ps_model *, const ps_arm_state *, ps_int) = m->type->break_excess;
   *n_broken = 0;
   if (!ps_material_breaks(&m->mat) || !excess) return PS_OK;
-  ps_int nc = ps_model_count_past(m, st);
+  /* the decision between all and the worst is the run's (every process
+   * counts), the arms each process marks its own */
+  ps_int nc_here = ps_model_count_past(m, st), nc = ps_comm_count(ctx->comm, nc_here);
   if (nc == 0) return PS_OK;
   if (max_count <= 0 || nc <= max_count) {
     for (ps_int i = 0; i < net->n_arm; i++)
@@ -62,7 +69,13 @@ int ps_model_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
     *n_broken = nc;
     return PS_OK;
   }
-  /* only the max_count arms past the criterion by the most */
+  /* only the max_count arms past the criterion by the most (one process;
+   * on several, the selection must become global: doc/design-distributed.md
+   * step 4) */
+  if (ctx->comm && ctx->comm->size > 1)
+    return ps_error(ctx, PS_ERR_INTERNAL, "breaking the worst %lld arms is not yet "
+                    "distributed", (long long)max_count);
+  nc = nc_here;
   candidate *c = ps_calloc((size_t)nc, sizeof *c, ctx);
   if (!c) return PS_ERR_NOMEM;
   ps_int k = 0;

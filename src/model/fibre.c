@@ -93,7 +93,7 @@ static void fibre_particles(void *arg, int part) {
   mean_strains_range(m, j->dl, j->st, a0, a1);
   for (ps_int a = a0; a < a1; a++) {
     double R = m->R[a], eb = m->epsbar[a];
-    psi += 0.5 * Kc * R * eb * eb;
+    if (ps_model_owns_particle(m, a)) psi += 0.5 * Kc * R * eb * eb;
     if (!j->tan) continue;
     j->tan->c[a] = R > 0 ? Kc / R : 0.0;
     for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
@@ -138,11 +138,12 @@ static void fibre_arms(void *arg, int part) {
      * re-equilibration after breaking starts there) counts as yielding:
      * psi is C1 at eps_y, so only the tangent differs, and the plastic one
      * needs fewer Newton iterations (doc/performance.md) */
+    const int own = ps_model_owns_arm(m, i);
     if (plastic && fabs(e) > ey * (1.0 - 1e-9)) {
       ee = e > 0 ? ey : -ey;
       yielding = 1;
-      psi += (w_ab(m, i) + w_ba(m, i)) * r0 * Gc * (ey * fabs(e) - 0.5 * ey * ey);
-    } else {
+      if (own) psi += (w_ab(m, i) + w_ba(m, i)) * r0 * Gc * (ey * fabs(e) - 0.5 * ey * ey);
+    } else if (own) {
       psi += (w_ab(m, i) + w_ba(m, i)) * r0 * 0.5 * Gc * e * e;
     }
     st->eps_p_trial[i] = eps - ee;
@@ -195,7 +196,8 @@ static int fibre_evaluate_deviatoric(const ps_model *m, const double *dl, ps_arm
   double *mean = m->work + 4 * na, *cmean = mean + np; /* [np] each */
   double psi = 0.0;
   mean_strains(m, dl, st);
-  for (ps_int a = 0; a < np; a++) psi += 0.5 * NK * R[a] * eb[a] * eb[a];
+  for (ps_int a = 0; a < np; a++)
+    if (ps_model_owns_particle(m, a)) psi += 0.5 * NK * R[a] * eb[a] * eb[a];
   /* return mapping per half-arm */
   for (ps_int i = 0; i < na; i++) {
     st->yielding[i] = 0;
@@ -210,10 +212,11 @@ static int fibre_evaluate_deviatoric(const ps_model *m, const double *dl, ps_arm
       double e = eps - eb[side ? net->b[i] : net->a[i]] - st->eps_p[j], ee = e;
       double Aw = side ? w_ba(m, i) : w_ab(m, i);
       int y = mat->plastic && fabs(e) > ey;
+      const int own = ps_model_owns_arm(m, i);
       if (y) {
         ee = e > 0 ? ey : -ey;
-        psi += Aw * r0 * Gc * (ey * fabs(e) - 0.5 * ey * ey);
-      } else {
+        if (own) psi += Aw * r0 * Gc * (ey * fabs(e) - 0.5 * ey * ey);
+      } else if (own) {
         psi += Aw * r0 * 0.5 * Gc * e * e;
       }
       st->eps_p_trial[j] = st->eps_p[j] + (e - ee);

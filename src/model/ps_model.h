@@ -304,7 +304,25 @@ struct ps_model {
   int parts;       /* the parts of those loops (ps_model_set_team; 0 or
                       1: one): the numbers depend on the parts, never on
                       the team */
+  /* A share of a distributed model (doc/design-distributed.md): the
+   * network is a process's owned particles and their ghosts, and only
+   * the arms and particles this process owns count in the energy, the
+   * dissipation and the counts of arms (each arm and particle of the
+   * whole model is owned by one process); forces and tangent rows at
+   * owned particles are complete without masks. NULL: every arm
+   * (particle) is owned, one process. Not owned by the model. */
+  const unsigned char *own_arm;      /* [n_arm] 1: owned */
+  const unsigned char *own_particle; /* [n_particle] 1: owned */
 };
+
+/* 1 when arm i (particle a) is this process's: its energy and counts are
+ * the process's share (ps_model.own_arm, own_particle) */
+static inline int ps_model_owns_arm(const ps_model *m, ps_int i) {
+  return !m->own_arm || m->own_arm[i];
+}
+static inline int ps_model_owns_particle(const ps_model *m, ps_int a) {
+  return !m->own_particle || m->own_particle[a];
+}
 
 /* Split the loops of m's evaluate into `parts` parts run on `team` (a
  * model that does not split its loops ignores both): the energy's sums
@@ -333,8 +351,8 @@ extern const ps_model_type *const ps_model_bond;
  * (fibre, Eq. 118) or material.fracture (bond, state). */
 int ps_material_breaks(const ps_material *mat);
 
-/* The intact arms of st past the model's criterion (break_excess > 0); 0
- * when !ps_material_breaks. */
+/* The intact arms of st past the model's criterion (break_excess > 0),
+ * of those m owns (own_arm); 0 when !ps_material_breaks. */
 ps_int ps_model_count_past(const ps_model *m, const ps_arm_state *st);
 
 /* After a converged, committed state: mark the arms past the model's

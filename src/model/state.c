@@ -174,7 +174,7 @@ static int state_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
       if (!st->broken[i]) s += (side ? side[net->a[i] == a ? i : na + i] : kv[i]) * dl[i];
     }
     theta[a] = c.d * s / V[a];
-    psi += V[a] * c.a * theta[a] * theta[a];
+    if (ps_model_owns_particle(m, a)) psi += V[a] * c.a * theta[a] * theta[a];
     if (tan) tan->c[a] = 2.0 * c.a * V[a];
   }
   for (ps_int i = 0; i < net->n_arm; i++) {
@@ -192,7 +192,7 @@ static int state_evaluate(const ps_model *m, const double *dl, ps_arm_state *st,
     else
       T[i] = 4.0 * c.b * kv[i] * dl[i] +
              2.0 * c.a * c.d * kv[i] * (theta[net->a[i]] + theta[net->b[i]]);
-    psi += 2.0 * c.b * kv[i] * dl[i] * dl[i];
+    if (ps_model_owns_arm(m, i)) psi += 2.0 * c.b * kv[i] * dl[i] * dl[i];
     if (tan) tan->D[i] = 4.0 * c.b * kv[i];
   }
   if (tan)

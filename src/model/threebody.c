@@ -281,7 +281,7 @@ static int tb_evaluate_rot(const ps_model *m, const double *dl, const double *th
     double shear = ka * ga * ga + kb * gb * gb;
     T[i] = c * k[i] * s / xi;
     M[i] = 0.5 * kap * (ka * ga + kb * gb);
-    psi += 0.5 * c * k[i] * s * s + 0.25 * kap * shear;
+    if (ps_model_owns_arm(m, i)) psi += 0.5 * c * k[i] * s * s + 0.25 * kap * shear;
     if (s > 0) st->stretch[i] = sqrt(s * s + 0.5 * kap * shear / (c * k[i]));
     if (tan) {
       tan->D[i] = c * k[i] / (xi * xi);

@@ -9,27 +9,17 @@
 #include <math.h>
 #include <string.h>
 
-/* ||f_free|| */
-static double norm_free(const ps_nl_problem *p, const double *f) {
-  double s = 0;
+double ps_nl_relative_residual(const ps_nl_problem *p, const double *f, double *rn) {
+  double s[2] = {0, 0}; /* ||f_free||^2, ||f_fixed||^2 (the reactions) */
   for (ps_int k = 0; k < p->n_free; k++) {
     double v = f[p->dof_of_free[k]];
-    s += v * v;
+    s[0] += v * v;
   }
-  return sqrt(s);
-}
-
-/* ||f_fixed||, the reactions */
-static double norm_fixed(const ps_nl_problem *p, const double *f) {
-  double s = 0;
   for (ps_int j = 0; j < p->n_dof; j++)
-    if (p->fixed[j]) s += f[j] * f[j];
-  return sqrt(s);
-}
-
-double ps_nl_relative_residual(const ps_nl_problem *p, const double *f, double *rn) {
-  double ref = norm_fixed(p, f);
-  *rn = norm_free(p, f);
+    if (p->fixed[j]) s[1] += f[j] * f[j];
+  ps_comm_sum(p->comm, s, 2);
+  double ref = sqrt(s[1]);
+  *rn = sqrt(s[0]);
   return ref > 0 ? *rn / ref : *rn;
 }
 
@@ -37,7 +27,7 @@ double ps_nl_relative_residual(const ps_nl_problem *p, const double *f, double *
 static double dot_free(const ps_nl_problem *p, const double *f, const double *x) {
   double g = 0;
   for (ps_int k = 0; k < p->n_free; k++) g += f[p->dof_of_free[k]] * x[k];
-  return g;
+  return ps_comm_sum1(p->comm, g);
 }
 
 /* the merit function of the line search: phi(alpha) = E(u + alpha du),

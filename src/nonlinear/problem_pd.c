@@ -26,6 +26,7 @@ static int pd_evaluate(void *prob, const double *u, double *f, double *energy,
       f[j] -= pd->lambda * pd->fext[j];
       *energy -= pd->lambda * pd->fext[j] * u[j];
     }
+  if (status == PS_OK) ps_comm_sum(pd->comm, energy, 1);
   if (status == PS_OK) pd->dissipation_valid = 0; /* ps_pd_step_dissipation */
   pd->t_assembly += ps_wtime() - t;
   return status;
@@ -63,8 +64,8 @@ static ps_int pd_changed(void *prob, ps_int limit) {
   if (limit <= 0) limit = pd->net->n_arm;
   ps_int n = 0;
   for (ps_int i = 0; i < pd->net->n_arm && n <= limit; i++)
-    n += pd->arm_state_at_factor[i] != arm_state(&pd->st, i);
-  return n;
+    n += ps_model_owns_arm(&pd->model, i) && pd->arm_state_at_factor[i] != arm_state(&pd->st, i);
+  return ps_comm_count(pd->comm, n);
 }
 
 static void pd_dof_name(void *prob, ps_int k, char *buf, size_t len) {
@@ -77,7 +78,7 @@ static const ps_nl_problem_ops pd_ops = {pd_evaluate, pd_apply,   pd_assemble,
 
 ps_nl_problem ps_pd_problem(ps_pd *pd) {
   ps_nl_problem p = {&pd_ops,          pd, pd->sys.n_dof, pd->sys.n_free, pd->sys.dof_of_free,
-                     pd->sys.fixed, pd->have_majorant};
+                     pd->sys.fixed, pd->have_majorant, pd->comm};
   return p;
 }
 
@@ -102,6 +103,7 @@ int ps_pd_create(ps_pd **out, const ps_particles *P, const ps_network *net,
   pd->P = P;
   pd->net = net;
   pd->matrix_free = matrix_free;
+  pd->comm = ctx->comm;
   pd->dissipation_valid = 1; /* dissipation_step 0 before any evaluation */
   PS_CHECK_GOTO(ps_model_create(&pd->model, type, P, net, mat, ctx));
   PS_CHECK_GOTO(ps_system_create_pattern(&pd->sys, net, fixed, type->family_coupling, ctx));
@@ -145,15 +147,15 @@ double ps_pd_dissipation(const ps_pd *pd, double *g) {
   if (!m->type->arm_dissipation || (m->type->dissipates && !m->type->dissipates(m)))
     return 0.0;
   for (ps_int i = 0; i < net->n_arm; i++) {
-    double dD;
-    D += m->type->arm_dissipation(m, &pd->st_saved, &pd->st, i, pd->sys.dl[i], &dD);
+    double dD, Di = m->type->arm_dissipation(m, &pd->st_saved, &pd->st, i, pd->sys.dl[i], &dD);
+    if (ps_model_owns_arm(m, i)) D += Di; /* g: every arm of an owned dof */
     if (g && dD != 0.0) /* dl_i/dy_b = q_i = -dl_i/dy_a */
       for (int k = 0; k < N; k++) {
         g[net->b[i] * N + k] += dD * pd->sys.q[i * N + k];
         g[net->a[i] * N + k] -= dD * pd->sys.q[i * N + k];
       }
   }
-  return D;
+  return ps_comm_sum1(pd->comm, D);
 }
 
 double ps_pd_step_dissipation(ps_pd *pd) {
@@ -179,8 +181,9 @@ void ps_pd_coupling(ps_pd *pd, const double *du, double *out) {
 
 ps_int ps_pd_count_yielding(const ps_pd *pd) {
   ps_int n = 0;
-  for (ps_int i = 0; i < pd->net->n_arm; i++) n += pd->st.yielding[i] && !pd->st.broken[i];
-  return n;
+  for (ps_int i = 0; i < pd->net->n_arm; i++)
+    n += ps_model_owns_arm(&pd->model, i) && pd->st.yielding[i] && !pd->st.broken[i];
+  return ps_comm_count(pd->comm, n);
 }
 
 double ps_pd_nnz_tangent(const ps_pd *pd) {

@@ -31,6 +31,9 @@ typedef struct ps_pd {
                                  when dissipation_valid (else not yet
                                  computed: ps_pd_step_dissipation) */
   int dissipation_valid;
+  const ps_comm *comm;        /* the run's processes (ctx->comm at create;
+                                 NULL: one): the energy, the dissipation
+                                 and the counts below are summed over them */
 } ps_pd;
 
 /* Create the problem: the model of `type` on the network, the system's
@@ -83,7 +86,7 @@ int ps_pd_break_arms(ps_pd *pd, ps_int max_count, ps_int *n_broken, ps_ctx *ctx)
 /* out[n_free] = K_fp du_p (ps_system_coupling) */
 void ps_pd_coupling(ps_pd *pd, const double *du, double *out);
 
-/* arms yielding and not broken */
+/* arms yielding and not broken (over every process) */
 ps_int ps_pd_count_yielding(const ps_pd *pd);
 
 /* nonzeros of the free tangent's upper triangle (0 before the first

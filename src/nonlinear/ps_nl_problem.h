@@ -56,6 +56,9 @@ typedef struct ps_nl_problem {
   const ps_int *dof_of_free;    /* [n_free] */
   const unsigned char *fixed;   /* [n_dof] 1: prescribed */
   int has_majorant;             /* assemble(.., 1, ..) is available */
+  const ps_comm *comm;          /* the processes the dofs are spread over
+                                   (ps_util.h; NULL: one): every norm and
+                                   dot product of the solver sums over it */
 } ps_nl_problem;
 
 #endif

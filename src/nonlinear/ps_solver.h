@@ -207,6 +207,11 @@ double ps_solver_stored_energy(const ps_solver *s);
 
 /* Intact arms on the yield surface in the current state. */
 ps_int ps_solver_count_yielding(const ps_solver *s);
+/* the processes the solver's problem is spread over (ctx->comm at
+ * create; NULL: one), for the global quantities of the layers above */
+const ps_comm *ps_solver_comm(const ps_solver *s);
+/* the arms this process owns (ps_model.own_arm; NULL: every arm) */
+const unsigned char *ps_solver_own_arm(const ps_solver *s);
 
 /* Fill *st with the solver's statistics so far. */
 void ps_solver_get_stats(const ps_solver *s, ps_solver_stats *st);

@@ -233,11 +233,13 @@ int ps_solver_reject(ps_solver *s, ps_ctx *ctx) {
 }
 
 ps_int ps_solver_count_past_criterion(const ps_solver *s) {
-  return ps_model_count_past(&s->pd->model, &s->pd->st);
+  return ps_comm_count(s->prob.comm, ps_model_count_past(&s->pd->model, &s->pd->st));
 }
 
 double ps_solver_max_excess(const ps_solver *s) {
-  return ps_model_max_excess(&s->pd->model, &s->pd->st);
+  double g = ps_model_max_excess(&s->pd->model, &s->pd->st);
+  ps_comm_max(s->prob.comm, &g, 1);
+  return g;
 }
 
 void ps_solver_restore(ps_solver *s) {
@@ -411,6 +413,7 @@ static int arc_predict(ps_solver *s, void *data, const double *v, double *dlam, 
   const ps_int nf = s->prob.n_free, *dof = s->prob.dof_of_free;
   double vv = 0, p2 = c->psi * c->psi;
   for (ps_int k = 0; k < nf; k++) vv += v[k] * v[k];
+  vv = ps_comm_sum1(s->prob.comm, vv);
   if (!(s->al_scale > 0)) {
     s->al_scale = sqrt(vv);
     if (!(s->al_scale > 0) || !isfinite(s->al_scale)) {
@@ -424,6 +427,7 @@ static int arc_predict(ps_solver *s, void *data, const double *v, double *dlam, 
   if (s->al_have_dir) {
     double d = 0;
     for (ps_int k = 0; k < nf; k++) d += (s->u_saved[dof[k]] - s->u_prev[dof[k]]) * v[k];
+    d = ps_comm_sum1(s->prob.comm, d);
     if (d / U2 + p2 * (c->lambda0 - s->lambda_prev) < 0) *dlam = -*dlam;
   }
   return 1;
@@ -437,16 +441,18 @@ static int arc_correct(ps_solver *s, void *data, const double *dr, const double 
   const ps_int nf = s->prob.n_free, *dof = s->prob.dof_of_free;
   const double U2 = s->al_scale * s->al_scale, p2 = c->psi * c->psi, ds = c->ds;
   double dl = s->pd->lambda - c->lambda0;
-  double a = 0, b = 0, cc = 0, e = 0, f = 0, g = 0;
+  double m[6] = {0, 0, 0, 0, 0, 0};
   for (ps_int k = 0; k < nf; k++) {
     double Du = s->u[dof[k]] - s->u_saved[dof[k]], w = Du + dr[k];
-    a += v[k] * v[k];
-    b += w * v[k];
-    cc += w * w;
-    e += Du * v[k];
-    f += Du * w;
-    g += Du * Du;
+    m[0] += v[k] * v[k];
+    m[1] += w * v[k];
+    m[2] += w * w;
+    m[3] += Du * v[k];
+    m[4] += Du * w;
+    m[5] += Du * Du;
   }
+  ps_comm_sum(s->prob.comm, m, 6);
+  const double a = m[0], b = m[1], cc = m[2], e = m[3], f = m[4], g = m[5];
   if (!crisfield_root(a / U2 + p2, 2 * (b / U2 + p2 * dl), cc / U2 + p2 * dl * dl - ds * ds,
                       f / U2 + p2 * dl * dl, e / U2 + p2 * dl, x)) {
     double den = 2 * (e / U2 + p2 * dl);
@@ -480,7 +486,7 @@ static double dissipation_rate(const ps_solver *s, const double *g, const double
   for (ps_int k = 0; k < sys->n_free; k++) r += g[sys->dof_of_free[k]] * x[k];
   for (ps_int j = 0; j < sys->n_dof; j++)
     if (sys->fixed[j]) r += g[j] * s->ubar[j];
-  return r;
+  return ps_comm_sum1(sys->comm, r);
 }
 
 /* x = -(G + g_f . dr) / (dD/dlambda along v), G = D - tau; dr = NULL:
@@ -489,8 +495,10 @@ static int dissipation_update(ps_solver *s, const dissipation_constraint *c, con
                               const double *v, double *x, int *reason) {
   const ps_int nf = s->prob.n_free, *dof = s->prob.dof_of_free;
   double G = ps_pd_dissipation(s->pd, s->al_g) - c->tau, gdr = 0;
-  if (dr)
+  if (dr) {
     for (ps_int k = 0; k < nf; k++) gdr += s->al_g[dof[k]] * dr[k];
+    gdr = ps_comm_sum1(s->prob.comm, gdr);
+  }
   double rate = dissipation_rate(s, s->al_g, v);
   *x = -(G + gdr) / rate;
   if (!isfinite(*x) || rate == 0.0) {
@@ -717,13 +725,21 @@ int ps_solver_evaluate(ps_solver *s, ps_ctx *ctx) {
 }
 
 double ps_solver_stored_energy(const ps_solver *s) {
+  /* the work of the external forces is summed over the processes, the
+   * first of which starts from the (global) energy less the dissipation,
+   * so that one process adds in the order it always did */
   double psi = s->energy - ps_pd_step_dissipation(s->pd);
-  if (s->pd->fext)
-    for (ps_int j = 0; j < s->pd->sys.n_dof; j++) psi += s->pd->lambda * s->pd->fext[j] * s->u[j];
-  return psi;
+  if (!s->pd->fext) return psi;
+  if (ps_comm_rank(s->prob.comm) > 0) psi = 0.0;
+  for (ps_int j = 0; j < s->pd->sys.n_dof; j++) psi += s->pd->lambda * s->pd->fext[j] * s->u[j];
+  return ps_comm_sum1(s->prob.comm, psi);
 }
 
 ps_int ps_solver_count_yielding(const ps_solver *s) { return ps_pd_count_yielding(s->pd); }
+
+const ps_comm *ps_solver_comm(const ps_solver *s) { return s->prob.comm; }
+
+const unsigned char *ps_solver_own_arm(const ps_solver *s) { return s->pd->model.own_arm; }
 
 void ps_solver_get_stats(const ps_solver *s, ps_solver_stats *st) {
   memset(st, 0, sizeof *st);

@@ -7,15 +7,19 @@
 
 #include <math.h>
 
+/* both: this process's arms' share (post.c), then the run's */
 double ps_path_boundary_stress(const ps_path *p) {
-  return ps_post_boundary_stress(p->pb.net, ps_solver_arm_tension(p->s),
-                                 ps_solver_arm_direction(p->s), p->pb.measure,
-                                 p->pb.measure_length);
+  double s = ps_post_boundary_stress(p->pb.net, ps_solver_arm_tension(p->s),
+                                     ps_solver_arm_direction(p->s), p->pb.measure,
+                                     p->pb.measure_length, ps_solver_own_arm(p->s));
+  return ps_comm_sum1(ps_solver_comm(p->s), s);
 }
 
 double ps_path_crack_tip(const ps_path *p) {
-  return p->pb.c > 0 ? ps_post_crack_tip(p->pb.P, p->pb.net, ps_solver_arm_state(p->s), p->pb.c)
-                     : 0.0;
+  if (!(p->pb.c > 0)) return 0.0;
+  double tip = ps_post_crack_tip(p->pb.P, p->pb.net, ps_solver_arm_state(p->s), p->pb.c);
+  ps_comm_max(ps_solver_comm(p->s), &tip, 1);
+  return tip;
 }
 
 /* One breaking round; when its re-equilibration fails, go back and break
@@ -86,7 +90,8 @@ int ps_path_break_rounds(ps_path *p, ps_int its0, ps_int *n_broken, int *settle,
     }
     *settled = *settle == PS_OK && nr == 0; /* no arm left past delta */
     if (*settle != PS_OK || nr == 0) return PS_OK;
-    if (p->pb.interrupted && p->pb.interrupted(p->pb.interrupted_data, NULL, 0)) {
+    if (p->pb.interrupted &&
+        ps_comm_any(ps_solver_comm(p->s), p->pb.interrupted(p->pb.interrupted_data, NULL, 0))) {
       p->rounds_interrupted = 1;
       *settle = tighten(p, &loose, ctx);
       return *settle < 0 ? *settle : PS_OK;

@@ -76,7 +76,10 @@ int ps_path_state_list(ps_path *p, ps_state_list *l, ps_ctx *ctx) {
 static int check_interrupt(ps_path *p) {
   char why[96] = "interrupted";
   if (!p->pb.interrupted) return 0;
-  int v = p->pb.interrupted(p->pb.interrupted_data, why, sizeof why);
+  /* every process ends where any was interrupted */
+  double w = p->pb.interrupted(p->pb.interrupted_data, why, sizeof why);
+  ps_comm_max(ps_solver_comm(p->s), &w, 1);
+  int v = (int)w;
   if (!v) return 0;
   p->interrupted = v;
   p->end = PS_PATH_INTERRUPTED;

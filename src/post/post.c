@@ -28,11 +28,11 @@ static int measured(const double *m, ps_int a, int d) {
 
 double ps_post_boundary_stress(const ps_network *net, const double *T,
                                const double *q, const double *m,
-                               double length) {
+                               double length, const unsigned char *own_arm) {
   int d = net->dim;
   double s = 0;
   for (ps_int i = 0; i < net->n_arm; i++) {
-    if (T[i] == 0.0) continue;
+    if (T[i] == 0.0 || (own_arm && !own_arm[i])) continue;
     ps_int a = net->a[i], b = net->b[i];
     int ma = measured(m, a, d), mb = measured(m, b, d);
     if (ma == mb) continue;

@@ -18,10 +18,11 @@ void ps_post_damage(const ps_network *net, const ps_arm_state *st,
  * (not) of T_ab (e_ba . m_a), e_ba the current unit vector from b to a,
  * divided by length. This is the normal force the boundary zone exerts on
  * the interior over the interface length. T and q as in ps_system (q from
- * net->a to net->b). */
+ * net->a to net->b). own_arm: only the arms it marks (a process's share
+ * of a distributed model, ps_model.own_arm); NULL: every arm. */
 double ps_post_boundary_stress(const ps_network *net, const double *T,
                                const double *q, const double *m,
-                               double length);
+                               double length, const unsigned char *own_arm);
 
 /* Crack tip distance from the origin: the largest distance of a broken
  * arm's midpoint (reference configuration) from (0, 0), in units of c;

@@ -25,15 +25,49 @@ enum ps_status {
   PS_ERR_INTERRUPTED = -6 /* SIGINT or SIGTERM ended the run early */
 };
 
+/* The processes one run is spread over (MPI ranks; doc/design-distributed.md).
+ * Every global quantity of a run (a norm, a dot product, an energy, a
+ * count of arms, the boundary stress, the crack tip) is a sum, maximum or
+ * minimum of each process's share, formed by these operations: each
+ * replaces x[0..n) by the sum (maximum, minimum) over the processes of
+ * their x[0..n), the same result on every process. A NULL comm is one
+ * process: the operations are the identity, so a serial run's numbers do
+ * not depend on the hook. The operations must be called by every process
+ * of the run in the same order (collective). */
+typedef struct ps_comm {
+  int rank, size; /* this process, the number of processes */
+  void *data;     /* the implementation's (an MPI communicator) */
+  void (*sum)(void *data, double *x, int n);
+  void (*max)(void *data, double *x, int n);
+  void (*min)(void *data, double *x, int n);
+} ps_comm;
+
+/* x[0..n) <- its sum (maximum, minimum) over the processes of comm (NULL:
+ * unchanged). Counts go through ps_comm_sum as doubles (exact below 2^53). */
+void ps_comm_sum(const ps_comm *comm, double *x, int n);
+void ps_comm_max(const ps_comm *comm, double *x, int n);
+void ps_comm_min(const ps_comm *comm, double *x, int n);
+/* one value: the sum over the processes of x; a count; 1 when flag is
+ * nonzero on any process (a decision every process must take alike) */
+double ps_comm_sum1(const ps_comm *comm, double x);
+int64_t ps_comm_count(const ps_comm *comm, int64_t n);
+int ps_comm_any(const ps_comm *comm, int flag);
+/* this process's rank (0 for NULL) */
+static inline int ps_comm_rank(const ps_comm *comm) { return comm ? comm->rank : 0; }
+
 /* The run context, passed last to every call that can fail: holds the last
- * error message, verbosity and the log stream. No global state. */
+ * error message, verbosity, the log stream and the processes of the run.
+ * No global state. */
 typedef struct ps_ctx {
   char msg[2048];   /* last error message, "" when none */
   int verbosity;    /* 0 quiet, 1 progress lines, 2 Newton detail */
   FILE *log;        /* progress stream (stderr by default) */
+  const ps_comm *comm; /* the processes of a distributed run; NULL (the
+                          default): one process holds the whole model */
 } ps_ctx;
 
-/* Initialise a context: empty message, verbosity 1, log = stderr. */
+/* Initialise a context: empty message, verbosity 1, log = stderr, one
+ * process (comm NULL). */
 void ps_ctx_init(ps_ctx *ctx);
 
 /* Record a formatted error message in ctx->msg; returns status unchanged so

@@ -19,6 +19,10 @@ typedef struct ps_problem {
   ps_particles P;
   ps_kernel kernel;
   ps_network net;
+  ps_crack *cracks;       /* [n_cracks] what keeps arms from crossing: the
+                             case's cracks, the disk's and the holes' sides
+                             (a share's network needs them again) */
+  int n_cracks;
   ps_material mat;        /* finished; delta resolved (inf: no breaking) */
   double c;               /* disk: half crack length (m); 0 otherwise */
   unsigned char *fixed;   /* [n_dof] prescribed dofs */

@@ -19,6 +19,7 @@ void ps_problem_free(ps_problem *pb) {
   free(pb->group_bc);
   free(pb->group_ptr);
   free(pb->group_particle);
+  free(pb->cracks);
   ps_case_free(&pb->cs);
   memset(pb, 0, sizeof *pb);
 }
@@ -622,6 +623,9 @@ int ps_problem_setup_sized(ps_problem *pb, const ps_case *cs, int purpose, int j
   PS_CHECK_GOTO(in_case(ctx, ps_network_build(&pb->net, &pb->P, &pb->kernel, cracks,
                                               n_cracks, ctx), cs->file));
   pb->t_network = ps_wtime() - t0;
+  pb->cracks = cracks;
+  pb->n_cracks = n_cracks;
+  cracks = NULL;
 cleanup:
   free(cracks);
   ps_mesh_sets_free(&sets);

@@ -1,6 +1,7 @@
 /* material.c: parameter checks, derived moduli (Eq. 78-81), arm state and
  * tangent storage, model lookup. */
 #include "ps_model.h"
+#include "ps_moduli.h"
 
 #include <float.h>
 #include <math.h>
@@ -229,6 +230,15 @@ double ps_model_cloud_reach(const ps_model_type *type, const ps_material *mat,
                             double dx_max) {
   double e = type->reach_extra_spacings, delta = mat->horizon;
   return e > 0 && !mat->full_volumes ? delta + e * dx_max * (1 - 1e-9) : delta * (1 + 1e-9);
+}
+
+int ps_model_share_horizons(const ps_model_type *type, const ps_material *mat) {
+  if (ps_moduli_correction_on(mat) && (type == ps_model_fibre || type == ps_model_state))
+    return 0;
+  int h = 1;
+  if (type->family_coupling || type->rotations) h++;
+  if ((type == ps_model_bond || type == ps_model_threebody) && mat->surface_correction) h++;
+  return h;
 }
 
 int ps_model_create(ps_model *m, const ps_model_type *type,

@@ -466,6 +466,17 @@ int ps_lattice_model_check(const ps_material *mat, int dim, const ps_particles *
  * NULL if unknown. */
 const ps_model_type *ps_model_type_find(const char *name);
 
+/* How far, in horizons (alpha max h), a share of a distributed model
+ * (ps_share) must hold ghosts for its owned particles' forces and tangent
+ * rows to be the whole model's: 1 for the arms of an owned particle, one
+ * more for the family terms of its neighbours (family_coupling or
+ * rotations), one more where an arm's constants read the families of its
+ * ends (the bond and three-body surface correction). 0 where no number of
+ * horizons will do: the fibre and state moduli correction balances its
+ * weights over the whole cloud (ps_moduli_balance). tests/t755_share
+ * checks each value and that one horizon less is not enough. */
+int ps_model_share_horizons(const ps_model_type *type, const ps_material *mat);
+
 /* The reach of a lattice model's arms, in spacings, for a horizon of
  * horizon_factor spacings: m + e with m = horizon_factor, e =
  * reach_extra_spacings; for e > 0 just short of it, m + e (1 - 1e-9) (an

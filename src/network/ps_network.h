@@ -127,6 +127,34 @@ int ps_network_build_local(ps_network *net, const ps_particles *p, const ps_kern
                            const ps_crack *cracks, int n_cracks, ps_int n_owned,
                            ps_ctx *ctx);
 
+/* A process's share of a distributed model (doc/design-distributed.md,
+ * share.c): the particles of one part of a partition (owned) and their
+ * ghosts, the network on them, and what the share owns. Each arm of the
+ * whole network is owned by exactly one share: the one owning its end of
+ * the lower global number (arms between two ghosts are never owned), so
+ * sums over owned arms and particles of all shares are the whole model's
+ * (ps_model.own_arm, own_particle). */
+typedef struct ps_share {
+  int part;
+  ps_int n_owned;              /* owned particles: local 0 .. n_owned - 1 */
+  ps_int *global;              /* [P.n] global number of each local particle */
+  ps_particles P;              /* owned, then ghosts in increasing number */
+  ps_network net;              /* the local network (ps_network_build_local) */
+  unsigned char *own_arm;      /* [net.n_arm] 1: the share's arm */
+  unsigned char *own_particle; /* [P.n] 1: owned */
+} ps_share;
+
+/* The share of part `part` of pt over the whole cloud P with ghosts out
+ * to reach (m): alpha max h for models without family terms, twice that
+ * for those with (every family term of an owned particle's neighbours),
+ * and its network with the kernel and cracks of the whole one. Returns
+ * PS_OK, PS_ERR_INPUT (part out of range, reach not >= 0, the network's
+ * errors) or PS_ERR_NOMEM (*sh then empty). */
+int ps_share_build(ps_share *sh, const ps_particles *P, const ps_partition *pt, int part,
+                   double reach, const ps_kernel *K, const ps_crack *cracks, int n_cracks,
+                   ps_ctx *ctx);
+void ps_share_free(ps_share *sh);
+
 /* Does the crack cut the arm x-y? x and y hold 2 (segment) or 3
  * (polygon, sphere) coordinates; tol = PS_CRACK_TOUCH |y - x|.
  * Segment (2D): the crack is the open segment (p0, p1): the arm is cut

@@ -1,0 +1,53 @@
+/* share.c: a process's share of a distributed model (ps_share,
+ * doc/design-distributed.md): the owned particles of one part, their
+ * ghosts, the local network on them and the ownership of its arms. */
+#include "ps_network.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void ps_share_free(ps_share *sh) {
+  if (!sh) return;
+  free(sh->global);
+  free(sh->own_arm);
+  free(sh->own_particle);
+  ps_network_free(&sh->net);
+  ps_particles_free(&sh->P);
+  memset(sh, 0, sizeof *sh);
+}
+
+int ps_share_build(ps_share *sh, const ps_particles *P, const ps_partition *pt, int part,
+                   double reach, const ps_kernel *K, const ps_crack *cracks, int n_cracks,
+                   ps_ctx *ctx) {
+  int status = PS_OK;
+  ps_int *ghost = NULL, n_ghost = 0;
+  memset(sh, 0, sizeof *sh);
+  PS_CHECK(ps_partition_ghosts(pt, P, part, reach, &ghost, &n_ghost, ctx));
+  sh->part = part;
+  sh->n_owned = pt->start[part + 1] - pt->start[part];
+  ps_int n = sh->n_owned + n_ghost;
+  sh->global = ps_calloc((size_t)n, sizeof *sh->global, ctx);
+  sh->own_particle = ps_calloc((size_t)n, 1, ctx);
+  if (!sh->global || !sh->own_particle) {
+    status = PS_ERR_NOMEM;
+    goto cleanup;
+  }
+  memcpy(sh->global, &pt->order[pt->start[part]], (size_t)sh->n_owned * sizeof *sh->global);
+  if (n_ghost) memcpy(sh->global + sh->n_owned, ghost, (size_t)n_ghost * sizeof *ghost);
+  memset(sh->own_particle, 1, (size_t)sh->n_owned);
+  PS_CHECK_GOTO(ps_particles_subset(&sh->P, P, sh->global, n, ctx));
+  PS_CHECK_GOTO(ps_network_build_local(&sh->net, &sh->P, K, cracks, n_cracks, sh->n_owned, ctx));
+  sh->own_arm = ps_calloc((size_t)sh->net.n_arm + 1, 1, ctx);
+  if (!sh->own_arm) {
+    status = PS_ERR_NOMEM;
+    goto cleanup;
+  }
+  for (ps_int i = 0; i < sh->net.n_arm; i++) {
+    ps_int ga = sh->global[sh->net.a[i]], gb = sh->global[sh->net.b[i]];
+    sh->own_arm[i] = pt->part_of[ga < gb ? ga : gb] == part;
+  }
+cleanup:
+  free(ghost);
+  if (status < 0) ps_share_free(sh);
+  return status;
+}

@@ -548,7 +548,7 @@ static void routed_run(void) {
                       "  load_until_unstable: true\n  unstable_arms: 10\n  stop_load_drop: 0.1\n"
                       "  max_increments: 3000\n";
   counting cnt = {{0}, 0};
-  const ps_comm comm = {0, 1, &cnt, count_sum, count_other, count_other};
+  const ps_comm comm = {0, 1, &cnt, count_sum, count_other, count_other, NULL};
   ps_ctx ctx, ctx_c;
   ps_ctx_init(&ctx);
   ps_ctx_init(&ctx_c);

@@ -30,6 +30,11 @@
 #     tolerance 1e-8 and CG's bound the difference, not round-off);
 # (g) ps_comm on 1, 2 and 3 ranks (tests/comm_check: sums, maxima, minima,
 #     counts and agreed flags against their closed forms on every rank);
+#     and a distributed model's evaluation (tests/share_check: each rank's
+#     share with its ghosts filled by the halo, the energy, dissipation and
+#     counts summed over the ranks by the solver's reductions, against the
+#     whole model: the small disk (fibre, two horizons of ghosts) and the
+#     notched three-body plate (three));
 # (f) an unknown -pc_type is a clear error (exit 2, PETSc's words) and
 #     leaves no output folder; solver.petsc_options that are not options
 #     are refused naming the file and line (exit 1).
@@ -241,6 +246,14 @@ for np in 1 2 3; do
   if [ "$rc" -eq 0 ] && [ "$n" -eq "$np" ]; then
     ok "ps_comm on $np ranks: every rank's sums, maxima, minima, counts and flags exact"
   else ko "ps_comm on $np ranks: exit $rc, $n of $np ranks ok: $(printf '%s' "$out" | head -3)"; fi
+  for cs in small-disk notched-plate-threebody; do
+    out=$("$MPIEXEC" -n "$np" ./tests/share_check "$C/$cs.yaml" 2>&1)
+    rc=$?
+    n=$(printf '%s\n' "$out" | grep -c "^share_check: rank [0-9]* of $np: ok ")
+    if [ "$rc" -eq 0 ] && [ "$n" -eq "$np" ]; then
+      ok "$cs on $np ranks: each share's ghosts from the halo, forces at owned dofs, the energy, dissipation and counts over the ranks as the whole model's"
+    else ko "$cs on $np ranks: exit $rc, $n of $np ranks ok: $(printf '%s' "$out" | head -4)"; fi
+  done
 done
 
 # (f) bad PETSc options

@@ -100,12 +100,20 @@ static void world_min(void *data, double *x, int n) {
   MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_MIN, PETSC_COMM_WORLD);
 }
 
+static void world_alltoallv(void *data, const void *send, const int *scount,
+                            const int *sdispl, void *recv, const int *rcount,
+                            const int *rdispl) {
+  (void)data;
+  MPI_Alltoallv(send, scount, sdispl, MPI_BYTE, recv, rcount, rdispl, MPI_BYTE,
+                PETSC_COMM_WORLD);
+}
+
 int ps_parallel_comm(ps_comm *comm, ps_ctx *ctx) {
   PetscBool up = PETSC_FALSE;
   PetscInitialized(&up);
   if (!up) return ps_error(ctx, PS_ERR_INTERNAL, "ps_parallel_comm before ps_parallel_init");
   *comm = (ps_comm){ps_parallel_rank(), ps_parallel_size(), NULL, world_sum, world_max,
-                    world_min};
+                    world_min, world_alltoallv};
   return PS_OK;
 }
 
@@ -855,7 +863,7 @@ int ps_parallel_init(const char *options, ps_ctx *ctx) {
 int ps_parallel_rank(void) { return 0; }
 int ps_parallel_size(void) { return 1; }
 int ps_parallel_comm(ps_comm *comm, ps_ctx *ctx) {
-  *comm = (ps_comm){0, 1, NULL, NULL, NULL, NULL};
+  *comm = (ps_comm){0, 1, NULL, NULL, NULL, NULL, NULL};
   return ps_parallel_init(NULL, ctx);
 }
 void ps_parallel_finalize(void) {}

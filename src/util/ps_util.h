@@ -40,6 +40,12 @@ typedef struct ps_comm {
   void (*sum)(void *data, double *x, int n);
   void (*max)(void *data, double *x, int n);
   void (*min)(void *data, double *x, int n);
+  /* personalised all-to-all: process q gets send[sdispl[q] .. +
+   * scount[q]) bytes of each process into recv at rdispl of its own
+   * (MPI_Alltoallv on bytes); the counts of [size] ints each. Used by the
+   * halo below; NULL in a comm without one (then no halo). */
+  void (*alltoallv)(void *data, const void *send, const int *scount, const int *sdispl,
+                    void *recv, const int *rcount, const int *rdispl);
 } ps_comm;
 
 /* x[0..n) <- its sum (maximum, minimum) over the processes of comm (NULL:
@@ -55,6 +61,7 @@ int ps_comm_any(const ps_comm *comm, int flag);
 /* this process's rank (0 for NULL) */
 static inline int ps_comm_rank(const ps_comm *comm) { return comm ? comm->rank : 0; }
 
+
 /* The run context, passed last to every call that can fail: holds the last
  * error message, verbosity, the log stream and the processes of the run.
  * No global state. */
@@ -65,6 +72,36 @@ typedef struct ps_ctx {
   const ps_comm *comm; /* the processes of a distributed run; NULL (the
                           default): one process holds the whole model */
 } ps_ctx;
+
+/* A halo (comm.c): how the values of a process's ghosts come from the
+ * processes that own them. A process holds n_local items (particles),
+ * the first n_owned its own, the rest ghosts, each with its global
+ * number; owner[k] is the process owning ghost k (k = 0 .. n_local -
+ * n_owned - 1). Built once (collective); each exchange then sends every
+ * owned item's values to the processes holding it as a ghost. */
+typedef struct ps_halo {
+  int size;                 /* processes */
+  int *scount, *sdispl;     /* [size] items sent to each process */
+  int *rcount, *rdispl;     /* [size] items received from each */
+  ps_int *send_item;        /* [sum scount] local owned items to send */
+  ps_int *recv_item;        /* [sum rcount] local ghost items received */
+  int *bcount, *bdispl, *ccount, *cdispl; /* [size] each: byte counts of
+                               one exchange (width set at the last) */
+  double *sbuf, *rbuf;      /* packing buffers */
+  int width;                /* values per item of the buffers */
+} ps_halo;
+/* Build the halo of global numbers global[n_local] (owned first) with
+ * owners owner[n_local - n_owned] (collective; every process's owned
+ * numbers must include those the others ask for). A NULL comm, or one of
+ * one process, needs no ghosts: n_local must equal n_owned. PS_OK,
+ * PS_ERR_INPUT (a ghost asked of a process that does not own it, a
+ * ghost on one process, a comm without alltoallv), PS_ERR_NOMEM. */
+int ps_halo_create(ps_halo *h, const ps_comm *comm, ps_int n_local, ps_int n_owned,
+                   const ps_int *global, const int *owner, ps_ctx *ctx);
+/* x[n_local * width]: every ghost's width values from its owner
+ * (collective). PS_OK or PS_ERR_NOMEM. */
+int ps_halo_exchange(ps_halo *h, const ps_comm *comm, double *x, int width, ps_ctx *ctx);
+void ps_halo_free(ps_halo *h);
 
 /* Initialise a context: empty message, verbosity 1, log = stderr, one
  * process (comm NULL). */

@@ -19,35 +19,6 @@ void ps_ctx_init(ps_ctx *ctx) {
   ctx->comm = NULL;
 }
 
-void ps_comm_sum(const ps_comm *comm, double *x, int n) {
-  if (comm && n > 0) comm->sum(comm->data, x, n);
-}
-
-void ps_comm_max(const ps_comm *comm, double *x, int n) {
-  if (comm && n > 0) comm->max(comm->data, x, n);
-}
-
-void ps_comm_min(const ps_comm *comm, double *x, int n) {
-  if (comm && n > 0) comm->min(comm->data, x, n);
-}
-
-double ps_comm_sum1(const ps_comm *comm, double x) {
-  ps_comm_sum(comm, &x, 1);
-  return x;
-}
-
-int64_t ps_comm_count(const ps_comm *comm, int64_t n) {
-  double x = (double)n;
-  ps_comm_sum(comm, &x, 1);
-  return (int64_t)x;
-}
-
-int ps_comm_any(const ps_comm *comm, int flag) {
-  double x = flag != 0;
-  ps_comm_max(comm, &x, 1);
-  return x != 0.0;
-}
-
 int ps_error(ps_ctx *ctx, int status, const char *fmt, ...) {
   va_list ap;
   va_start(ap, fmt);

@@ -34,7 +34,12 @@
 #     share with its ghosts filled by the halo, the energy, dissipation and
 #     counts summed over the ranks by the solver's reductions, against the
 #     whole model: the small disk (fibre, two horizons of ghosts) and the
-#     notched three-body plate (three));
+#     notched three-body plate (three)); and Newton on the distributed
+#     model (tests/solve_check: each rank's share solved through PETSc's
+#     MUMPS with the rows of its owned dofs, two load increments, the
+#     second past yield: owned and ghost displacements within 1e-8 of the
+#     largest of the serial CHOLMOD solution, yielding arms as serial; the
+#     small disk, the 3D tension block and the three-body plate);
 # (f) an unknown -pc_type is a clear error (exit 2, PETSc's words) and
 #     leaves no output folder; solver.petsc_options that are not options
 #     are refused naming the file and line (exit 1).
@@ -253,6 +258,14 @@ for np in 1 2 3; do
     if [ "$rc" -eq 0 ] && [ "$n" -eq "$np" ]; then
       ok "$cs on $np ranks: each share's ghosts from the halo, forces at owned dofs, the energy, dissipation and counts over the ranks as the whole model's"
     else ko "$cs on $np ranks: exit $rc, $n of $np ranks ok: $(printf '%s' "$out" | head -4)"; fi
+  done
+  for cs in small-disk tension-block-3d notched-plate-threebody; do
+    out=$("$MPIEXEC" -n "$np" ./tests/solve_check "$C/$cs.yaml" 2>&1)
+    rc=$?
+    n=$(printf '%s\n' "$out" | grep -c "^solve_check: rank [0-9]* of $np: load factor [0-9.]*: ok ")
+    if [ "$rc" -eq 0 ] && [ "$n" -eq $((2 * np)) ]; then
+      ok "$cs on $np ranks: Newton on the distributed model, displacements as the serial solution's ($(printf '%s\n' "$out" | grep 'rank 0 of.*1.1:' | sed 's/.*displacements off by \([^ ]*\) (owned).*/\1/') of the largest)"
+    else ko "$cs on $np ranks: exit $rc, $n of $((2 * np)) ok: $(printf '%s' "$out" | grep -v '^ *$' | head -4)"; fi
   done
 done
 

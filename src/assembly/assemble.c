@@ -89,10 +89,10 @@ static void add_family_term(ps_system *s, ps_int c, int term) {
   }
 }
 
-ps_int ps_system_first_loose(const ps_system *s) {
+ps_int ps_system_first_loose(const ps_system *s, const unsigned char *only) {
   int d = s->dim;
   for (ps_int a = 0; a < s->net->n_particle; a++) {
-    if (!s->free_body[a]) continue;
+    if (!s->free_body[a] || (only && !only[a])) continue;
     /* a loose direction with a component along a free dof (one along
      * prescribed dofs alone holds nothing that moves): the free dof most
      * along them */

@@ -197,8 +197,9 @@ int ps_system_assemble(ps_system *sys, ps_ctx *ctx);
  * do not hold it there, or it lies in a piece with no prescribed dof
  * while another piece has one: free_body, with a component on a free
  * dof): the dof of its free component most along those directions (for
- * ps_system_dof_name), or -1 when every particle is held. */
-ps_int ps_system_first_loose(const ps_system *sys);
+ * ps_system_dof_name), or -1 when every particle is held. Only the
+ * particles `only` marks when it is not NULL (a share's owned ones). */
+ps_int ps_system_first_loose(const ps_system *sys, const unsigned char *only);
 
 /* y[n_dof] = K x[n_dof] with the tangent K of the last evaluation with one
  * (all dofs, the loose particles' springs included), matrix-free: arm terms

@@ -570,11 +570,13 @@ static int numbering(petsc_state *s, PetscInt *local, ps_ctx *ctx) {
   PetscMPIInt rank = 0, size = 1;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  const ps_linsolve *ls = s->ls;
   ps_int N = s->N, d = s->d, np = N / d;
-  s->row_of_dof = ps_calloc((size_t)N + 1, sizeof *s->row_of_dof, ctx);
-  s->free_of = ps_calloc((size_t)N + 1, sizeof *s->free_of, ctx);
+  ps_int nl = ls->global_row ? ls->n_dof : N; /* the dofs this rank holds */
+  s->row_of_dof = ps_calloc((size_t)nl + 1, sizeof *s->row_of_dof, ctx);
+  s->free_of = ps_calloc((size_t)nl + 1, sizeof *s->free_of, ctx);
   if (!s->row_of_dof || !s->free_of) return PS_ERR_NOMEM;
-  for (ps_int g = 0; g < N; g++) s->free_of[g] = -1;
+  for (ps_int g = 0; g < nl; g++) s->free_of[g] = -1;
   for (ps_int k = 0; k < s->n_free; k++) s->free_of[s->dof ? s->dof[k] : k] = k;
   /* -peristatic_rows natural keeps the dofs' order (for comparisons) */
   char rows[32] = "curve";
@@ -585,7 +587,12 @@ static int numbering(petsc_state *s, PetscInt *local, ps_ctx *ctx) {
     return ps_error(ctx, PS_ERR_INPUT, "-peristatic_rows must be curve or natural (got '%s')",
                     rows);
   s->curve = s->dof && size > 1 && np >= size && !strcmp(rows, "curve");
-  if (s->curve) {
+  if (ls->global_row) { /* a share: its rows and their numbers are given */
+    s->curve = 1;       /* (rows sorted in this_rows) */
+    for (ps_int g = 0; g < nl; g++) s->row_of_dof[g] = ls->global_row[g];
+    s->rstart = (PetscInt)ls->row0;
+    s->rend = (PetscInt)(ls->row0 + ls->n_rows);
+  } else if (s->curve) {
     ps_particles P = {.dim = (int)d, .n = np, .x = (double *)s->ls->x};
     ps_partition pt;
     PS_CHECK(ps_partition_curve(&pt, &P, size, ctx));
@@ -607,12 +614,29 @@ static int numbering(petsc_state *s, PetscInt *local, ps_ctx *ctx) {
   s->row_dof = ps_calloc((size_t)m + 1, sizeof *s->row_dof, ctx);
   s->row_free = ps_calloc((size_t)m + 1, sizeof *s->row_free, ctx);
   if (!s->row_dof || !s->row_free) return PS_ERR_NOMEM;
-  for (ps_int g = 0; g < N; g++) {
+  for (ps_int g = 0; g < nl; g++) {
     ps_int r = s->row_of_dof[g] - s->rstart;
     if (r >= 0 && r < m) s->row_dof[r] = g;
   }
   for (ps_int r = 0; r < m; r++) s->row_free[r] = s->free_of[s->row_dof[r]];
   *local = (PetscInt)m;
+  return PS_OK;
+}
+
+/* a share's solution at its free dofs (owned and ghosts) from the rows
+ * of the whole system's: the scatter of those rows into s->x_all */
+static int share_scatter(petsc_state *s, ps_ctx *ctx) {
+  PetscInt *rows = ps_calloc((size_t)s->n_free + 1, sizeof *rows, ctx);
+  if (!rows) return PS_ERR_NOMEM;
+  for (ps_int k = 0; k < s->n_free; k++) rows[k] = (PetscInt)s->row_of_dof[s->dof[k]];
+  IS is = NULL;
+  PetscErrorCode ierr =
+      ISCreateGeneral(PETSC_COMM_SELF, (PetscInt)s->n_free, rows, PETSC_COPY_VALUES, &is);
+  free(rows);
+  if (!ierr) ierr = VecCreateSeq(PETSC_COMM_SELF, (PetscInt)s->n_free, &s->x_all);
+  if (!ierr) ierr = VecScatterCreate(s->x, is, s->x_all, NULL, &s->to_all);
+  if (is) ISDestroy(&is);
+  if (ierr) return petsc_failed(ierr, "the share's scatter (VecScatterCreate)", ctx);
   return PS_OK;
 }
 
@@ -625,10 +649,12 @@ static int pt_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st, ps_ct
   /* the system over all dofs when the solver object says what they are
    * (blocks of dim for GAMG and the rigid-body modes), else over A's */
   int blocks = ls->dim >= 1 && ls->dof_of_free && ls->x && ls->n_dof >= A->n;
+  if (ls->global_row && !blocks)
+    return ps_error(ctx, PS_ERR_INTERNAL, "a share of a system without its dofs");
   s->d = blocks ? ls->dim : 1;
   s->dof = blocks ? ls->dof_of_free : NULL;
   s->n_free = A->n;
-  ps_int N = blocks ? ls->n_dof : A->n;
+  ps_int N = ls->global_row ? ls->n_global : blocks ? ls->n_dof : A->n;
   if (N > (ps_int)PETSC_MAX_INT || A->p[A->n] > (ps_int)PETSC_MAX_INT / 2)
     return ps_error(ctx, PS_ERR_INPUT, "the system (%lld unknowns, %lld stored entries) is too "
                     "large for this PETSc's %d-bit indices", (long long)N,
@@ -687,7 +713,10 @@ static int pt_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st, ps_ct
   PT(MatSetOption(s->A, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption");
   PT(MatSetOption(s->A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE), "MatSetOption");
   PT(MatCreateVecs(s->A, &s->x, &s->b), "MatCreateVecs");
-  PT(VecScatterCreateToAll(s->x, &s->to_all, &s->x_all), "VecScatterCreateToAll");
+  if (ls->global_row)
+    PS_CHECK(share_scatter(s, ctx));
+  else
+    PT(VecScatterCreateToAll(s->x, &s->to_all, &s->x_all), "VecScatterCreateToAll");
   if (blocks && s->d >= 2) PS_CHECK(rigid_modes(s, ctx));
   PS_CHECK(make_ksp(s, ctx));
   PC pc;
@@ -785,7 +814,10 @@ static int gather(petsc_state *s, double *x, ps_ctx *ctx) {
   PT(VecScatterEnd(s->to_all, s->x, s->x_all, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
   const PetscScalar *a;
   PT(VecGetArrayRead(s->x_all, &a), "VecGetArrayRead");
-  for (ps_int k = 0; k < s->n_free; k++) x[k] = a[s->row_of_dof[s->dof ? s->dof[k] : k]];
+  if (s->ls->global_row) /* a share's free dofs, in order */
+    for (ps_int k = 0; k < s->n_free; k++) x[k] = a[k];
+  else
+    for (ps_int k = 0; k < s->n_free; k++) x[k] = a[s->row_of_dof[s->dof ? s->dof[k] : k]];
   PT(VecRestoreArrayRead(s->x_all, &a), "VecRestoreArrayRead");
   return PS_OK;
 }

@@ -138,6 +138,17 @@ typedef struct ps_linsolve {
   const ps_int *dof_of_free;
   const double *x;
   ps_int n_dof;             /* all dofs (dim x particles), 0: not given */
+  /* A share of a distributed system (doc/design-distributed.md; PETSc
+   * only): the n_dof dofs above are a process's share (owned particles,
+   * then ghosts), global_row[n_dof] each one's row in the whole system of
+   * n_global dofs, and this process's rows are [row0, row0 + n_rows), the
+   * rows of its owned dofs. A's rows of owned free dofs are complete
+   * (ghost columns included); its ghost rows are not used. The right-hand
+   * side and the solution are the share's free dofs: b's owned entries
+   * are read, x comes back at every free dof, ghosts included. NULL: the
+   * whole system on every process. */
+  const ps_int *global_row;
+  ps_int n_global, row0, n_rows;
   double rtol;              /* the relative residual at which an
                                iterative backend's solve may stop (0:
                                its default; direct backends ignore it) */

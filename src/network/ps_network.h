@@ -154,6 +154,12 @@ int ps_share_build(ps_share *sh, const ps_particles *P, const ps_partition *pt, 
                    double reach, const ps_kernel *K, const ps_crack *cracks, int n_cracks,
                    ps_ctx *ctx);
 void ps_share_free(ps_share *sh);
+/* The rows of the whole system (dim per particle, particles in pt's curve
+ * order, so that each part's rows are one range) of the share's dofs:
+ * *rows[sh->P.n * dim] (allocated here); its own rows are *row0 ..
+ * *row0 + n_owned * dim - 1. PS_OK or PS_ERR_NOMEM. */
+int ps_share_global_rows(const ps_share *sh, const ps_partition *pt, int dim, ps_int **rows,
+                         ps_int *row0, ps_ctx *ctx);
 
 /* Does the crack cut the arm x-y? x and y hold 2 (segment) or 3
  * (polygon, sphere) coordinates; tol = PS_CRACK_TOUCH |y - x|.

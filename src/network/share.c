@@ -51,3 +51,22 @@ cleanup:
   if (status < 0) ps_share_free(sh);
   return status;
 }
+
+int ps_share_global_rows(const ps_share *sh, const ps_partition *pt, int dim, ps_int **rows,
+                         ps_int *row0, ps_ctx *ctx) {
+  ps_int n = sh->P.n;
+  ps_int *pos = ps_calloc((size_t)pt->n + 1, sizeof *pos, ctx); /* curve position */
+  *rows = ps_calloc((size_t)(n * dim) + 1, sizeof **rows, ctx);
+  if (!pos || !*rows) {
+    free(pos);
+    free(*rows);
+    *rows = NULL;
+    return PS_ERR_NOMEM;
+  }
+  for (ps_int j = 0; j < pt->n; j++) pos[pt->order[j]] = j;
+  for (ps_int a = 0; a < n; a++)
+    for (int c = 0; c < dim; c++) (*rows)[a * dim + c] = pos[sh->global[a]] * dim + c;
+  *row0 = pt->start[sh->part] * dim;
+  free(pos);
+  return PS_OK;
+}

@@ -60,7 +60,8 @@ int ps_nl_factor_tangent(ps_solver *s, ps_ctx *ctx) {
   /* the first factor to try: CHOLMOD's LL^T; for lu_first LDL^T without
    * pivoting where it pays, else none (straight to UMFPACK below) */
   ps_linsolve *first = &s->ls;
-  if (s->lu_first) {
+  const int share = s->ls.global_row != NULL; /* a distributed model's */
+  if (s->lu_first && !share) {
     first = s->ldl_ok ? &s->ls_ldl : NULL;
     if (first && !first->type) {
       PS_CHECK(ps_linsolve_create(first, ps_linsolve_cholmod_ldl, ctx));
@@ -77,8 +78,18 @@ int ps_nl_factor_tangent(ps_solver *s, ps_ctx *ctx) {
     s->shifted_current = 0;
     return PS_OK;
   }
+  if (share && status == PS_NOT_POSDEF) {
+    /* a share's factor is MUMPS's LDL^T of the whole system, which
+     * solves the indefinite one too; the one-process fallbacks below
+     * would factor this process's rows only */
+    s->ls_last = first;
+    s->have_factor = 1;
+    s->indefinite = s->lu_current = 1;
+    s->shifted_current = 0;
+    return PS_OK;
+  }
   if (bad >= 0 && bad < s->prob.n_free) s->prob.ops->dof_name(s->prob.data, bad, name, sizeof name);
-  if (s->ls.type != ps_linsolve_umfpack) {
+  if (s->ls.type != ps_linsolve_umfpack && !share) {
     /* once a run at level 1: softening arms make it routine */
     if (!s->lu_first)
       ps_log(ctx, s->n_fallback ? 2 : 1, "  note: tangent %s at %s: UMFPACK for this system\n",

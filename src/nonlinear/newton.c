@@ -9,14 +9,17 @@
 #include <math.h>
 #include <string.h>
 
+/* 1 when dof j is this process's (ps_nl_problem.owned) */
+static inline int owns(const ps_nl_problem *p, ps_int j) { return !p->owned || p->owned[j]; }
+
 double ps_nl_relative_residual(const ps_nl_problem *p, const double *f, double *rn) {
   double s[2] = {0, 0}; /* ||f_free||^2, ||f_fixed||^2 (the reactions) */
   for (ps_int k = 0; k < p->n_free; k++) {
     double v = f[p->dof_of_free[k]];
-    s[0] += v * v;
+    if (owns(p, p->dof_of_free[k])) s[0] += v * v;
   }
   for (ps_int j = 0; j < p->n_dof; j++)
-    if (p->fixed[j]) s[1] += f[j] * f[j];
+    if (p->fixed[j] && owns(p, j)) s[1] += f[j] * f[j];
   ps_comm_sum(p->comm, s, 2);
   double ref = sqrt(s[1]);
   *rn = sqrt(s[0]);
@@ -26,7 +29,8 @@ double ps_nl_relative_residual(const ps_nl_problem *p, const double *f, double *
 /* f_free . x, x[n_free] */
 static double dot_free(const ps_nl_problem *p, const double *f, const double *x) {
   double g = 0;
-  for (ps_int k = 0; k < p->n_free; k++) g += f[p->dof_of_free[k]] * x[k];
+  for (ps_int k = 0; k < p->n_free; k++)
+    if (owns(p, p->dof_of_free[k])) g += f[p->dof_of_free[k]] * x[k];
   return ps_comm_sum1(p->comm, g);
 }
 

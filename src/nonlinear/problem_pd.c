@@ -77,8 +77,9 @@ static const ps_nl_problem_ops pd_ops = {pd_evaluate, pd_apply,   pd_assemble,
                                          pd_mark,     pd_changed, pd_dof_name};
 
 ps_nl_problem ps_pd_problem(ps_pd *pd) {
-  ps_nl_problem p = {&pd_ops,          pd, pd->sys.n_dof, pd->sys.n_free, pd->sys.dof_of_free,
-                     pd->sys.fixed, pd->have_majorant, pd->comm};
+  ps_nl_problem p = {&pd_ops,       pd,           pd->sys.n_dof,     pd->sys.n_free,
+                     pd->sys.dof_of_free, pd->sys.fixed, pd->have_majorant, pd->comm,
+                     pd->owned_dof};
   return p;
 }
 
@@ -90,7 +91,20 @@ void ps_pd_free(ps_pd *pd) {
   ps_arm_state_free(&pd->st_saved);
   ps_model_free(&pd->model);
   free(pd->arm_state_at_factor);
+  free(pd->owned_dof);
   free(pd);
+}
+
+int ps_pd_set_share(ps_pd *pd, const unsigned char *own_arm, const unsigned char *own_particle,
+                    ps_ctx *ctx) {
+  int d = pd->net->dim;
+  pd->model.own_arm = own_arm;
+  pd->model.own_particle = own_particle;
+  free(pd->owned_dof);
+  pd->owned_dof = ps_calloc((size_t)pd->sys.n_dof + 1, 1, ctx);
+  if (!pd->owned_dof) return PS_ERR_NOMEM;
+  for (ps_int j = 0; j < pd->sys.n_dof; j++) pd->owned_dof[j] = own_particle[j / d];
+  return PS_OK;
 }
 
 int ps_pd_create(ps_pd **out, const ps_particles *P, const ps_network *net,

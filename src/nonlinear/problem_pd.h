@@ -34,6 +34,8 @@ typedef struct ps_pd {
   const ps_comm *comm;        /* the run's processes (ctx->comm at create;
                                  NULL: one): the energy, the dissipation
                                  and the counts below are summed over them */
+  unsigned char *owned_dof;   /* [n_dof] a share's owned dofs
+                                 (ps_pd_set_share; NULL: all) */
 } ps_pd;
 
 /* Create the problem: the model of `type` on the network, the system's
@@ -45,6 +47,13 @@ int ps_pd_create(ps_pd **out, const ps_particles *P, const ps_network *net,
                  const ps_model_type *type, const ps_material *mat,
                  const unsigned char *fixed, int majorant, int matrix_free, ps_ctx *ctx);
 void ps_pd_free(ps_pd *pd);
+
+/* Make pd a share of a distributed problem (ps_share): only the arms and
+ * particles own_arm and own_particle mark (both borrowed) count in its
+ * energy and counts (ps_model), and only the owned particles' dofs in the
+ * solver's norms (ps_nl_problem.owned). PS_OK or PS_ERR_NOMEM. */
+int ps_pd_set_share(ps_pd *pd, const unsigned char *own_arm, const unsigned char *own_particle,
+                    ps_ctx *ctx);
 
 /* The problem's ps_nl_problem (data = pd). */
 ps_nl_problem ps_pd_problem(ps_pd *pd);

@@ -59,6 +59,11 @@ typedef struct ps_nl_problem {
   const ps_comm *comm;          /* the processes the dofs are spread over
                                    (ps_util.h; NULL: one): every norm and
                                    dot product of the solver sums over it */
+  const unsigned char *owned;   /* [n_dof] 1: this process's dof, counted in
+                                   the norms and dot products (a share of a
+                                   distributed problem also holds ghost
+                                   dofs, free or prescribed, whose values
+                                   are their owners'); NULL: every dof */
 } ps_nl_problem;
 
 #endif

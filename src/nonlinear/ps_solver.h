@@ -73,6 +73,29 @@ int ps_solver_create(ps_solver **s, const ps_particles *P,
                      const ps_material *mat, const unsigned char *fixed,
                      const double *ubar, const ps_solver_opts *opts,
                      ps_ctx *ctx);
+/* A share of a distributed model (ps_share, doc/design-distributed.md):
+ * what the solver of one process needs beyond its particles and network. */
+typedef struct ps_solver_share {
+  const unsigned char *own_arm;      /* ps_share.own_arm (borrowed) */
+  const unsigned char *own_particle; /* ps_share.own_particle (borrowed) */
+  const ps_int *global_row; /* [n_dof] each local dof's row in the whole
+                               system (ps_share_global_rows; borrowed) */
+  ps_int n_global;          /* the whole model's dofs */
+  ps_int row0, n_rows;      /* this process's rows: its owned dofs */
+} ps_solver_share;
+
+/* ps_solver_create on a share of a distributed model (share NULL: the
+ * same as ps_solver_create): P, net, fixed and ubar are the share's
+ * (owned particles, then ghosts), ctx->comm the run's processes (every
+ * call is collective), opts must choose PETSc with a factor for each
+ * Newton system (linear petsc, reuse_factor 0: PS_ERR_INPUT otherwise).
+ * The ghosts' displacements follow their owners' through the linear
+ * solves (each process gets the whole solution at its free dofs). */
+int ps_solver_create_share(ps_solver **s, const ps_particles *P, const ps_network *net,
+                           const ps_model_type *type, const ps_material *mat,
+                           const unsigned char *fixed, const double *ubar,
+                           const ps_solver_opts *opts, const ps_solver_share *share,
+                           ps_ctx *ctx);
 /* Free the solver and all it owns; NULL is a no-op. */
 void ps_solver_free(ps_solver *s);
 

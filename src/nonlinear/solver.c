@@ -71,7 +71,7 @@ static int check_directions(const ps_network *net, const unsigned char *fixed, p
   for (int k = 0; k < d; k++) {
     int any = 0;
     for (ps_int a = 0; a < net->n_particle && !any; a++) any = fixed[a * d + k];
-    if (!any)
+    if (!ps_comm_any(ctx->comm, any)) /* (on any process of the run) */
       return ps_error(ctx, PS_ERR_INPUT,
                       "the model has no supports in direction %c: no particle has "
                       "a prescribed %c displacement (see loading.boundary)",
@@ -153,6 +153,14 @@ int ps_solver_create(ps_solver **out, const ps_particles *P,
                      const ps_material *mat, const unsigned char *fixed,
                      const double *ubar, const ps_solver_opts *opts,
                      ps_ctx *ctx) {
+  return ps_solver_create_share(out, P, net, type, mat, fixed, ubar, opts, NULL, ctx);
+}
+
+int ps_solver_create_share(ps_solver **out, const ps_particles *P, const ps_network *net,
+                           const ps_model_type *type, const ps_material *mat,
+                           const unsigned char *fixed, const double *ubar,
+                           const ps_solver_opts *opts, const ps_solver_share *share,
+                           ps_ctx *ctx) {
   int status = PS_OK;
   *out = NULL;
   const ps_linsolve_type *linear = ps_linsolve_type_find(opts->linear);
@@ -161,6 +169,10 @@ int ps_solver_create(ps_solver **out, const ps_particles *P,
                     "unknown linear solver '%s' (solver.linear: cholmod, "
                     "cholmod-simplicial, umfpack or petsc)",
                     opts->linear);
+  if (share && (linear != ps_linsolve_petsc || opts->reuse_factor))
+    return ps_error(ctx, PS_ERR_INPUT, "a distributed model is solved by PETSc with a "
+                    "factor for each Newton system (solver.linear: petsc, reuse_factor: "
+                    "false)");
   if ((status = check_directions(net, fixed, ctx)) != PS_OK) return status;
   ps_solver *s = ps_calloc(1, sizeof *s, ctx);
   if (!s) return PS_ERR_NOMEM;
@@ -172,16 +184,30 @@ int ps_solver_create(ps_solver **out, const ps_particles *P,
   PS_CHECK_GOTO(ps_pd_create(&s->pd, P, net, type, mat, fixed,
                              opts->majorant && opts->reuse_factor,
                              opts->reuse_factor && opts->matrix_free, ctx));
+  if (share) {
+    PS_CHECK_GOTO(ps_pd_set_share(s->pd, share->own_arm, share->own_particle, ctx));
+  }
   s->prob = ps_pd_problem(s->pd);
   if ((status = create_linear(s, P, ctx)) < 0) goto cleanup; /* traced */
+  if (share) {
+    s->ls.global_row = share->global_row;
+    s->ls.n_global = share->n_global;
+    s->ls.row0 = share->row0;
+    s->ls.n_rows = share->n_rows;
+  }
   if ((status = ps_nl_alloc_work(s, ctx)) != PS_OK) goto cleanup;
   for (ps_int j = 0; j < s->prob.n_dof; j++) s->ubar[j] = fixed[j] ? ubar[j] : 0.0;
   /* support check: every particle held at rest (the spring that holds
    * loose particles and pieces once arms break must not hide a missing
    * support), and the tangent at rest nonsingular */
   PS_CHECK_GOTO(ps_nl_eval(s, s->u, s->f, &s->energy, 1, ctx));
-  ps_int loose = ps_system_first_loose(&s->pd->sys);
-  if (loose >= 0) {
+  ps_int loose = ps_system_first_loose(&s->pd->sys, share ? share->own_particle : NULL);
+  if (ps_comm_any(ctx->comm, loose >= 0)) {
+    if (loose < 0) {
+      status = ps_error(ctx, PS_ERR_INPUT, "the model is not properly supported (a particle "
+                        "of another process is not held at rest)");
+      goto cleanup;
+    }
     char name[160];
     ps_system_dof_name(&s->pd->sys, P->x, loose, name, sizeof name);
     status = ps_error(ctx, PS_ERR_INPUT,

@@ -1,5 +1,6 @@
 /* common.c: see common.h. */
 #include "common.h"
+#include "linsolve/ps_linsolve.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -128,4 +129,23 @@ ps_path_problem tc_path_problem(ps_problem *pb, const char *name) {
                         .c = pb->c,
                         .name = name};
   return pp;
+}
+
+void tc_mpi_share(int argc, char **argv, const char *prog, ps_comm *comm, ps_case *cs,
+                  ps_problem *pb, ps_partition *pt, ps_share *sh, ps_ctx *ctx) {
+  ps_ctx_init(ctx);
+  if (argc != 2) {
+    printf("%s: usage: %s CASE.yaml\n", prog, prog);
+    exit(2);
+  }
+  if (ps_parallel_init(NULL, ctx) || ps_parallel_comm(comm, ctx)) {
+    printf("%s: MPI: %s\n", prog, ctx->msg);
+    exit(1);
+  }
+  tc_setup_case_file(argv[1], cs, pb, ctx);
+  if (ps_partition_curve(pt, &pb->P, comm->size, ctx) ||
+      ps_problem_share(pb, pt, comm->rank, sh, ctx)) {
+    printf("%s: rank %d: the share: %s\n", prog, comm->rank, ctx->msg);
+    exit(1);
+  }
 }

@@ -43,6 +43,14 @@ void tc_evaluator_free(tc_evaluator *ev);
  * exits on failure. */
 void tc_setup_case_file(const char *yaml, ps_case *cs, ps_problem *pb, ps_ctx *ctx);
 
+/* The MPI checks (tests/share_check.c, solve_check.c; t990 runs them): PETSc
+ * and MPI up, *comm the run's ranks, the case file argv[1] set up in *cs
+ * and *pb (ctx fresh), and this rank's share *sh of part rank of the
+ * partition *pt (ps_problem_share). Exits 2 on a usage error, 1 on a
+ * failure, naming `prog`. */
+void tc_mpi_share(int argc, char **argv, const char *prog, ps_comm *comm, ps_case *cs,
+                  ps_problem *pb, ps_partition *pt, ps_share *sh, ps_ctx *ctx);
+
 /* Distance from x to the nearest face of the box [lo, hi] (dim axes). */
 /* A solver of problem pb with its case's solver options on one thread
  * and its forces (exits on failure). */

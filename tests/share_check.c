@@ -58,26 +58,20 @@ static int evaluate(evaluation *e, const ps_particles *P, const ps_network *net,
 
 int main(int argc, char **argv) {
   ps_ctx ctx;
-  ps_ctx_init(&ctx);
   ps_comm comm;
-  if (argc != 2) {
-    printf("share_check: usage: share_check CASE.yaml\n");
-    return 2;
-  }
-  if (ps_parallel_init(NULL, &ctx) || ps_parallel_comm(&comm, &ctx))
-    return fail(0, "MPI", &ctx);
-  const int rank = comm.rank, P_ranks = comm.size;
   ps_case cs;
   ps_problem pb;
-  tc_setup_case_file(argv[1], &cs, &pb, &ctx);
+  ps_partition pt;
+  ps_share sh;
+  tc_mpi_share(argc, argv, "share_check", &comm, &cs, &pb, &pt, &sh, &ctx);
+  const int rank = comm.rank, P_ranks = comm.size;
   const ps_particles *P = &pb.P;
   const int d = P->dim;
   const ps_model_type *type = ps_model_type_find(pb.cs.model);
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
   gsl_rng_set(rng, 990);
-  double *u = malloc((size_t)(P->n * d) * sizeof *u), hmax = 0, strain = 0.004;
+  double *u = malloc((size_t)(P->n * d) * sizeof *u), strain = 0.004;
   for (ps_int a = 0; a < P->n; a++) {
-    hmax = fmax(hmax, P->h[a]);
     const double *X = &P->x[a * d];
     for (int k = 0; k < d; k++)
       u[a * d + k] = (k == 0 ? strain * X[0] + 0.3 * strain * X[1] : -0.2 * strain * X[k]) +
@@ -87,13 +81,7 @@ int main(int argc, char **argv) {
   if (evaluate(&whole, P, &pb.net, type, &pb.mat, NULL, NULL, u, &ctx))
     return fail(rank, "the whole model's evaluation", &ctx);
 
-  ps_partition pt;
-  ps_share sh;
   const int h = ps_model_share_horizons(type, &pb.mat);
-  if (ps_partition_curve(&pt, P, P_ranks, &ctx) ||
-      ps_share_build(&sh, P, &pt, rank, h * pb.kernel.alpha * hmax, &pb.kernel, pb.cracks,
-                     pb.n_cracks, &ctx))
-    return fail(rank, "the share", &ctx);
   ps_int nl = sh.P.n, ng = nl - sh.n_owned;
   int *owner = malloc(((size_t)ng + 1) * sizeof *owner);
   double *ul = malloc((size_t)(nl * d) * sizeof *ul);

@@ -29,18 +29,13 @@ static int fail(int rank, const char *what, const ps_ctx *ctx) {
 
 int main(int argc, char **argv) {
   ps_ctx ctx, dctx;
-  ps_ctx_init(&ctx);
   ps_comm comm;
-  if (argc != 2) {
-    printf("solve_check: usage: solve_check CASE.yaml\n");
-    return 2;
-  }
-  if (ps_parallel_init(NULL, &ctx) || ps_parallel_comm(&comm, &ctx))
-    return fail(0, "MPI", &ctx);
-  const int rank = comm.rank;
   ps_case cs;
   ps_problem pb;
-  tc_setup_case_file(argv[1], &cs, &pb, &ctx);
+  ps_partition pt;
+  ps_share sh;
+  tc_mpi_share(argc, argv, "solve_check", &comm, &cs, &pb, &pt, &sh, &ctx);
+  const int rank = comm.rank;
   const ps_particles *P = &pb.P;
   const int d = P->dim;
   const ps_model_type *type = ps_model_type_find(pb.cs.model);
@@ -56,18 +51,9 @@ int main(int argc, char **argv) {
     return fail(rank, "the serial solver", &ctx);
   if (pb.fext) ps_solver_set_forces(whole, pb.fext);
 
-  /* the share and its solver */
-  double hmax = 0;
-  for (ps_int a = 0; a < P->n; a++) hmax = fmax(hmax, P->h[a]);
-  ps_partition pt;
-  ps_share sh;
+  /* the share's solver */
   ps_int *rows = NULL, row0 = 0;
-  const int h = ps_model_share_horizons(type, &pb.mat);
-  if (ps_partition_curve(&pt, P, comm.size, &ctx) ||
-      ps_share_build(&sh, P, &pt, rank, h * pb.kernel.alpha * hmax, &pb.kernel, pb.cracks,
-                     pb.n_cracks, &ctx) ||
-      ps_share_global_rows(&sh, &pt, d, &rows, &row0, &ctx))
-    return fail(rank, "the share", &ctx);
+  if (ps_share_global_rows(&sh, &pt, d, &rows, &row0, &ctx)) return fail(rank, "the rows", &ctx);
   ps_int nl = sh.P.n;
   unsigned char *fixed = calloc((size_t)(nl * d) + 1, 1);
   double *ubar = calloc((size_t)(nl * d) + 1, sizeof *ubar);

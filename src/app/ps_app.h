@@ -49,6 +49,14 @@ typedef struct ps_problem {
                              from (run --restart; NULL: from the start) */
 } ps_problem;
 
+/* The share of part `part` of pt (ps_share, doc/design-distributed.md)
+ * of the set-up problem pb: ghosts out to ps_model_share_horizons of
+ * its model, the network with pb's kernel and cracks. PS_OK,
+ * PS_ERR_INPUT (a model whose constants are not local: the fibre and
+ * state moduli correction), PS_ERR_NOMEM. */
+int ps_problem_share(const ps_problem *pb, const ps_partition *pt, int part, ps_share *sh,
+                     ps_ctx *ctx);
+
 /* Build the particle cloud, sizes, network and boundary conditions of a
  * case. Errors name the case file and line where one is known. Returns
  * PS_OK, PS_ERR_INPUT, PS_ERR_IO, PS_ERR_NOMEM. */

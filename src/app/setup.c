@@ -9,6 +9,19 @@
 #include <stdlib.h>
 #include <string.h>
 
+int ps_problem_share(const ps_problem *pb, const ps_partition *pt, int part, ps_share *sh,
+                     ps_ctx *ctx) {
+  int h = ps_model_share_horizons(ps_model_type_find(pb->cs.model), &pb->mat);
+  if (h <= 0)
+    return ps_error(ctx, PS_ERR_INPUT, "%s: the %s model's moduli correction "
+                    "(material.surface_correction) balances its weights over the whole cloud: "
+                    "it cannot be distributed", pb->cs.file, pb->cs.model);
+  double hmax = 0;
+  for (ps_int a = 0; a < pb->P.n; a++) hmax = fmax(hmax, pb->P.h[a]);
+  return ps_share_build(sh, &pb->P, pt, part, h * pb->kernel.alpha * hmax, &pb->kernel,
+                        pb->cracks, pb->n_cracks, ctx);
+}
+
 void ps_problem_free(ps_problem *pb) {
   ps_network_free(&pb->net);
   ps_particles_free(&pb->P);

@@ -13,7 +13,9 @@
  * owned particles' displacements within 1e-8 of the largest displacement
  * of the serial solution (the issue's bound), the
  * ghosts' displacements as their owners' (the same bound), and the
- * yielding arms over the ranks as the serial count. */
+ * yielding arms over the ranks as the serial count. Then a
+ * dissipation-controlled step, not yet available on a share, is refused
+ * (PS_ERR_INPUT) on every rank. */
 #include "common.h"
 #include "linsolve/ps_linsolve.h"
 
@@ -107,6 +109,14 @@ int main(int argc, char **argv) {
            rank, comm.size, lambdas[step], good ? "ok" : "FAILED", (long long)sh.n_owned,
            (long long)(nl - sh.n_owned), du_own / umax, du_ghost / umax, (long long)y,
            (long long)yw, (long long)st.newton_iterations);
+  }
+  /* not yet on a share: a dissipation-controlled step is refused, on
+   * every rank alike */
+  int st = ps_solver_dissipation_step(s, 1.0, &dctx);
+  if (st != PS_ERR_INPUT || !strstr(dctx.msg, "not there yet")) {
+    printf("solve_check: rank %d: a dissipation step on a share: status %d (%s), want a "
+           "refusal\n", rank, st, dctx.msg);
+    ok = 0;
   }
   ps_solver_free(s);
   ps_solver_free(whole);

@@ -513,21 +513,23 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
                     "serve the %s model", model->type->name);
   eval_job job = {s, st, X, u, f, 0, 0, {0}};
   size_t u_bytes = (size_t)s->n_dof * sizeof *u;
+  ps_int bad = -1; /* the first bad arm of the parts in order */
   if (!(s->geom_valid && X == s->X_geom && !memcmp(u, s->u_geom, u_bytes))) {
     s->geom_valid = 0;
     ps_team_run(s->team, s->parts, eval_part, &job);
-    ps_int bad = -1; /* the first bad arm of the parts in order */
     for (int p = 0; p < s->parts && bad < 0; p++) bad = job.bad[p];
-    if (ps_comm_any(ctx->comm, bad >= 0)) { /* every process fails alike */
-      if (bad < 0) return ps_error(ctx, PS_ERR_SOLVER, "an arm of another process degenerated");
-      return ps_error(ctx, PS_ERR_SOLVER, "arm %lld: particles %lld and %lld: length %g",
-                      (long long)bad, (long long)net->a[bad], (long long)net->b[bad], s->l[bad]);
-    }
-    if (!model->type->rotations) { /* force_vectors below overwrites q */
+    if (bad < 0 && !model->type->rotations) { /* force_vectors below overwrites q */
       memcpy(s->u_geom, u, u_bytes);
       s->X_geom = X;
       s->geom_valid = 1;
     }
+  }
+  /* every process fails alike (a collective whether or not this one's
+   * geometry was cached) */
+  if (ps_comm_any(ctx->comm, bad >= 0)) {
+    if (bad < 0) return ps_error(ctx, PS_ERR_SOLVER, "an arm of another process degenerated");
+    return ps_error(ctx, PS_ERR_SOLVER, "arm %lld: particles %lld and %lld: length %g",
+                    (long long)bad, (long long)net->a[bad], (long long)net->b[bad], s->l[bad]);
   }
   if (model->type->rotations)
     PS_CHECK(model->type->evaluate_rot(model, s->dl, s->th, st, s->T, s->M, energy,
@@ -564,7 +566,8 @@ int ps_system_eval(ps_system *s, const ps_model *model, ps_arm_state *st,
   if (ps_comm_any(ctx->comm, any_free != 0)) {
     double *diag = s->yw;
     ps_asm_tangent_diagonal(s, diag);
-    for (ps_int j = 0; j < s->n_dof; j++) s->spring = fmax(s->spring, diag[j]);
+    for (ps_int j = 0; j < s->n_dof; j++) /* (a ghost's diagonal is partial) */
+      if (ps_model_owns_particle(model, j / s->dim)) s->spring = fmax(s->spring, diag[j]);
     ps_comm_max(ctx->comm, &s->spring, 1);
   }
   if (want == PS_EVAL_TANGENT) return ps_system_assemble(s, ctx);

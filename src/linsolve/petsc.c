@@ -655,7 +655,10 @@ static int pt_analyze(void *state, const ps_csc *A, ps_linsolve_stats *st, ps_ct
   s->dof = blocks ? ls->dof_of_free : NULL;
   s->n_free = A->n;
   ps_int N = ls->global_row ? ls->n_global : blocks ? ls->n_dof : A->n;
-  if (N > (ps_int)PETSC_MAX_INT || A->p[A->n] > (ps_int)PETSC_MAX_INT / 2)
+  int too_big = N > (ps_int)PETSC_MAX_INT || A->p[A->n] > (ps_int)PETSC_MAX_INT / 2;
+  if (ls->global_row) /* a share's own A: every rank stops alike */
+    MPI_Allreduce(MPI_IN_PLACE, &too_big, 1, MPI_INT, MPI_LOR, PETSC_COMM_WORLD);
+  if (too_big)
     return ps_error(ctx, PS_ERR_INPUT, "the system (%lld unknowns, %lld stored entries) is too "
                     "large for this PETSc's %d-bit indices", (long long)N,
                     (long long)A->p[A->n], (int)(8 * sizeof(PetscInt)));

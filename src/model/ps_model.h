@@ -365,9 +365,9 @@ ps_int ps_model_count_past(const ps_model *m, const ps_arm_state *st);
 int ps_model_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
                         ps_int *n_broken, ps_ctx *ctx);
 
-/* The largest break_excess over the intact arms of st (-1 when there is
- * none, or when !ps_material_breaks): 0 at the load where the next arm
- * reaches its criterion. */
+/* The largest break_excess over the intact arms of st that m owns (-1
+ * when there is none, or when !ps_material_breaks): 0 at the load where
+ * the next arm reaches its criterion. */
 double ps_model_max_excess(const ps_model *m, const ps_arm_state *st);
 
 /* break_excess of the stretch-type criteria (bond, state): st->stretch[i]

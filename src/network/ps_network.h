@@ -145,9 +145,9 @@ typedef struct ps_share {
 } ps_share;
 
 /* The share of part `part` of pt over the whole cloud P with ghosts out
- * to reach (m): alpha max h for models without family terms, twice that
- * for those with (every family term of an owned particle's neighbours),
- * and its network with the kernel and cracks of the whole one. Returns
+ * to reach (m): ps_model_share_horizons times alpha max h (1 to 3
+ * horizons by the model; ps_problem_share computes it), and its network
+ * with the kernel and cracks of the whole one. Returns
  * PS_OK, PS_ERR_INPUT (part out of range, reach not >= 0, the network's
  * errors) or PS_ERR_NOMEM (*sh then empty). */
 int ps_share_build(ps_share *sh, const ps_particles *P, const ps_partition *pt, int part,

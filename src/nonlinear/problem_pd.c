@@ -24,8 +24,12 @@ static int pd_evaluate(void *prob, const double *u, double *f, double *energy,
   if (pd->fext && status == PS_OK)
     for (ps_int j = 0; j < pd->sys.n_dof; j++) {
       f[j] -= pd->lambda * pd->fext[j];
-      *energy -= pd->lambda * pd->fext[j] * u[j];
+      if (!pd->owned_dof || pd->owned_dof[j]) *energy -= pd->lambda * pd->fext[j] * u[j];
     }
+  /* the processes agree on the outcome before the energy's sum (a
+   * collective); one that failed keeps its own message */
+  if (ps_comm_any(pd->comm, status != PS_OK) && status == PS_OK)
+    status = ps_error(ctx, PS_ERR_SOLVER, "the evaluation failed on another process");
   if (status == PS_OK) ps_comm_sum(pd->comm, energy, 1);
   if (status == PS_OK) pd->dissipation_valid = 0; /* ps_pd_step_dissipation */
   pd->t_assembly += ps_wtime() - t;

@@ -90,7 +90,11 @@ typedef struct ps_solver_share {
  * call is collective), opts must choose PETSc with a factor for each
  * Newton system (linear petsc, reuse_factor 0: PS_ERR_INPUT otherwise).
  * The ghosts' displacements follow their owners' through the linear
- * solves (each process gets the whole solution at its free dofs). */
+ * solves (each process gets the whole solution at its free dofs).
+ * External forces (ps_solver_set_forces) are the share's: only those at
+ * owned dofs do work. Not yet on a share: arc-length and dissipation
+ * control and breaking (PS_ERR_INPUT), and the reuse of factors as CG's
+ * preconditioners (refused here). */
 int ps_solver_create_share(ps_solver **s, const ps_particles *P, const ps_network *net,
                            const ps_model_type *type, const ps_material *mat,
                            const unsigned char *fixed, const double *ubar,

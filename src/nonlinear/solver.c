@@ -580,6 +580,9 @@ static int constrained_step(ps_solver *s, const step_constraint *con, void *c, c
   /* no truncated directions: past a limit point K is indefinite, where
    * CG's truncated iterate would not solve the bordered system (the
    * predictor solves to cg_tolerance, the corrector to the forcing rule) */
+  if (s->prob.owned) /* (their sums over free dofs would count ghosts) */
+    return ps_error(ctx, PS_ERR_INPUT, "arc-length and dissipation control are not there yet "
+                    "for a distributed model (doc/parallel.md)");
   int truncate = s->opts.cg_truncate;
   s->opts.cg_truncate = 0;
   s->cg_rtol = s->opts.pcg_rtol;
@@ -757,7 +760,8 @@ double ps_solver_stored_energy(const ps_solver *s) {
   double psi = s->energy - ps_pd_step_dissipation(s->pd);
   if (!s->pd->fext) return psi;
   if (ps_comm_rank(s->prob.comm) > 0) psi = 0.0;
-  for (ps_int j = 0; j < s->pd->sys.n_dof; j++) psi += s->pd->lambda * s->pd->fext[j] * s->u[j];
+  for (ps_int j = 0; j < s->pd->sys.n_dof; j++)
+    if (!s->prob.owned || s->prob.owned[j]) psi += s->pd->lambda * s->pd->fext[j] * s->u[j];
   return ps_comm_sum1(s->prob.comm, psi);
 }
 

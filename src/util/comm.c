@@ -115,6 +115,11 @@ int ps_halo_create(ps_halo *h, const ps_comm *comm, ps_int n_local, ps_int n_own
                         (long long)global[n_owned + bad_owner], owner[bad_owner]);
     goto cleanup;
   }
+  if (ps_comm_any(comm, (double)n_ghost * sizeof(ps_int) > 2147483647.0)) {
+    status = ps_error(ctx, PS_ERR_INPUT, "%lld ghosts here: a process's ghosts exceed one "
+                      "halo's 2^31 bytes", (long long)n_ghost);
+    goto cleanup;
+  }
   prefix(h->rcount, h->rdispl, P);
   for (int q = 0; q < P; q++) one[q] = (int)sizeof(int), onedispl[q] = q * (int)sizeof(int);
   {
@@ -170,6 +175,10 @@ int ps_halo_exchange(ps_halo *h, const ps_comm *comm, double *x, int width, ps_c
   const int P = h->size;
   int n_send = h->sdispl[P - 1] + h->scount[P - 1], n_recv = h->rdispl[P - 1] + h->rcount[P - 1];
   if (width != h->width) {
+    int big = (double)(n_send > n_recv ? n_send : n_recv) * width * sizeof(double) > 2147483647.0;
+    if (ps_comm_any(comm, big)) /* (every process stops alike) */
+      return ps_error(ctx, PS_ERR_INPUT, "a halo of %d and %d items of %d values here: a "
+                      "process's exchange exceeds 2^31 bytes", n_send, n_recv, width);
     free(h->sbuf);
     free(h->rbuf);
     h->sbuf = ps_calloc((size_t)n_send * (size_t)width + 1, sizeof *h->sbuf, ctx);

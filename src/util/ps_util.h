@@ -33,7 +33,11 @@ enum ps_status {
  * their x[0..n), the same result on every process. A NULL comm is one
  * process: the operations are the identity, so a serial run's numbers do
  * not depend on the hook. The operations must be called by every process
- * of the run in the same order (collective). */
+ * of the run in the same order (collective), and must give every process
+ * the same bits (Newton's and the line search's decisions follow them on
+ * each process: MPI implementations whose reductions are not
+ * reproducible across ranks need that setting, e.g. Intel MPI's
+ * I_MPI_CBWR). */
 typedef struct ps_comm {
   int rank, size; /* this process, the number of processes */
   void *data;     /* the implementation's (an MPI communicator) */

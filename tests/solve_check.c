@@ -74,19 +74,43 @@ int main(int argc, char **argv) {
   od.majorant = 0;
   dctx = ctx;
   dctx.comm = &comm;
-  ps_solver *s = NULL;
+  ps_solver *s = NULL, *rep = NULL;
   if (ps_solver_create_share(&s, &sh.P, &sh.net, type, &pb.mat, fixed, ubar, &od, &share, &dctx))
     return fail(rank, "the share's solver", &dctx);
   if (fext) ps_solver_set_forces(s, fext);
+  /* and today's way for the timings: the whole model on every rank, the
+   * same PETSc solves (SOLVE_CHECK_REPLICATED=1) */
+  const int timed_rep = getenv("SOLVE_CHECK_REPLICATED") != NULL;
+  if (timed_rep) {
+    if (ps_solver_create(&rep, P, &pb.net, type, &pb.mat, pb.fixed, pb.ubar, &od, &ctx))
+      return fail(rank, "the replicated solver", &ctx);
+    if (pb.fext) ps_solver_set_forces(rep, pb.fext);
+  }
 
   const double lambdas[] = {0.6, 1.1};
   int ok = 1;
   for (int step = 0; step < 2; step++) {
+    /* wall seconds of each solve (the distributed one's: the slowest
+     * rank's, from a common start), for bench/distributed.sh */
+    double t = ps_wtime();
     if (ps_solver_step(whole, lambdas[step], &ctx)) return fail(rank, "the serial step", &ctx);
     ps_solver_commit(whole);
+    double t_serial = ps_wtime() - t;
+    ps_comm_sum1(&comm, 0.0); /* (all ranks here) */
+    t = ps_wtime();
     if (ps_solver_step(s, lambdas[step], &dctx))
       return fail(rank, "the distributed step", &dctx);
     ps_solver_commit(s);
+    double t_dist = ps_wtime() - t, t_rep = 0;
+    ps_comm_max(&comm, &t_dist, 1);
+    if (timed_rep) {
+      ps_comm_sum1(&comm, 0.0);
+      t = ps_wtime();
+      if (ps_solver_step(rep, lambdas[step], &ctx)) return fail(rank, "the replicated step", &ctx);
+      ps_solver_commit(rep);
+      t_rep = ps_wtime() - t;
+      ps_comm_max(&comm, &t_rep, 1);
+    }
     const double *u = ps_solver_u(whole), *ul = ps_solver_u(s);
     double umax = 0, du_own = 0, du_ghost = 0;
     for (ps_int j = 0; j < P->n * d; j++) umax = fmax(umax, fabs(u[j]));
@@ -105,10 +129,11 @@ int main(int argc, char **argv) {
     ps_solver_get_stats(s, &st);
     printf("solve_check: rank %d of %d: load factor %g: %s (%lld owned, %lld ghosts; "
            "displacements off by %.1e (owned), %.1e (ghosts) of the largest; yielding %lld of "
-           "%lld; %lld Newton iterations)\n",
+           "%lld; %lld Newton iterations; %.3f s distributed, %.3f s replicated, %.3f s "
+           "serial)\n",
            rank, comm.size, lambdas[step], good ? "ok" : "FAILED", (long long)sh.n_owned,
            (long long)(nl - sh.n_owned), du_own / umax, du_ghost / umax, (long long)y,
-           (long long)yw, (long long)st.newton_iterations);
+           (long long)yw, (long long)st.newton_iterations, t_dist, t_rep, t_serial);
   }
   /* not yet on a share: a dissipation-controlled step is refused, on
    * every rank alike */
@@ -119,6 +144,7 @@ int main(int argc, char **argv) {
     ok = 0;
   }
   ps_solver_free(s);
+  ps_solver_free(rep);
   ps_solver_free(whole);
   free(fixed);
   free(ubar);

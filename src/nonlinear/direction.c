@@ -29,7 +29,10 @@
 /* the count of changes since the last factor (ps_nl_problem changed) is
  * needed only by opts.pcg_skip_arms and the verbose log */
 static int tracks_arm_state(const ps_solver *s, const ps_ctx *ctx) {
-  return s->opts.pcg_skip_arms > 0 || ctx->verbosity >= 2;
+  /* (for the log of one process only where the count is a collective:
+   * processes of a run may log at different levels) */
+  return s->opts.pcg_skip_arms > 0 ||
+         (ctx->verbosity >= 2 && !(ctx->comm && ctx->comm->size > 1));
 }
 
 /* record the problem's tangent-changing state at a new factor */

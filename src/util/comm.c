@@ -83,8 +83,10 @@ int ps_halo_create(ps_halo *h, const ps_comm *comm, ps_int n_local, ps_int n_own
   ps_int *ask = ps_calloc((size_t)n_ghost + 1, sizeof *ask, ctx);
   h->recv_item = ps_calloc((size_t)n_ghost + 1, sizeof *h->recv_item, ctx);
   ps_int *asked = NULL;
-  if (!h->scount || !mine || !ask || !h->recv_item) {
-    status = PS_ERR_NOMEM;
+  /* (every process stops alike: the others would wait in a collective) */
+  if (ps_comm_any(comm, !h->scount || !mine || !ask || !h->recv_item)) {
+    status = ps_error(ctx, PS_ERR_NOMEM, "out of memory for the halo (here or on another "
+                      "process)");
     goto cleanup;
   }
   h->sdispl = h->scount + P;
@@ -136,8 +138,9 @@ int ps_halo_create(ps_halo *h, const ps_comm *comm, ps_int n_local, ps_int n_own
   int n_send = prefix(h->scount, h->sdispl, P);
   asked = ps_calloc((size_t)n_send + 1, sizeof *asked, ctx);
   h->send_item = ps_calloc((size_t)n_send + 1, sizeof *h->send_item, ctx);
-  if (!asked || !h->send_item) {
-    status = PS_ERR_NOMEM;
+  if (ps_comm_any(comm, !asked || !h->send_item)) {
+    status = ps_error(ctx, PS_ERR_NOMEM, "out of memory for the halo (here or on another "
+                      "process)");
     goto cleanup;
   }
   for (int q = 0; q < P; q++) {
@@ -184,7 +187,9 @@ int ps_halo_exchange(ps_halo *h, const ps_comm *comm, double *x, int width, ps_c
     h->sbuf = ps_calloc((size_t)n_send * (size_t)width + 1, sizeof *h->sbuf, ctx);
     h->rbuf = ps_calloc((size_t)n_recv * (size_t)width + 1, sizeof *h->rbuf, ctx);
     h->width = 0;
-    if (!h->sbuf || !h->rbuf) return PS_ERR_NOMEM;
+    if (ps_comm_any(comm, !h->sbuf || !h->rbuf))
+      return ps_error(ctx, PS_ERR_NOMEM, "out of memory for the halo's exchange (here or on "
+                      "another process)");
     for (int q = 0; q < P; q++) {
       const int w = width * (int)sizeof(double);
       h->bcount[q] = h->scount[q] * w;

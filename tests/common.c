@@ -149,3 +149,11 @@ void tc_mpi_share(int argc, char **argv, const char *prog, ps_comm *comm, ps_cas
     exit(1);
   }
 }
+
+void tc_mpi_share_end(ps_case *cs, ps_problem *pb, ps_partition *pt, ps_share *sh) {
+  ps_share_free(sh);
+  ps_partition_free(pt);
+  ps_problem_free(pb);
+  ps_case_free(cs);
+  ps_parallel_finalize();
+}

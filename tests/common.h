@@ -50,6 +50,8 @@ void tc_setup_case_file(const char *yaml, ps_case *cs, ps_problem *pb, ps_ctx *c
  * failure, naming `prog`. */
 void tc_mpi_share(int argc, char **argv, const char *prog, ps_comm *comm, ps_case *cs,
                   ps_problem *pb, ps_partition *pt, ps_share *sh, ps_ctx *ctx);
+/* What tc_mpi_share made, freed, and PETSc and MPI finalised. */
+void tc_mpi_share_end(ps_case *cs, ps_problem *pb, ps_partition *pt, ps_share *sh);
 
 /* Distance from x to the nearest face of the box [lo, hi] (dim axes). */
 /* A solver of problem pb with its case's solver options on one thread

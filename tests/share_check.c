@@ -126,10 +126,6 @@ int main(int argc, char **argv) {
   free(ul);
   free(u);
   gsl_rng_free(rng);
-  ps_share_free(&sh);
-  ps_partition_free(&pt);
-  ps_problem_free(&pb);
-  ps_case_free(&cs);
-  ps_parallel_finalize();
+  tc_mpi_share_end(&cs, &pb, &pt, &sh);
   return !ok;
 }

@@ -150,10 +150,6 @@ int main(int argc, char **argv) {
   free(ubar);
   free(fext);
   free(rows);
-  ps_share_free(&sh);
-  ps_partition_free(&pt);
-  ps_problem_free(&pb);
-  ps_case_free(&cs);
-  ps_parallel_finalize();
+  tc_mpi_share_end(&cs, &pb, &pt, &sh);
   return !ok;
 }

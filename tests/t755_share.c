@@ -82,18 +82,16 @@ static void result_free(result *r) {
 }
 
 /* the 1..parts shares of the whole problem pb with ghosts out to reach,
- * each evaluated at u (K times x): the largest differences from whole at
+ * each evaluated at u (K times x): the largest differences from `whole` at
  * owned dofs and the sums of the shares' energies, dissipations, counts */
 typedef struct share_sum {
   double df, dk, E, D;
   ps_int yielding, past, owned_arms;
 } share_sum;
 
-static const result *whole_ref; /* the whole model's result, for shares() */
-
 static share_sum shares(const ps_particles *P, const ps_problem *pb, const ps_model_type *type,
                         double reach, int parts, const double *u, const double *x,
-                        ps_ctx *ctx) {
+                        const result *whole, ps_ctx *ctx) {
   const int d = P->dim;
   share_sum r = {0};
   ps_partition pt;
@@ -115,8 +113,8 @@ static share_sum shares(const ps_particles *P, const ps_problem *pb, const ps_mo
     for (ps_int a = 0; a < sh.n_owned; a++)
       for (int k = 0; k < d; k++) {
         ps_int g = sh.global[a] * d + k;
-        r.df = fmax(r.df, fabs(loc.f[a * d + k] - whole_ref->f[g]));
-        r.dk = fmax(r.dk, fabs(loc.Kx[a * d + k] - whole_ref->Kx[g]));
+        r.df = fmax(r.df, fabs(loc.f[a * d + k] - whole->f[g]));
+        r.dk = fmax(r.dk, fabs(loc.Kx[a * d + k] - whole->Kx[g]));
       }
     r.E += loc.energy;
     r.D += loc.dissipation;
@@ -178,7 +176,6 @@ static void check_case(const char *name, const char *extra, double strain, int w
     }
   result whole;
   ps_pd *pdw = evaluate(P, &pb.net, type, &pb.mat, NULL, NULL, u, x, &whole, &ctx);
-  whole_ref = &whole;
   double fmax_ = 0, kmax = 0;
   for (ps_int j = 0; j < nd; j++) {
     fmax_ = fmax(fmax_, fabs(whole.f[j]));
@@ -190,7 +187,8 @@ static void check_case(const char *name, const char *extra, double strain, int w
            h, want_h);
   const int parts_list[] = {1, 2, 3, 5};
   for (size_t t = 0; t < sizeof parts_list / sizeof *parts_list; t++) {
-    share_sum r = shares(P, &pb, type, h * pb.kernel.alpha * hmax, parts_list[t], u, x, &ctx);
+    share_sum r = shares(P, &pb, type, h * pb.kernel.alpha * hmax, parts_list[t], u, x, &whole,
+                         &ctx);
     int parts = parts_list[t];
     if (parts == 1 || parts == 5)
       printf("  %s (%s), %d parts: forces %.1e, K x %.1e of the largest; energy %.1e, "
@@ -214,7 +212,7 @@ static void check_case(const char *name, const char *extra, double strain, int w
              (long long)whole.past, (long long)pb.net.n_arm);
   }
   if (h > 1) { /* one horizon less: the ghosts matter */
-    share_sum r = shares(P, &pb, type, (h - 1) * pb.kernel.alpha * hmax, 5, u, x, &ctx);
+    share_sum r = shares(P, &pb, type, (h - 1) * pb.kernel.alpha * hmax, 5, u, x, &whole, &ctx);
     ps_check(r.df > 1e-9 * fmax_, "%s (%s), 5 parts, ghosts out to %d horizons only: forces "
              "off by %.1e of the largest", name, m, h - 1, r.df / fmax_);
   }

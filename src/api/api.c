@@ -41,6 +41,7 @@ struct peristatic {
   char restart[1100];    /* peristatic_set_restart's folder, "" for none */
   char petsc[1024];      /* peristatic_set_petsc_options, "" for none */
   char case_petsc[1024]; /* the loaded case's own solver.petsc_options */
+  ps_comm comm;          /* a distributed run's processes (pb->comm) */
 };
 
 #ifdef HAVE_OPENBLAS_SET_NUM_THREADS
@@ -281,6 +282,30 @@ int peristatic_output_dir(const peristatic *ps, const char *given, char *buf, si
   return PERISTATIC_OK;
 }
 
+/* The layout of a run on several MPI processes (solver.layout): the
+ * distributed model where the case allows it (pb->comm set: its network
+ * is then each process's share, built by the run), else every process
+ * holding the whole model. PS_OK, or PS_ERR_INPUT for a case that asks
+ * for the distributed layout and cannot have it. */
+static int layout(peristatic *ps, ps_problem *pb, int info) {
+  const int ranks = ps_parallel_size(), want = pb->cs.solver.layout;
+  char why[200];
+  if (info || ranks < 2 || want == PS_LAYOUT_REPLICATED) return PS_OK;
+  if (!ps_problem_distributable(pb, ranks, ps->restart[0] != 0, why, sizeof why)) {
+    if (want == PS_LAYOUT_DISTRIBUTED)
+      return ps_error(ps->ctx, PS_ERR_INPUT, "%s: solver.layout: distributed, but %s (or "
+                      "solver.layout: replicated)", pb->cs.file, why);
+    if (ps_parallel_rank() == 0)
+      ps_log(ps->ctx, 1, "# every process holds the whole model (solver.layout: auto): %s\n",
+             why);
+    return PS_OK;
+  }
+  ps_ctx *ctx = ps->ctx;
+  PS_CHECK(ps_parallel_comm(&ps->comm, ctx));
+  pb->comm = &ps->comm;
+  return PS_OK;
+}
+
 int peristatic_setup(peristatic *ps, int purpose, int jobs, FILE *report) {
   if (!ps->cs) return usage(ps, "peristatic_setup: no case loaded");
   drop_problem(ps);
@@ -294,9 +319,16 @@ int peristatic_setup(peristatic *ps, int purpose, int jobs, FILE *report) {
   ps_problem *pb = ps_calloc(1, sizeof *pb, ps->ctx);
   if (!pb) return PS_ERR_NOMEM;
   int info = purpose == PERISTATIC_FOR_INFO;
-  int status = ps_problem_setup_sized(pb, cs, info ? PS_ESTIMATE_INFO : PS_ESTIMATE_RUN,
+  int status = ps_problem_setup_cloud(pb, cs, info ? PS_ESTIMATE_INFO : PS_ESTIMATE_RUN,
                                       jobs > 0 ? jobs : 1, report, ps->ctx);
   if (status < 0) {
+    free(pb);
+    return status;
+  }
+  status = layout(ps, pb, info);
+  if (status >= 0 && !pb->comm) status = ps_problem_setup_network(pb, ps->ctx);
+  if (status < 0) {
+    ps_problem_free(pb);
     free(pb);
     return status;
   }
@@ -358,7 +390,10 @@ int peristatic_run(peristatic *ps, const char *out_dir) {
   ps->pb->threads = ps->threads;
   ps->pb->checkpoint = ps->pb->cs.output.checkpoint;
   ps->pb->restart = ps->restart[0] ? ps->restart : NULL;
-  out_dir = rank_output(ps, out_dir);
+  if (!ps->pb->comm)
+    out_dir = rank_output(ps, out_dir);
+  else if (ps_parallel_rank() > 0) /* (every process writes its field pieces) */
+    ps->ctx->verbosity = 0;
   int status = ps_run_keep(ps->pb, ps->pb->mat.delta, out_dir, &ps->res, &ps->solver, ps->ctx);
   if (status >= 0) {
     ps->ran = 1;

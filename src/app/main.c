@@ -134,9 +134,11 @@ static const char *HELP_RUN =
     "PETSc (a build configured --with-petsc): with solver.linear: petsc the\n"
     "Newton systems go to a PETSc KSP and PC chosen by PETSc options, from\n"
     "solver.petsc_options and the command line (-ksp_type cg -pc_type gamg;\n"
-    "default MUMPS Cholesky); mpiexec -n P peristatic run CASE.yaml shares the\n"
-    "matrix and its solve among P ranks, rank 0 writing the results\n"
-    "(doc/parallel.md).\n";
+    "default MUMPS Cholesky); mpiexec -n P peristatic run CASE.yaml runs on P\n"
+    "ranks: each holds its share of the particles and arms where the case\n"
+    "allows it (solver.layout; today no breaking, load control), else the\n"
+    "whole model with the matrix and its solve shared; rank 0 writes the\n"
+    "results, every rank its VTK pieces (doc/parallel.md).\n";
 
 static const char *HELP_GRIFFITH =
     "peristatic griffith [-o DIR] [-q|-v] [--resume] [-j N] [-t N] [--max-memory GIB]\n"

@@ -47,7 +47,48 @@ typedef struct ps_problem {
                              default, the sweep's runs): none */
   const char *restart;    /* a folder whose checkpoint ps_run continues
                              from (run --restart; NULL: from the start) */
+  const ps_comm *comm;    /* NULL (set-up's default): ps_run holds the
+                             whole model; else the processes of a
+                             distributed run (net then empty:
+                             ps_problem_setup_cloud), and ps_run runs this
+                             process's part (ps_problem_part) */
 } ps_problem;
+
+/* Can the set-up problem pb run as a distributed model on `ranks` MPI
+ * processes (restart: the run continues a checkpoint)? Today that needs
+ * solver.linear petsc, arms that cannot break, load control, a model
+ * whose constants are local, no J-integral, no restart and at least a
+ * particle per process (a distributed run writes no checkpoints). Returns 1, or 0 with the first reason it
+ * cannot in why[len] (for the progress line or the error of a case that
+ * asks for solver.layout: distributed). */
+int ps_problem_distributable(const ps_problem *pb, int ranks, int restart, char *why,
+                             size_t len);
+
+/* A process's part of a distributed problem: the partition (space-filling
+ * curve, ps_partition_curve), its share (ps_problem_share), the rows of
+ * the whole system of its dofs, and `local`, the share as a problem:
+ * pb's case, material and measure lengths, the share's particles and
+ * network (borrowed from sh), its fixed, ubar and measure (own and
+ * ghost particles), its forces (own particles only: each applied once),
+ * and its named groups' own particles. */
+typedef struct ps_problem_part {
+  ps_partition pt;
+  ps_share sh;
+  ps_int *rows, row0;           /* ps_share_global_rows */
+  ps_problem local;
+  ps_solver_share solver_share; /* for ps_solver_create_share */
+  ps_report_piece piece;        /* for the field files */
+  ps_int arms;                  /* the whole model's arms (the sum of the
+                                   processes' own) */
+} ps_problem_part;
+
+/* This process's part of pb (set up by ps_problem_setup_cloud) on the
+ * processes of comm. Collective: a failure on one process fails all.
+ * Returns PS_OK, PS_ERR_INPUT (ps_problem_share's, or another process
+ * failed), PS_ERR_NOMEM (*pa then empty). */
+int ps_problem_part_create(ps_problem_part *pa, const ps_problem *pb, const ps_comm *comm,
+                           ps_ctx *ctx);
+void ps_problem_part_free(ps_problem_part *pa);
 
 /* The share of part `part` of pt (ps_share, doc/design-distributed.md)
  * of the set-up problem pb: ghosts out to ps_model_share_horizons of
@@ -70,6 +111,15 @@ int ps_problem_setup(ps_problem *pb, const ps_case *cs, ps_ctx *ctx);
  * above the limit is PS_ERR_INPUT with the figures. */
 int ps_problem_setup_sized(ps_problem *pb, const ps_case *cs, int purpose, int jobs,
                            FILE *report, ps_ctx *ctx);
+/* ps_problem_setup_sized in two halves: everything but the network
+ * (pb->net empty: a distributed run builds only its share's), then the
+ * network of pb's particles, kernel and cracks. ps_problem_setup_cloud
+ * returns as ps_problem_setup_sized (pb freed on failure);
+ * ps_problem_setup_network PS_OK or the network's errors, naming the case
+ * file (pb is then the caller's to free). */
+int ps_problem_setup_cloud(ps_problem *pb, const ps_case *cs, int purpose, int jobs,
+                           FILE *report, ps_ctx *ctx);
+int ps_problem_setup_network(ps_problem *pb, ps_ctx *ctx);
 void ps_problem_free(ps_problem *pb);
 
 /* ps_run's status for a run whose solve stalled before the crack ran

@@ -18,7 +18,16 @@
 
 /* One run: what its parts share. */
 typedef struct run_state {
-  ps_problem *pb;
+  ps_problem *pb;           /* the problem the solver holds: the whole, or
+                               in a distributed run this process's part
+                               (part.local) */
+  const ps_problem *whole;  /* the whole problem (pb but in a distributed
+                               run) */
+  const ps_comm *comm;      /* a distributed run's processes, else NULL */
+  int writer;               /* 1: this process writes history.csv, the
+                               summary and the plot, and commits (the
+                               first of a distributed run's) */
+  ps_problem_part part;     /* a distributed run's part of whole */
   ps_material mat;          /* pb->mat with this run's delta */
   ps_solver *s;             /* NULL until created */
   ps_run_result *res;
@@ -64,7 +73,8 @@ static ps_report_state report_state(const run_state *r) {
                         .q = ps_solver_arm_direction(r->s),
                         .dl = ps_solver_arm_elongation(r->s),
                         .st = ps_solver_arm_state(r->s),
-                        .lambda = ps_solver_lambda(r->s)};
+                        .lambda = ps_solver_lambda(r->s),
+                        .piece = r->comm ? &r->part.piece : NULL};
   return st;
 }
 
@@ -230,7 +240,7 @@ static double measured_displacement(const ps_problem *pb) {
  * fext . u / sum |fext| (NAN for neither). */
 static double row_displacement(const run_state *r, double lambda) {
   const ps_problem *pb = r->pb;
-  double d = measured_displacement(pb);
+  double d = measured_displacement(r->whole);
   if (!isnan(d) || !pb->fext) return lambda * d;
   const double *u = ps_solver_u(r->s);
   double wa[2] = {0, 0}; /* fext . u, sum |fext| */
@@ -300,6 +310,16 @@ static int record_increment(run_state *r, const ps_path *p, ps_ctx *ctx) {
     PS_CHECK(ps_report_write_fields(r->staging, step, 0, &st, &r->series, ctx));
   }
   return PS_OK;
+}
+
+/* status as the processes of a distributed run agree on it: a failure
+ * on one fails all (the others would wait in a collective); the first
+ * process's message says what failed when it did */
+static int agree(const run_state *r, int status, ps_ctx *ctx) {
+  if (r->comm && ps_comm_any(r->comm, status < 0) && status >= 0)
+    return ps_error(ctx, PS_ERR_IO, "%s: another process of the run failed (its files or "
+                    "memory)", r->pb->cs.file);
+  return status;
 }
 
 /* the path's outcome into res */
@@ -437,16 +457,25 @@ static int finish_outputs(run_state *r, int commit, ps_ctx *ctx) {
   if (r->pb->cs.output.fields)
     PS_CHECK(ps_report_write_fields(r->staging, (int)r->res->increments, 1, &st, &r->series,
                                     ctx));
-  PS_CHECK(ps_report_history_close(&r->hist, ctx));
-  /* the path's plot: with no gnuplot (or a failed one) the script stays */
-  PS_CHECK(ps_report_write_path_plot(r->staging, r->pb->cs.name,
-                                     !isnan(row_displacement(r, 1.0)), ctx));
-  if (PS_GNUPLOT[0] && ps_gnuplot_run(r->staging, "path.gp") != 0)
-    ps_log(ctx, 2, "# gnuplot failed on %s/path.gp\n", r->staging);
-  r->res->peak_memory_mib = ps_peak_mib();
-  PS_CHECK(ps_report_write_summary(r->staging, r->res, &r->pb->cs, &st, ctx));
-  if (commit) PS_CHECK(ps_dir_commit(r->staging, r->out_dir, ctx));
-  return PS_OK;
+  int with_displacement = !isnan(row_displacement(r, 1.0)); /* (collective) */
+  double peak = ps_peak_mib(); /* (the largest process's) */
+  ps_comm_max(r->comm, &peak, 1);
+  r->res->peak_memory_mib = peak;
+  int status = PS_OK;
+  if (r->writer) {
+    status = ps_report_history_close(&r->hist, ctx);
+    /* the path's plot: with no gnuplot (or a failed one) the script stays */
+    if (status == PS_OK)
+      status = ps_report_write_path_plot(r->staging, r->pb->cs.name, with_displacement, ctx);
+    if (status == PS_OK && PS_GNUPLOT[0] && ps_gnuplot_run(r->staging, "path.gp") != 0)
+      ps_log(ctx, 2, "# gnuplot failed on %s/path.gp\n", r->staging);
+    if (status == PS_OK)
+      status = ps_report_write_summary(r->staging, r->res, &r->pb->cs, &st, ctx);
+  }
+  /* (every process's files are written before the folder is committed) */
+  PS_CHECK(agree(r, status, ctx));
+  if (commit && r->writer) status = ps_dir_commit(r->staging, r->out_dir, ctx);
+  return agree(r, status, ctx);
 }
 
 /* The solver, created with SIGINT and SIGTERM blocked: its threads
@@ -462,8 +491,13 @@ static int create_solver(run_state *r, ps_ctx *ctx) {
   sigaddset(&block, SIGINT);
   sigaddset(&block, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &block, &saved);
-  int status = ps_solver_create(&r->s, &pb->P, &pb->net, ps_model_type_find(cs->model),
-                                &r->mat, pb->fixed, pb->ubar, &opts, ctx);
+  if (r->comm) { /* PETSc's factor of each Newton system (ps_solver_create_share) */
+    opts.reuse_factor = 0;
+    opts.majorant = 0;
+  }
+  int status = ps_solver_create_share(&r->s, &pb->P, &pb->net, ps_model_type_find(cs->model),
+                                      &r->mat, pb->fixed, pb->ubar, &opts,
+                                      r->comm ? &r->part.solver_share : NULL, ctx);
   pthread_sigmask(SIG_SETMASK, &saved, NULL);
   if (status == PS_ERR_INPUT && strncmp(ctx->msg, cs->file, strlen(cs->file)) != 0) {
     char m[sizeof ctx->msg];
@@ -475,15 +509,17 @@ static int create_solver(run_state *r, ps_ctx *ctx) {
 
 /* what was run, into res */
 static void describe_run(const run_state *r, double delta) {
-  const ps_problem *pb = r->pb;
+  const ps_problem *pb = r->whole;
   ps_run_result *res = r->res;
   snprintf(res->case_name, sizeof res->case_name, "%s", pb->cs.name);
   res->particles = pb->P.n;
-  res->arms = pb->net.n_arm;
+  res->arms = r->comm ? r->part.arms : pb->net.n_arm;
   res->delta = delta;
   res->sigma_y = r->mat.sigma_y;
   res->fingerprint = ps_case_fingerprint(&pb->cs);
   res->t_network = pb->t_network;
+  res->processes = ps_parallel_size();
+  res->distributed = r->comm != NULL;
 }
 
 /* the breaking criterion in words, for the first progress line */
@@ -502,14 +538,22 @@ static void describe_breaking(const ps_material *m, double delta, char *buf, siz
 }
 
 static void log_start(const run_state *r, double delta, const ps_ctx *ctx) {
-  const ps_problem *pb = r->pb;
+  const ps_problem *pb = r->whole;
   ps_solver_stats st;
   ps_solver_get_stats(r->s, &st);
   char breaking[96];
   describe_breaking(&r->mat, delta, breaking, sizeof breaking);
+  ps_int nd = pb->P.n * pb->P.dim, n_free = 0;
+  for (ps_int j = 0; j < nd; j++) n_free += !pb->fixed[j];
   ps_log(ctx, 1, "# %s: %lld particles, %lld arms, %lld free dofs, %s, %d thread%s\n",
-         pb->cs.name, (long long)pb->P.n, (long long)pb->net.n_arm, (long long)st.n_free,
+         pb->cs.name, (long long)pb->P.n, (long long)r->res->arms, (long long)n_free,
          breaking, st.threads, st.threads > 1 ? "s" : "");
+  if (r->comm)
+    ps_log(ctx, 1, "# distributed over %d processes (solver.layout): %lld particles and "
+                   "%lld ghosts here, a PETSc factor for each Newton system, no "
+                   "checkpoints\n",
+           r->comm->size, (long long)r->part.sh.n_owned,
+           (long long)(r->part.sh.P.n - r->part.sh.n_owned));
   ps_log(ctx, 1, "# %4s %9s %10s %6s %9s %8s %7s %6s\n", "step", "lambda", "sig/sig_y",
          "newton", "residual", "yielding", "broken", "tip/c");
 }
@@ -591,43 +635,64 @@ static int load_restart(run_state *r, ps_ctx *ctx) {
   return PS_OK;
 }
 
+/* The run of the case, or of this process's part of it when pb->comm is
+ * set (a distributed run: every call collective, the first process the
+ * writer of the run's files, every process its own field pieces). */
 static int run_case(ps_problem *pb, double delta, const char *out_dir, ps_run_result *res,
                     ps_solver **keep, ps_ctx *ctx) {
   int status = PS_OK;
   run_state r;
   memset(&r, 0, sizeof r);
   memset(res, 0, sizeof *res);
+  const ps_comm *saved_comm = ctx->comm;
   r.pb = pb;
+  r.whole = pb;
+  r.comm = pb->comm;
+  r.writer = ps_comm_rank(r.comm) == 0;
   r.res = res;
   r.out_dir = out_dir;
   r.t0 = ps_wtime();
   r.mat = pb->mat;
   r.mat.delta = delta;
   r.last_checkpoint = -1;
+  if (r.comm) { /* the part's problem; every reduction over the processes */
+    ctx->comm = r.comm;
+    PS_CHECK_GOTO(ps_problem_part_create(&r.part, pb, r.comm, ctx));
+    r.pb = &r.part.local;
+  }
   describe_run(&r, delta);
   /* the folders are checked before anything is computed: only a folder
    * of ours is replaced, a result lost in a commit's rename is restored */
-  if (out_dir) PS_CHECK_GOTO(ps_outdir_prepare(out_dir, ctx));
+  if (out_dir && r.writer) status = ps_outdir_prepare(out_dir, ctx);
+  PS_CHECK_GOTO(agree(&r, status, ctx));
   if (pb->restart) PS_CHECK_GOTO(load_restart(&r, ctx));
   PS_CHECK_GOTO(create_solver(&r, ctx));
-  if ((pb->checkpoint && out_dir) || r.restarting)
+  if ((r.pb->checkpoint && out_dir) || r.restarting) /* (a part's: none) */
     PS_CHECK_GOTO(ps_solver_keep_factors(r.s, ctx));
-  if (ps_signal_received()) { /* before the first increment: nothing to keep */
+  if (ps_comm_any(r.comm, ps_signal_received() != 0)) { /* before the first increment:
+                                                           nothing to keep */
+    int sig = ps_signal_received() ? ps_signal_received() : SIGTERM;
     status = ps_error(ctx, PS_ERR_INTERRUPTED, "%s: interrupted by %s before the first "
-                      "increment; nothing was written", pb->cs.file,
-                      ps_signal_name(ps_signal_received()));
+                      "increment; nothing was written", pb->cs.file, ps_signal_name(sig));
     goto cleanup;
   }
   if (pb->n_groups > 0 &&
-      !(r.reactions = ps_calloc((size_t)pb->n_groups * pb->P.dim, sizeof *r.reactions, ctx))) {
+      !(r.reactions = ps_calloc((size_t)pb->n_groups * pb->P.dim, sizeof *r.reactions, ctx)))
     status = PS_ERR_NOMEM;
-    goto cleanup;
+  if (status == PS_OK && out_dir) {
+    snprintf(r.staging, sizeof r.staging, "%s.partial", out_dir);
+    if (r.writer) status = open_outputs(&r, ctx);
   }
-  if (out_dir) PS_CHECK_GOTO(open_outputs(&r, ctx));
-  ps_solver_set_forces(r.s, pb->fext);
+  PS_CHECK_GOTO(agree(&r, status, ctx));
+  ps_solver_set_forces(r.s, r.pb->fext);
   log_start(&r, delta, ctx);
   PS_CHECK_GOTO(follow_path(&r, ctx));
   ps_solver_get_stats(r.s, &res->solver);
+  if (r.comm) { /* the whole model's free dofs, not the share's */
+    ps_int nd = pb->P.n * pb->P.dim;
+    res->solver.n_free = 0;
+    for (ps_int j = 0; j < nd; j++) res->solver.n_free += !pb->fixed[j];
+  }
   res->wall = ps_wtime() - r.t0;
   log_end(&r, ctx);
   /* a stalled or interrupted run stays in staging: the caller decides */
@@ -664,19 +729,27 @@ cleanup:
       snprintf(ctx->msg + n, sizeof ctx->msg - n, "\n(this run's partial output is in %s)",
                r.staging);
   }
-  if (keep && status >= 0)
+  if (keep && status >= 0 && !r.comm) /* (a part's solver holds a share) */
     *keep = r.s;
   else
     ps_solver_free(r.s);
+  ps_problem_part_free(&r.part);
+  ctx->comm = saved_comm;
   return status < 0 ? status : status == PS_RUN_STALLED ? PS_RUN_STALLED : PS_OK;
 }
 
 int ps_run_keep(ps_problem *pb, double delta, const char *out_dir, ps_run_result *res,
                 ps_solver **keep, ps_ctx *ctx) {
   ps_outdir_lock lk = {.fd = -1};
+  int status = PS_OK;
   if (keep) *keep = NULL;
-  if (out_dir) PS_CHECK(ps_outdir_lock_take(&lk, out_dir, ctx));
-  int status = run_case(pb, delta, out_dir, res, keep, ctx);
+  /* (a distributed run's first process holds the lock for all) */
+  if (out_dir && ps_comm_rank(pb->comm) == 0) status = ps_outdir_lock_take(&lk, out_dir, ctx);
+  if (pb->comm && ps_comm_any(pb->comm, status < 0) && status >= 0)
+    status = ps_error(ctx, PS_ERR_IO, "%s: the first process could not lock %s", pb->cs.file,
+                      out_dir);
+  if (status < 0) return status;
+  status = run_case(pb, delta, out_dir, res, keep, ctx);
   ps_outdir_lock_release(&lk);
   return status;
 }

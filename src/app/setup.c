@@ -586,6 +586,22 @@ int ps_problem_setup(ps_problem *pb, const ps_case *cs, ps_ctx *ctx) {
 
 int ps_problem_setup_sized(ps_problem *pb, const ps_case *cs, int purpose, int jobs,
                            FILE *report, ps_ctx *ctx) {
+  PS_CHECK(ps_problem_setup_cloud(pb, cs, purpose, jobs, report, ctx));
+  int status = ps_problem_setup_network(pb, ctx);
+  if (status < 0) ps_problem_free(pb);
+  return status;
+}
+
+int ps_problem_setup_network(ps_problem *pb, ps_ctx *ctx) {
+  double t0 = ps_wtime();
+  PS_CHECK(in_case(ctx, ps_network_build(&pb->net, &pb->P, &pb->kernel, pb->cracks,
+                                         pb->n_cracks, ctx), pb->cs.file));
+  pb->t_network += ps_wtime() - t0;
+  return PS_OK;
+}
+
+int ps_problem_setup_cloud(ps_problem *pb, const ps_case *cs, int purpose, int jobs,
+                           FILE *report, ps_ctx *ctx) {
   int status = PS_OK;
   double t0 = ps_wtime();
   ps_crack *cracks = NULL;
@@ -633,8 +649,6 @@ int ps_problem_setup_sized(ps_problem *pb, const ps_case *cs, int purpose, int j
   if (lattice) PS_CHECK_GOTO(horizon_neighbours_check(pb, cs, ctx));
   PS_CHECK_GOTO(estimate_sampled(pb, cs, alpha, cracks, n_cracks, purpose, jobs, report,
                                  ctx));
-  PS_CHECK_GOTO(in_case(ctx, ps_network_build(&pb->net, &pb->P, &pb->kernel, cracks,
-                                              n_cracks, ctx), cs->file));
   pb->t_network = ps_wtime() - t0;
   pb->cracks = cracks;
   pb->n_cracks = n_cracks;

@@ -20,7 +20,7 @@ const char *const ps_case_solver_keys[] = {
     "linear", "tolerance", "max_iterations", "max_small_steps", "line_search",
     "reuse_factor", "cg_tolerance", "cg_forcing", "cg_forcing_max", "cg_max_iterations",
     "cg_skip_arms", "reanalyze", "majorant", "matrix_free", "cg_single_precision",
-    "cg_truncate", "max_memory_gib", "parts", "petsc_options", NULL};
+    "cg_truncate", "max_memory_gib", "parts", "petsc_options", "layout", NULL};
 
 int ps_case_on_solver(ps_loader *L, void *arg, const char *key, const char *name,
                       yaml_node_t *v) {
@@ -48,6 +48,10 @@ int ps_case_on_solver(ps_loader *L, void *arg, const char *key, const char *name
                           sizeof o->petsc_options - 1);
     snprintf(o->petsc_options, sizeof o->petsc_options, "%s", sval(v));
     return PS_OK;
+  }
+  if (IS("layout")) { /* in the order of enum ps_layout */
+    static const char *const layout[] = {"auto", "distributed", "replicated", NULL};
+    return ps_yaml_choice(L, v, name, layout, &o->layout);
   }
   if (IS("tolerance")) return ps_yaml_real(L, v, name, 0.0, 1, 1.0, 1, &o->tolerance);
   if (IS("max_iterations"))

@@ -309,6 +309,16 @@ typedef struct ps_vtu_grid {
  * PS_ERR_INTERNAL for bad arguments. */
 int ps_vtu_write(const char *path, const ps_vtu_grid *g, ps_ctx *ctx);
 
+/* A parallel VTK XML unstructured grid (.pvtu) at path: the grid g's
+ * point and cell arrays (names and components; g's data are not read,
+ * nor its data set's fields, which each piece carries) and its n_piece
+ * pieces, .vtu files written by ps_vtu_write with those arrays (names
+ * relative to the folder of path, as in ps_pvd_write), which ParaView
+ * opens as one data set. Written atomically. Returns PS_OK, PS_ERR_IO,
+ * or PS_ERR_INTERNAL for bad arguments. */
+int ps_pvtu_write(const char *path, const ps_vtu_grid *g, int n_piece,
+                  const char *const *piece, ps_ctx *ctx);
+
 /* A ParaView data collection (.pvd) at path listing n files (names
  * relative to the folder of path, without white space or XML specials)
  * with their times (finite), in the order given. Written atomically.

@@ -41,6 +41,9 @@ typedef struct ps_run_result {
   ps_solver_stats solver;   /* ps_solver_get_stats at the end of the run */
   double wall;              /* wall seconds of the run */
   double t_network;         /* wall seconds of geometry + network */
+  int processes;            /* MPI processes of the run (1: one) */
+  int distributed;          /* 1: each process held its share of the model
+                               (solver.layout), 0: the whole model */
   double peak_memory_mib;   /* ps_peak_mib when the summary was written */
 } ps_run_result;
 
@@ -49,6 +52,18 @@ typedef struct ps_run_result {
 const char *ps_fmt_or_na(double v, int digits, char *buf, size_t len);
 
 /* A state to write or to take the J-integral of: read-only views. */
+/* A process's piece of a distributed state (doc/design-distributed.md):
+ * its particles (the first n_owned of the state's P are its own, the
+ * rest ghosts) and its arms. */
+typedef struct ps_report_piece {
+  const ps_comm *comm;          /* the run's processes (the writes are
+                                   collective) */
+  ps_int n_owned;
+  const ps_int *global;         /* [P.n] each particle's number in the
+                                   whole model */
+  const unsigned char *own_arm; /* [net.n_arm] 1: the process's own arm */
+} ps_report_piece;
+
 typedef struct ps_report_state {
   const ps_particles *P;
   const ps_network *net;
@@ -57,6 +72,8 @@ typedef struct ps_report_state {
   const double *T, *q, *dl; /* arm tensions, unit directions, elongations */
   const ps_arm_state *st;   /* yielding, broken, plastic strains */
   double lambda;            /* the load factor */
+  const ps_report_piece *piece; /* NULL: the whole model; else P, net and
+                               the arrays above are a process's share */
 } ps_report_state;
 
 /* dir/summary.txt from res (through FILE.tmp, renamed): every key of the
@@ -156,6 +173,7 @@ int ps_report_last_attempt_failed(const char *dir, double *sigma);
 typedef struct ps_report_series {
   int *step;
   int n, cap;
+  int pvtu;   /* 1: the steps' files are .pvtu (a distributed run's) */
 } ps_report_series;
 void ps_report_series_free(ps_report_series *series);
 /* step (not below the series' last) joins the series of the field files
@@ -173,6 +191,14 @@ int ps_report_series_add(const char *dir, ps_report_series *series, int step, ps
  * final != 0 also dir/particles.csv (doc/peristatic.md, OUTPUT FILES).
  * Each file is written atomically and the .pvd files after the .vtu
  * files, so an interrupted run's folder lists only files that exist.
+ * A piece of a distributed state (state->piece; the call is then
+ * collective, and a failure on one process fails all): every process
+ * writes particles_NNNN_pR.vtu (its own particles) and arms_NNNN_pR.vtu
+ * (its own arms, all its particles their ends' points) for its rank R,
+ * the first process particles_NNNN.pvtu and arms_NNNN.pvtu, which make
+ * them one data set, and the .pvd files listing those; particles.csv is
+ * gathered to the first process and written in the whole model's
+ * particle order, as a one-process run writes it.
  * Returns PS_OK, PS_ERR_IO, PS_ERR_NOMEM, PS_ERR_INTERNAL (a step below
  * the series' last). */
 int ps_report_write_fields(const char *dir, int step, int final, const ps_report_state *state,

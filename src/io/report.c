@@ -162,6 +162,8 @@ static const value_spec summary_keys[] = {
     {"fragments_max", V_I64, 0, S(fragments), 0},
     {"threads", V_INT, 0, S(threads), 0},
     {"parts", V_INT, 0, S(parts), 0},
+    {"processes", V_INT, 0, R(processes), 0},
+    {"distributed", V_YESNO, 0, R(distributed), 0},
     {"preconditioner_serial_share", V_F, 3, S(serial_share), 0},
     {"case_fingerprint", V_HEX, 0, R(fingerprint), 0},
 };

@@ -202,6 +202,42 @@ int ps_vtu_write(const char *path, const ps_vtu_grid *g, ps_ctx *ctx) {
   return ps_outfile_commit(&o, ctx);
 }
 
+/* the <PDataArray .../> elements of a .pvtu for n fields */
+static void pfields_xml(FILE *f, const char *tag, const ps_field *fd, int n) {
+  if (n == 0) return;
+  fprintf(f, "    <%s>\n", tag);
+  for (int j = 0; j < n; j++) {
+    fprintf(f, "      <PDataArray type=\"Float64\" Name=\"%s\"", fd[j].name);
+    if (fd[j].n_comp != 1) fprintf(f, " NumberOfComponents=\"%d\"", fd[j].n_comp);
+    fprintf(f, "/>\n");
+  }
+  fprintf(f, "    </%s>\n", tag);
+}
+
+int ps_pvtu_write(const char *path, const ps_vtu_grid *g, int n_piece,
+                  const char *const *piece, ps_ctx *ctx) {
+  int bad = n_piece < 1 || !piece || (g->n_pf && !g->point_fields) ||
+            (g->n_cf && !g->cell_fields);
+  for (int j = 0; !bad && j < g->n_pf; j++) bad = !field_ok(&g->point_fields[j], 0);
+  for (int j = 0; !bad && j < g->n_cf; j++) bad = !field_ok(&g->cell_fields[j], 0);
+  for (int i = 0; !bad && i < n_piece; i++) bad = !name_ok(piece[i]);
+  if (bad) return ps_error(ctx, PS_ERR_INTERNAL, "%s: ps_pvtu_write: bad arguments", path);
+  ps_outfile o;
+  PS_CHECK(ps_outfile_open(&o, path, ctx));
+  FILE *f = o.f;
+  fprintf(f, "<?xml version=\"1.0\"?>\n"
+             "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" "
+             "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+             "  <PUnstructuredGrid GhostLevel=\"0\">\n");
+  pfields_xml(f, "PPointData", g->point_fields, g->n_pf);
+  pfields_xml(f, "PCellData", g->cell_fields, g->n_cf);
+  fprintf(f, "    <PPoints>\n      <PDataArray type=\"Float64\" Name=\"Points\" "
+             "NumberOfComponents=\"3\"/>\n    </PPoints>\n");
+  for (int i = 0; i < n_piece; i++) fprintf(f, "    <Piece Source=\"%s\"/>\n", piece[i]);
+  fprintf(f, "  </PUnstructuredGrid>\n</VTKFile>\n");
+  return ps_outfile_commit(&o, ctx);
+}
+
 int ps_pvd_write(const char *path, int n, const double *time, const char *const *file,
                  ps_ctx *ctx) {
   if (n < 0 || (n > 0 && (!time || !file)))

@@ -91,6 +91,14 @@ typedef struct ps_solver_opts {
                              default PS_PARTS_DEFAULT = 2): the most
                              threads a run uses; the numbers depend on it
                              (the order of the sums), not on the threads */
+  int layout;             /* [layout] how `mpiexec -n P peristatic run`
+                             holds the model (enum ps_layout; one process
+                             ignores it): auto (default) distributed where
+                             the case allows it (ps_problem_distributable,
+                             src/app), else replicated; distributed (the
+                             case must allow it); replicated (every rank
+                             holds the whole model, PETSc shares the
+                             matrix and its solves: doc/parallel.md) */
   int threads;            /* not a case key (the command line's -t):
                              threads of the CG products and preconditioner
                              solves (ps_team); 0 (default) as many as the
@@ -98,6 +106,8 @@ typedef struct ps_solver_opts {
                              used; the numbers a run gives do not depend
                              on it */
 } ps_solver_opts;
+
+enum ps_layout { PS_LAYOUT_AUTO, PS_LAYOUT_DISTRIBUTED, PS_LAYOUT_REPLICATED };
 
 /* The defaults above, the only place they are written down (the case
  * reader starts from them). Defined in solver.c. */

@@ -32,6 +32,7 @@ void ps_solver_opts_default(ps_solver_opts *o) {
   o->cg_truncate = 1;
   o->parts = PS_PARTS_DEFAULT;
   o->threads = 0;
+  o->layout = PS_LAYOUT_AUTO;
 }
 
 void ps_solver_free(ps_solver *s) {

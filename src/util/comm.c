@@ -206,3 +206,50 @@ int ps_halo_exchange(ps_halo *h, const ps_comm *comm, double *x, int width, ps_c
     memcpy(&x[h->recv_item[k] * width], &h->rbuf[(size_t)k * width], (size_t)width * sizeof *x);
   return PS_OK;
 }
+
+int ps_comm_gather(const ps_comm *comm, const double *mine, ps_int n_mine, int width,
+                   double **all, ps_int *n_all, ps_ctx *ctx) {
+  const int P = comm ? comm->size : 1, rank = ps_comm_rank(comm);
+  *all = NULL;
+  *n_all = 0;
+  if (P == 1) {
+    *all = ps_calloc((size_t)(n_mine * width) + 1, sizeof **all, ctx);
+    if (!*all) return PS_ERR_NOMEM;
+    if (n_mine) memcpy(*all, mine, (size_t)(n_mine * width) * sizeof *mine);
+    *n_all = n_mine;
+    return PS_OK;
+  }
+  if (!comm->alltoallv)
+    return ps_error(ctx, PS_ERR_INPUT, "a gather on a comm without alltoallv");
+  /* every process's row count, to all; then the rows to the first */
+  double total = ps_comm_sum1(comm, (double)n_mine);
+  if (ps_comm_any(comm, total * width * sizeof(double) > 2147483647.0))
+    return ps_error(ctx, PS_ERR_INPUT, "%.0f rows of %d values: a gather exceeds 2^31 bytes",
+                    total, width);
+  int *c = ps_calloc((size_t)(6 * P), sizeof *c, ctx); /* counts and displacements */
+  int fail = !c;
+  if (!fail && rank == 0 && !(*all = ps_calloc((size_t)total * width + 1, sizeof **all, ctx)))
+    fail = 1;
+  if (ps_comm_any(comm, fail)) {
+    free(c);
+    free(*all);
+    *all = NULL;
+    return ps_error(ctx, PS_ERR_NOMEM, "out of memory for a gather (here or on another "
+                    "process)");
+  }
+  int *one = c, *onedispl = c + P, *scount = c + 2 * P, *sdispl = c + 3 * P,
+      *rcount = c + 4 * P, *rdispl = c + 5 * P;
+  for (int q = 0; q < P; q++) one[q] = (int)sizeof(int), onedispl[q] = q * (int)sizeof(int);
+  scount[0] = (int)(n_mine * width * (ps_int)sizeof(double)); /* to the first only */
+  comm->alltoallv(comm->data, scount, one, onedispl, rcount, one, onedispl);
+  for (int q = 0, t = 0; q < P; q++) {
+    if (rank != 0) rcount[q] = 0;
+    rdispl[q] = t;
+    t += rcount[q];
+  }
+  comm->alltoallv(comm->data, mine, scount, sdispl, *all, rcount, rdispl);
+  if (rank == 0) *n_all = (ps_int)total;
+  free(c);
+  return PS_OK;
+}
+

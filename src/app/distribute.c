@@ -1,0 +1,135 @@
+/* distribute.c: the distributed layout of `mpiexec -n P peristatic run`
+ * (doc/design-distributed.md): which cases it takes today, and each
+ * process's part of a problem: its share of the particles and arms
+ * (ghosts out to the model's reach), the rows of the whole system its
+ * own dofs give PETSc, and its boundary conditions and named groups. */
+#include "ps_app.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+int ps_problem_distributable(const ps_problem *pb, int ranks, int restart, char *why,
+                             size_t len) {
+  const ps_case *cs = &pb->cs;
+  const ps_model_type *type = ps_model_type_find(cs->model);
+  const char *no = NULL;
+  if (strcmp(cs->solver.linear, "petsc") != 0)
+    no = "solver.linear is not petsc";
+  else if (ps_material_breaks(&pb->mat))
+    no = "its arms may break (breaking on a distributed model is not there yet)";
+  else if (cs->path.control != PS_CONTROL_LOAD)
+    no = "path.control is not load (arc-length and dissipation control are not there yet)";
+  else if (!type || ps_model_share_horizons(type, &pb->mat) <= 0)
+    no = "its moduli correction balances weights over the whole cloud";
+  else if (cs->output.n_j_rings > 0)
+    no = "output.j_integral needs the whole model (not there yet)";
+  else if (restart)
+    no = "a restart needs the whole model (not there yet)";
+  else if (pb->P.n < ranks)
+    no = "it has fewer particles than processes";
+  if (why) snprintf(why, len, "%s", no ? no : "");
+  return no == NULL;
+}
+
+void ps_problem_part_free(ps_problem_part *pa) {
+  if (!pa) return;
+  free(pa->local.fixed);
+  free(pa->local.ubar);
+  free(pa->local.measure);
+  free(pa->local.fext);
+  free(pa->local.group_ptr);
+  free(pa->local.group_particle);
+  free(pa->rows);
+  ps_share_free(&pa->sh);
+  ps_partition_free(&pa->pt);
+  memset(pa, 0, sizeof *pa);
+}
+
+/* the share's boundary conditions and named groups into pa->local */
+static int local_loading(ps_problem_part *pa, const ps_problem *pb, ps_ctx *ctx) {
+  ps_problem *lp = &pa->local;
+  const ps_share *sh = &pa->sh;
+  const int d = pb->P.dim;
+  const ps_int nl = sh->P.n;
+  lp->fixed = ps_calloc((size_t)(nl * d) + 1, 1, ctx);
+  lp->ubar = ps_calloc((size_t)(nl * d) + 1, sizeof *lp->ubar, ctx);
+  lp->measure = ps_calloc((size_t)(nl * d) + 1, sizeof *lp->measure, ctx);
+  lp->fext = pb->fext ? ps_calloc((size_t)(nl * d) + 1, sizeof *lp->fext, ctx) : NULL;
+  lp->group_ptr = ps_calloc((size_t)pb->n_groups + 1, sizeof *lp->group_ptr, ctx);
+  if (!lp->fixed || !lp->ubar || !lp->measure || (pb->fext && !lp->fext) || !lp->group_ptr)
+    return PS_ERR_NOMEM;
+  for (ps_int a = 0; a < nl; a++)
+    for (int k = 0; k < d; k++) {
+      ps_int g = sh->global[a] * d + k, j = a * d + k;
+      lp->fixed[j] = pb->fixed[g];
+      lp->ubar[j] = pb->ubar[g];
+      lp->measure[j] = pb->measure[g];
+      /* the loads of own particles only: each is applied once */
+      if (lp->fext) lp->fext[j] = a < sh->n_owned ? pb->fext[g] : 0.0;
+    }
+  /* the named groups' own particles (their reactions are summed over the
+   * processes); the local numbers of the owned particles by global number */
+  ps_int n_own = 0;
+  for (int g = 0; g < pb->n_groups; g++)
+    for (ps_int i = pb->group_ptr[g]; i < pb->group_ptr[g + 1]; i++)
+      n_own += pa->pt.part_of[pb->group_particle[i]] == sh->part;
+  lp->group_particle = ps_calloc((size_t)n_own + 1, sizeof *lp->group_particle, ctx);
+  ps_int *local_of = ps_calloc((size_t)pb->P.n + 1, sizeof *local_of, ctx);
+  if (!lp->group_particle || !local_of) {
+    free(local_of);
+    return PS_ERR_NOMEM;
+  }
+  for (ps_int a = 0; a < sh->n_owned; a++) local_of[sh->global[a]] = a;
+  ps_int k = 0;
+  for (int g = 0; g < pb->n_groups; g++) {
+    lp->group_ptr[g] = k;
+    for (ps_int i = pb->group_ptr[g]; i < pb->group_ptr[g + 1]; i++) {
+      ps_int a = pb->group_particle[i];
+      if (pa->pt.part_of[a] == sh->part) lp->group_particle[k++] = local_of[a];
+    }
+  }
+  lp->group_ptr[pb->n_groups] = k;
+  free(local_of);
+  return PS_OK;
+}
+
+int ps_problem_part_create(ps_problem_part *pa, const ps_problem *pb, const ps_comm *comm,
+                           ps_ctx *ctx) {
+  int status = PS_OK;
+  memset(pa, 0, sizeof *pa);
+  const int d = pb->P.dim;
+  status = ps_partition_curve(&pa->pt, &pb->P, comm->size, ctx);
+  if (status == PS_OK) status = ps_problem_share(pb, &pa->pt, comm->rank, &pa->sh, ctx);
+  if (status == PS_OK)
+    status = ps_share_global_rows(&pa->sh, &pa->pt, d, &pa->rows, &pa->row0, ctx);
+  if (status == PS_OK) status = local_loading(pa, pb, ctx);
+  /* every process stops alike (the others would wait in a collective) */
+  if (ps_comm_any(comm, status < 0) && status >= 0)
+    status = ps_error(ctx, PS_ERR_INPUT, "another process could not build its share");
+  if (status < 0) {
+    ps_problem_part_free(pa);
+    return status;
+  }
+  /* the share as a problem: pb's case, material and measures, the
+   * share's particles and network (borrowed), its own loading */
+  ps_problem *lp = &pa->local;
+  lp->cs = pb->cs; /* borrowed: never ps_problem_free'd */
+  lp->P = pa->sh.P;
+  lp->kernel = pb->kernel;
+  lp->net = pa->sh.net;
+  lp->mat = pb->mat;
+  lp->c = pb->c;
+  lp->measure_length = pb->measure_length;
+  lp->n_groups = pb->n_groups;
+  lp->group_bc = pb->group_bc;
+  lp->threads = pb->threads;
+  lp->t_network = pb->t_network;
+  pa->solver_share = (ps_solver_share){pa->sh.own_arm, pa->sh.own_particle, pa->rows,
+                                       pb->P.n * d, pa->row0, pa->sh.n_owned * d};
+  pa->piece = (ps_report_piece){comm, pa->sh.n_owned, pa->sh.global, pa->sh.own_arm};
+  ps_int own = 0;
+  for (ps_int i = 0; i < pa->sh.net.n_arm; i++) own += pa->sh.own_arm[i];
+  pa->arms = ps_comm_count(comm, own);
+  return PS_OK;
+}

@@ -16,8 +16,10 @@ int ps_problem_distributable(const ps_problem *pb, int ranks, int restart, char 
   const char *no = NULL;
   if (strcmp(cs->solver.linear, "petsc") != 0)
     no = "solver.linear is not petsc";
-  else if (ps_material_breaks(&pb->mat))
-    no = "its arms may break (breaking on a distributed model is not there yet)";
+  else if (ps_material_breaks(&pb->mat) && (!type || !ps_model_breaks_alike(type, &pb->mat)))
+    no = "its arms may break by a criterion that reads more than the arm's own state "
+         "(the deviatoric yield rule, the three-body model): not there yet on a distributed "
+         "model";
   else if (cs->path.control != PS_CONTROL_LOAD)
     no = "path.control is not load (arc-length and dissipation control are not there yet)";
   else if (!type || ps_model_share_horizons(type, &pb->mat) <= 0)
@@ -125,8 +127,13 @@ int ps_problem_part_create(ps_problem_part *pa, const ps_problem *pb, const ps_c
   lp->group_bc = pb->group_bc;
   lp->threads = pb->threads;
   lp->t_network = pb->t_network;
-  pa->solver_share = (ps_solver_share){pa->sh.own_arm, pa->sh.own_particle, pa->rows,
-                                       pb->P.n * d, pa->row0, pa->sh.n_owned * d};
+  pa->solver_share = (ps_solver_share){.own_arm = pa->sh.own_arm,
+                                       .own_particle = pa->sh.own_particle,
+                                       .global_row = pa->rows,
+                                       .n_global = pb->P.n * d,
+                                       .row0 = pa->row0,
+                                       .n_rows = pa->sh.n_owned * d,
+                                       .global = pa->sh.global};
   pa->piece = (ps_report_piece){comm, pa->sh.n_owned, pa->sh.global, pa->sh.own_arm};
   ps_int own = 0;
   for (ps_int i = 0; i < pa->sh.net.n_arm; i++) own += pa->sh.own_arm[i];

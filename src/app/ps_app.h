@@ -56,8 +56,9 @@ typedef struct ps_problem {
 
 /* Can the set-up problem pb run as a distributed model on `ranks` MPI
  * processes (restart: the run continues a checkpoint)? Today that needs
- * solver.linear petsc, arms that cannot break, load control, a model
- * whose constants are local, no J-integral, no restart and at least a
+ * solver.linear petsc, arms that cannot break or break by a criterion on
+ * their own state (ps_model_breaks_alike), load control, a model whose
+ * constants are local, no J-integral, no restart and at least a
  * particle per process (a distributed run writes no checkpoints). Returns 1, or 0 with the first reason it
  * cannot in why[len] (for the progress line or the error of a case that
  * asks for solver.layout: distributed). */

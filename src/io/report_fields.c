@@ -140,7 +140,7 @@ static int particles_csv(const char *dir, const ps_report_state *s, const fields
     rows[a * (w + 1)] = (double)pc->global[a];
     csv_row(s, F, a, rows + a * (w + 1) + 1);
   }
-  PS_CHECK_GOTO(ps_comm_gather(pc->comm, rows, n, w + 1, &all, &n_all, ctx));
+  PS_CHECK_GOTO(ps_comm_gather(pc->comm, rows, n, w + 1, 0, &all, &n_all, ctx));
   if (ps_comm_rank(pc->comm) == 0) {
     if (!(order = ps_calloc((size_t)(n_all * w) + 1, sizeof *order, ctx))) status = PS_ERR_NOMEM;
     for (ps_int k = 0; order && k < n_all; k++) {

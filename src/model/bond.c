@@ -270,6 +270,7 @@ static int bond_dissipates(const ps_model *m) {
 static const ps_model_type bond_type = {.name = "bond",
                                         .evaluate = bond_evaluate,
                                         .break_excess = bond_break_excess,
+                                        .break_local = 1,
                                         .arm_energy = bond_arm_energy,
                                         .arm_dissipation = bond_arm_dissipation,
                                         .dissipates = bond_dissipates,

@@ -15,17 +15,38 @@ int ps_material_breaks(const ps_material *mat) {
   return mat->fracture != PS_FRACTURE_NONE || (mat->delta > 0 && isfinite(mat->delta));
 }
 
+/* An arm past the criterion: its excess, its number here, and its ends'
+ * numbers in the whole model (ga < gb; the arm's number there orders its
+ * arms as (ga, gb) does: ps_network_build numbers sorted pairs) */
 typedef struct {
   double excess;
-  ps_int arm;
+  ps_int arm, ga, gb;
 } candidate;
 
-/* the larger excess first; ties by arm number (the order qsort, which is
- * not stable, must not choose) */
+/* the larger excess first; ties by the arm's ends in the whole model,
+ * i.e. by its number there (the order qsort, which is not stable, must
+ * not choose, and the same on every process) */
 static int by_excess_desc(const void *u, const void *v) {
   const candidate *cu = u, *cv = v;
   if (cu->excess != cv->excess) return cu->excess > cv->excess ? -1 : 1;
-  return (cu->arm > cv->arm) - (cu->arm < cv->arm);
+  if (cu->ga != cv->ga) return (cu->ga > cv->ga) - (cu->ga < cv->ga);
+  return (cu->gb > cv->gb) - (cu->gb < cv->gb);
+}
+
+static int by_ends(const void *u, const void *v) {
+  const candidate *cu = u, *cv = v;
+  if (cu->ga != cv->ga) return (cu->ga > cv->ga) - (cu->ga < cv->ga);
+  return (cu->gb > cv->gb) - (cu->gb < cv->gb);
+}
+
+/* arm i as a candidate with excess e */
+static candidate candidate_of(const ps_model *m, ps_int i, double e) {
+  ps_int a = m->net->a[i], b = m->net->b[i];
+  if (m->global) {
+    a = m->global[a];
+    b = m->global[b];
+  }
+  return (candidate){e, i, a < b ? a : b, a < b ? b : a};
 }
 
 /* arm i breaks: its energy goes into st->broken_energy */
@@ -33,6 +54,10 @@ static void break_one(const ps_model *m, ps_arm_state *st, ps_int i) {
   if (ps_model_owns_arm(m, i))
     st->broken_energy += m->type->arm_energy ? m->type->arm_energy(m, st, i) : NAN;
   st->broken[i] = 1;
+}
+
+int ps_model_breaks_alike(const ps_model_type *type, const ps_material *mat) {
+  return type->break_local && mat->yield_rule == PS_YIELD_TOTAL;
 }
 
 ps_int ps_model_count_past(const ps_model *m, const ps_arm_state *st) {
@@ -53,6 +78,50 @@ double ps_model_max_excess(const ps_model *m, const ps_arm_state *st) {
   return g;
 }
 
+/* The max_count arms past the criterion by the most over the processes:
+ * each process's own worst max_count (cand[nc], sorted), shared with
+ * all, sorted again; every process then breaks its copies of the chosen
+ * arms (own and ghost: the ends' numbers name them). Collective. */
+static int break_worst_shared(const ps_model *m, ps_arm_state *st, const candidate *cand,
+                              ps_int nc, ps_int max_count, ps_ctx *ctx) {
+  ps_int k = nc < max_count ? nc : max_count, n_all = 0;
+  double *mine = ps_calloc((size_t)(3 * k) + 1, sizeof *mine, ctx), *all = NULL;
+  int status = PS_OK;
+  if (ps_comm_any(ctx->comm, !mine)) {
+    free(mine);
+    return ps_error(ctx, PS_ERR_NOMEM, "out of memory for the worst arms (here or on another "
+                    "process)");
+  }
+  for (ps_int j = 0; j < k; j++) {
+    mine[3 * j] = cand[j].excess;
+    mine[3 * j + 1] = (double)cand[j].ga; /* (exact below 2^53) */
+    mine[3 * j + 2] = (double)cand[j].gb;
+  }
+  PS_CHECK_GOTO(ps_comm_gather(ctx->comm, mine, k, 3, 1, &all, &n_all, ctx));
+  candidate *chosen = ps_calloc((size_t)n_all + 1, sizeof *chosen, ctx);
+  if (ps_comm_any(ctx->comm, !chosen)) {
+    free(chosen);
+    status = ps_error(ctx, PS_ERR_NOMEM, "out of memory for the worst arms (here or on "
+                      "another process)");
+    goto cleanup;
+  }
+  for (ps_int j = 0; j < n_all; j++)
+    chosen[j] = (candidate){all[3 * j], -1, (ps_int)all[3 * j + 1], (ps_int)all[3 * j + 2]};
+  qsort(chosen, (size_t)n_all, sizeof *chosen, by_excess_desc);
+  ps_int n_chosen = n_all < max_count ? n_all : max_count;
+  qsort(chosen, (size_t)n_chosen, sizeof *chosen, by_ends);
+  for (ps_int i = 0; i < m->net->n_arm; i++) {
+    if (st->broken[i]) continue;
+    candidate key = candidate_of(m, i, 0.0);
+    if (bsearch(&key, chosen, (size_t)n_chosen, sizeof *chosen, by_ends)) break_one(m, st, i);
+  }
+  free(chosen);
+cleanup:
+  free(mine);
+  free(all);
+  return status;
+}
+
 int ps_model_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
                         ps_int *n_broken, ps_ctx *ctx) {
   const ps_network *net = m->net;
@@ -60,35 +129,48 @@ int ps_model_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
   *n_broken = 0;
   if (!ps_material_breaks(&m->mat) || !excess) return PS_OK;
   /* the decision between all and the worst is the run's (every process
-   * counts its own arms). Breaking on several processes waits for step 4
-   * of doc/design-distributed.md: an arm between two ghosts may be judged
-   * here from truncated families, so its flag must come from its owner */
+   * counts its own arms). On several processes each breaks its copies of
+   * the arms past the criterion, own and ghost alike: a ghost copy must
+   * be judged as its owner judges it, so the criterion must read the
+   * arm's own state only (ps_model_breaks_alike); the others (the
+   * deviatoric yield rule's family strains, the three-body model's
+   * rotations) wait for ghost arms' states from their owners (step 4 of
+   * doc/design-distributed.md) */
   ps_int nc_here = ps_model_count_past(m, st), nc = ps_comm_count(ctx->comm, nc_here);
   if (nc == 0) return PS_OK;
-  if (ctx->comm && ctx->comm->size > 1)
+  const int shared = ctx->comm && ctx->comm->size > 1;
+  if (shared && !ps_model_breaks_alike(m->type, &m->mat))
     return ps_error(ctx, PS_ERR_INPUT, "%lld arms reached the breaking criterion: breaking in "
-                    "a distributed model is not there yet (doc/parallel.md)", (long long)nc);
+                    "a distributed model needs a criterion on each arm's own state (not the "
+                    "deviatoric yield rule, not the three-body model), not there yet "
+                    "(doc/parallel.md)", (long long)nc);
   if (max_count <= 0 || nc <= max_count) {
     for (ps_int i = 0; i < net->n_arm; i++)
       if (!st->broken[i] && excess(m, st, i) > 0) break_one(m, st, i);
     *n_broken = nc;
     return PS_OK;
   }
-  /* only the max_count arms past the criterion by the most (one process) */
-  nc = nc_here;
-  candidate *c = ps_calloc((size_t)nc, sizeof *c, ctx);
-  if (!c) return PS_ERR_NOMEM;
+  /* only the max_count arms past the criterion by the most: this
+   * process's own candidates first */
+  candidate *c = ps_calloc((size_t)nc_here + 1, sizeof *c, ctx);
+  if (ps_comm_any(ctx->comm, !c)) {
+    free(c);
+    return ps_error(ctx, PS_ERR_NOMEM, "out of memory for the worst arms (here or on another "
+                    "process)");
+  }
   ps_int k = 0;
   for (ps_int i = 0; i < net->n_arm; i++) {
-    double e = st->broken[i] ? 0.0 : excess(m, st, i);
-    if (e > 0) {
-      c[k].excess = e;
-      c[k++].arm = i;
-    }
+    double e = st->broken[i] || !ps_model_owns_arm(m, i) ? 0.0 : excess(m, st, i);
+    if (e > 0) c[k++] = candidate_of(m, i, e);
   }
-  qsort(c, (size_t)nc, sizeof *c, by_excess_desc);
-  for (ps_int j = 0; j < max_count; j++) break_one(m, st, c[j].arm);
+  qsort(c, (size_t)k, sizeof *c, by_excess_desc);
+  int status = PS_OK;
+  if (shared)
+    status = break_worst_shared(m, st, c, k, max_count, ctx);
+  else
+    for (ps_int j = 0; j < max_count; j++) break_one(m, st, c[j].arm);
   free(c);
+  if (status < 0) return status;
   *n_broken = max_count;
   return PS_OK;
 }

@@ -206,6 +206,11 @@ typedef struct ps_model_type {
    * path.control event finds the load at which the largest is 0. Read
    * only when ps_material_breaks; -1 for a broken arm. */
   double (*break_excess)(const ps_model *m, const ps_arm_state *st, ps_int i);
+  /* 1: break_excess reads arm i's own state only (its stretch, its
+   * plastic strain under the total yield rule), so that a process holding
+   * a copy of the arm (a ghost's) judges it as its owner does (breaking
+   * on a distributed model, ps_model_breaks_alike) */
+  int break_local;
   /* Optional (NULL: the energy does not split into arms): the stored
    * energy of intact arm i at the last evaluate, J (per unit thickness in
    * 2D), summed into st->broken_energy when it breaks (bond: 1/2 k dl^2,
@@ -313,6 +318,11 @@ struct ps_model {
    * (particle) is owned, one process. Not owned by the model. */
   const unsigned char *own_arm;      /* [n_arm] 1: owned */
   const unsigned char *own_particle; /* [n_particle] 1: owned */
+  const ps_int *global;              /* [n_particle] each particle's number
+                                        in the whole model (the worst arms
+                                        over the processes are named by
+                                        their ends' numbers); NULL: its
+                                        own (one process) */
 };
 
 /* 1 when arm i (particle a) is this process's: its energy and counts are
@@ -358,12 +368,24 @@ ps_int ps_model_count_past(const ps_model *m, const ps_arm_state *st);
 /* After a converged, committed state: mark the arms past the model's
  * criterion (type->break_excess > 0) as broken and set *n_broken to how
  * many broke now; nothing when !ps_material_breaks. With max_count > 0,
- * only the max_count arms past it by the most (a gentler step when
- * re-equilibration after breaking them all fails); adds their energy to
- * st->broken_energy. One mechanism for every model (model/breaking.c). Returns PS_OK or PS_ERR_NOMEM (then no
- * arm is marked and *n_broken = 0). */
+ * only the max_count arms past it by the most, ties by the arm's number
+ * in the whole model (a gentler step when re-equilibration after
+ * breaking them all fails); adds their energy (of the arms m owns) to
+ * st->broken_energy. On several processes (ctx->comm) every count and
+ * choice is the run's and each process marks its copies, own and ghost
+ * (collective; m->global names the arms). One mechanism for every model
+ * (model/breaking.c). Returns PS_OK, PS_ERR_INPUT (several processes
+ * and !ps_model_breaks_alike) or PS_ERR_NOMEM (then no arm is marked and
+ * *n_broken = 0). */
 int ps_model_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
                         ps_int *n_broken, ps_ctx *ctx);
+
+/* 1 when every process holding an arm judges it alike: the type's
+ * criterion reads the arm's own state (ps_model_type.break_local) and
+ * the yield rule is total (the deviatoric rule's plastic strains read
+ * the family's mean strain, which a ghost's truncated family gets
+ * wrong). A distributed model breaks arms only then. */
+int ps_model_breaks_alike(const ps_model_type *type, const ps_material *mat);
 
 /* The largest break_excess over the intact arms of st that m owns (-1
  * when there is none, or when !ps_material_breaks): 0 at the load where

@@ -228,6 +228,7 @@ static double state_arm_energy(const ps_model *m, const ps_arm_state *st, ps_int
 static const ps_model_type state_type = {.name = "state",
                                          .evaluate = state_evaluate,
                                          .break_excess = ps_model_stretch_excess,
+                                         .break_local = 1,
                                          .arm_energy = state_arm_energy,
                                          .prepare = state_prepare,
                                          .family_coupling = 1,

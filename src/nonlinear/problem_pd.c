@@ -100,10 +100,11 @@ void ps_pd_free(ps_pd *pd) {
 }
 
 int ps_pd_set_share(ps_pd *pd, const unsigned char *own_arm, const unsigned char *own_particle,
-                    ps_ctx *ctx) {
+                    const ps_int *global, ps_ctx *ctx) {
   int d = pd->net->dim;
   pd->model.own_arm = own_arm;
   pd->model.own_particle = own_particle;
+  pd->model.global = global;
   free(pd->owned_dof);
   pd->owned_dof = ps_calloc((size_t)pd->sys.n_dof + 1, 1, ctx);
   if (!pd->owned_dof) return PS_ERR_NOMEM;

@@ -51,9 +51,11 @@ void ps_pd_free(ps_pd *pd);
 /* Make pd a share of a distributed problem (ps_share): only the arms and
  * particles own_arm and own_particle mark (both borrowed) count in its
  * energy and counts (ps_model), and only the owned particles' dofs in the
- * solver's norms (ps_nl_problem.owned). PS_OK or PS_ERR_NOMEM. */
+ * solver's norms (ps_nl_problem.owned); global (borrowed, NULL on one
+ * process) gives each particle's number in the whole model, which names
+ * the arms breaking chooses over the processes. PS_OK or PS_ERR_NOMEM. */
 int ps_pd_set_share(ps_pd *pd, const unsigned char *own_arm, const unsigned char *own_particle,
-                    ps_ctx *ctx);
+                    const ps_int *global, ps_ctx *ctx);
 
 /* The problem's ps_nl_problem (data = pd). */
 ps_nl_problem ps_pd_problem(ps_pd *pd);

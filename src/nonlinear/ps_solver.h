@@ -82,6 +82,10 @@ typedef struct ps_solver_share {
                                system (ps_share_global_rows; borrowed) */
   ps_int n_global;          /* the whole model's dofs */
   ps_int row0, n_rows;      /* this process's rows: its owned dofs */
+  const ps_int *global;     /* [P.n] each particle's number in the whole
+                               model (ps_share.global; borrowed): names
+                               the arms breaking chooses over the
+                               processes (NULL: no breaking on several) */
 } ps_solver_share;
 
 /* ps_solver_create on a share of a distributed model (share NULL: the

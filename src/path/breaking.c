@@ -17,7 +17,8 @@ double ps_path_boundary_stress(const ps_path *p) {
 
 double ps_path_crack_tip(const ps_path *p) {
   if (!(p->pb.c > 0)) return 0.0;
-  double tip = ps_post_crack_tip(p->pb.P, p->pb.net, ps_solver_arm_state(p->s), p->pb.c);
+  double tip = ps_post_crack_tip(p->pb.P, p->pb.net, ps_solver_arm_state(p->s), p->pb.c,
+                                 ps_solver_own_arm(p->s));
   ps_comm_max(ps_solver_comm(p->s), &tip, 1);
   return tip;
 }

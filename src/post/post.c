@@ -47,11 +47,11 @@ double ps_post_boundary_stress(const ps_network *net, const double *T,
 }
 
 double ps_post_crack_tip(const ps_particles *P, const ps_network *net,
-                         const ps_arm_state *st, double c) {
+                         const ps_arm_state *st, double c, const unsigned char *own_arm) {
   double tip = 1.0;
   int d = P->dim;
   for (ps_int i = 0; i < net->n_arm; i++) {
-    if (!st->broken[i]) continue;
+    if (!st->broken[i] || (own_arm && !own_arm[i])) continue;
     double r2 = 0;
     for (int k = 0; k < d; k++) {
       double m = 0.5 * (P->x[net->a[i] * d + k] + P->x[net->b[i] * d + k]);

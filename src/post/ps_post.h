@@ -26,9 +26,10 @@ double ps_post_boundary_stress(const ps_network *net, const double *T,
 
 /* Crack tip distance from the origin: the largest distance of a broken
  * arm's midpoint (reference configuration) from (0, 0), in units of c;
- * 1 when no arm is broken (the initial tips are at +-c). */
+ * 1 when no arm is broken (the initial tips are at +-c). own_arm: only
+ * the arms it marks (as in ps_post_boundary_stress); NULL: every arm. */
 double ps_post_crack_tip(const ps_particles *P, const ps_network *net,
-                         const ps_arm_state *st, double c);
+                         const ps_arm_state *st, double c, const unsigned char *own_arm);
 
 /* The peridynamic stress tensor of Fallah et al. (2020), Eq. 24:
  *   sigma_a = 1/(2 V_a) sum_b F_ab (x) (X_b - X_a),

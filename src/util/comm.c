@@ -208,7 +208,7 @@ int ps_halo_exchange(ps_halo *h, const ps_comm *comm, double *x, int width, ps_c
 }
 
 int ps_comm_gather(const ps_comm *comm, const double *mine, ps_int n_mine, int width,
-                   double **all, ps_int *n_all, ps_ctx *ctx) {
+                   int to_all, double **all, ps_int *n_all, ps_ctx *ctx) {
   const int P = comm ? comm->size : 1, rank = ps_comm_rank(comm);
   *all = NULL;
   *n_all = 0;
@@ -228,7 +228,8 @@ int ps_comm_gather(const ps_comm *comm, const double *mine, ps_int n_mine, int w
                     total, width);
   int *c = ps_calloc((size_t)(6 * P), sizeof *c, ctx); /* counts and displacements */
   int fail = !c;
-  if (!fail && rank == 0 && !(*all = ps_calloc((size_t)total * width + 1, sizeof **all, ctx)))
+  const int gets = to_all || rank == 0;
+  if (!fail && gets && !(*all = ps_calloc((size_t)total * width + 1, sizeof **all, ctx)))
     fail = 1;
   if (ps_comm_any(comm, fail)) {
     free(c);
@@ -240,15 +241,16 @@ int ps_comm_gather(const ps_comm *comm, const double *mine, ps_int n_mine, int w
   int *one = c, *onedispl = c + P, *scount = c + 2 * P, *sdispl = c + 3 * P,
       *rcount = c + 4 * P, *rdispl = c + 5 * P;
   for (int q = 0; q < P; q++) one[q] = (int)sizeof(int), onedispl[q] = q * (int)sizeof(int);
-  scount[0] = (int)(n_mine * width * (ps_int)sizeof(double)); /* to the first only */
+  for (int q = 0; q < P; q++) /* to the first only, or to all */
+    scount[q] = to_all || q == 0 ? (int)(n_mine * width * (ps_int)sizeof(double)) : 0;
   comm->alltoallv(comm->data, scount, one, onedispl, rcount, one, onedispl);
   for (int q = 0, t = 0; q < P; q++) {
-    if (rank != 0) rcount[q] = 0;
+    if (!gets) rcount[q] = 0;
     rdispl[q] = t;
     t += rcount[q];
   }
   comm->alltoallv(comm->data, mine, scount, sdispl, *all, rcount, rdispl);
-  if (rank == 0) *n_all = (ps_int)total;
+  if (gets) *n_all = (ps_int)total;
   free(c);
   return PS_OK;
 }

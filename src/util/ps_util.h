@@ -107,15 +107,15 @@ int ps_halo_create(ps_halo *h, const ps_comm *comm, ps_int n_local, ps_int n_own
 int ps_halo_exchange(ps_halo *h, const ps_comm *comm, double *x, int width, ps_ctx *ctx);
 void ps_halo_free(ps_halo *h);
 
-/* Rows to the first process: every process's n_mine rows of width
- * doubles (mine); on process 0, *all (allocated here, the caller frees
- * it) holds all of them in the order of the processes and *n_all their
- * number; elsewhere *all = NULL and *n_all = 0. A NULL comm (one
- * process): a copy. Collective. PS_OK, PS_ERR_INPUT (more than 2^31
- * bytes), PS_ERR_NOMEM (here or on another process: every process
- * fails alike). */
+/* Rows to the first process (to_all: to every process): every process's
+ * n_mine rows of width doubles (mine); on process 0 (to_all: on every
+ * process), *all (allocated here, the caller frees it) holds all of them
+ * in the order of the processes and *n_all their number; elsewhere *all
+ * = NULL and *n_all = 0. A NULL comm (one process): a copy. Collective.
+ * PS_OK, PS_ERR_INPUT (more than 2^31 bytes), PS_ERR_NOMEM (here or on
+ * another process: every process fails alike). */
 int ps_comm_gather(const ps_comm *comm, const double *mine, ps_int n_mine, int width,
-                   double **all, ps_int *n_all, ps_ctx *ctx);
+                   int to_all, double **all, ps_int *n_all, ps_ctx *ctx);
 
 /* Initialise a context: empty message, verbosity 1, log = stderr, one
  * process (comm NULL). */

@@ -20,7 +20,8 @@
 #     broken arms as printed, displacements within 1e-6;
 # (b) edge-crack-bond (bond model, 20,300 particles, J and K by the
 #     interaction integral): every j_/k_ value of summary.txt within 1e-8
-#     relative of CHOLMOD's, on -n 3;
+#     relative of CHOLMOD's, on -n 3 (the distributed model: J summed over
+#     each rank's own particles and arms);
 # (c) tension-block-3d (fibre model in 3D, to fracture, majorant: false): the broken arms
 #     and the peak stress as printed, displacements within 1e-8, on -n 2;
 # (d) two particles on 3 ranks (a rank with no particle and no row):
@@ -165,7 +166,14 @@ fi
 # (b) the edge crack: J and K
 with_petsc "$C/edge-crack-bond.yaml" "$T/edge.yaml" ""
 if run edge-chol 0 "$C/edge-crack-bond.yaml"; then
-  run edge-n3 3 "$T/edge.yaml" && j_ok edge-n3 edge-chol 1e-8
+  if run edge-n3 3 "$T/edge.yaml"; then
+    j_ok edge-n3 edge-chol 1e-8
+    # on the distributed model (solver.layout auto): each rank sums J over
+    # its own particles and arms, with two horizons of ghosts
+    if [ "$(val "$T/edge-n3/summary.txt" distributed)" = yes ]; then
+      ok "edge-n3: J and K from the distributed model"
+    else ko "edge-n3: not distributed"; fi
+  fi
   # (e) iterative: CG + GAMG, options from the command line
   if run edge-gamg 2 "$T/edge.yaml" -ksp_type cg -pc_type gamg; then
     j_ok edge-gamg edge-chol 1e-6

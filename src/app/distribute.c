@@ -24,8 +24,6 @@ int ps_problem_distributable(const ps_problem *pb, int ranks, int restart, char 
     no = "path.control is not load (arc-length and dissipation control are not there yet)";
   else if (!type || ps_model_share_horizons(type, &pb->mat) <= 0)
     no = "its moduli correction balances weights over the whole cloud";
-  else if (cs->output.n_j_rings > 0)
-    no = "output.j_integral needs the whole model (not there yet)";
   else if (restart)
     no = "a restart needs the whole model (not there yet)";
   else if (pb->P.n < ranks)

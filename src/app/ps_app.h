@@ -58,8 +58,8 @@ typedef struct ps_problem {
  * processes (restart: the run continues a checkpoint)? Today that needs
  * solver.linear petsc, arms that cannot break or break by a criterion on
  * their own state (ps_model_breaks_alike), load control, a model whose
- * constants are local, no J-integral, no restart and at least a
- * particle per process (a distributed run writes no checkpoints). Returns 1, or 0 with the first reason it
+ * constants are local, no restart and at least a particle per process
+ * (a distributed run writes no checkpoints). Returns 1, or 0 with the first reason it
  * cannot in why[len] (for the progress line or the error of a case that
  * asks for solver.layout: distributed). */
 int ps_problem_distributable(const ps_problem *pb, int ranks, int restart, char *why,
@@ -93,7 +93,8 @@ void ps_problem_part_free(ps_problem_part *pa);
 
 /* The share of part `part` of pt (ps_share, doc/design-distributed.md)
  * of the set-up problem pb: ghosts out to ps_model_share_horizons of
- * its model, the network with pb's kernel and cracks. PS_OK,
+ * its model (at least two with output.j_integral), the network with pb's
+ * kernel and cracks. PS_OK,
  * PS_ERR_INPUT (a model whose constants are not local: the fibre and
  * state moduli correction), PS_ERR_NOMEM. */
 int ps_problem_share(const ps_problem *pb, const ps_partition *pt, int part, ps_share *sh,

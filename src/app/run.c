@@ -469,9 +469,10 @@ static int finish_outputs(run_state *r, int commit, ps_ctx *ctx) {
       status = ps_report_write_path_plot(r->staging, r->pb->cs.name, with_displacement, ctx);
     if (status == PS_OK && PS_GNUPLOT[0] && ps_gnuplot_run(r->staging, "path.gp") != 0)
       ps_log(ctx, 2, "# gnuplot failed on %s/path.gp\n", r->staging);
-    if (status == PS_OK)
-      status = ps_report_write_summary(r->staging, r->res, &r->pb->cs, &st, ctx);
   }
+  PS_CHECK(agree(r, status, ctx));
+  /* (every process of a distributed run: J's sums are collective) */
+  status = ps_report_write_summary(r->staging, r->res, &r->pb->cs, &st, ctx);
   /* (every process's files are written before the folder is committed) */
   PS_CHECK(agree(r, status, ctx));
   if (commit && r->writer) status = ps_dir_commit(r->staging, r->out_dir, ctx);

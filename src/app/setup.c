@@ -12,6 +12,9 @@
 int ps_problem_share(const ps_problem *pb, const ps_partition *pt, int part, ps_share *sh,
                      ps_ctx *ctx) {
   int h = ps_model_share_horizons(ps_model_type_find(pb->cs.model), &pb->mat);
+  /* J's displacement gradients at the ghost ends of the arms across its
+   * contours need those ghosts' whole families: two horizons */
+  if (h > 0 && h < 2 && pb->cs.output.n_j_rings > 0) h = 2;
   if (h <= 0)
     return ps_error(ctx, PS_ERR_INPUT, "%s: the %s model's moduli correction "
                     "(material.surface_correction) balances its weights over the whole cloud: "

@@ -78,7 +78,9 @@ typedef struct ps_report_state {
 
 /* dir/summary.txt from res (through FILE.tmp, renamed): every key of the
  * table in order, then, when cs has output.j_integral rings and the case
- * is 2D, J of `state` per ring (Eq. 39 and Eq. 36, also logged). Returns
+ * is 2D, J of `state` per ring (Eq. 39 and Eq. 36, also logged). Of a
+ * piece of a distributed state (state->piece) every process calls it
+ * (J's sums are collective) and the first writes the file. Returns
  * PS_OK, PS_ERR_IO, PS_ERR_NOMEM. */
 int ps_report_write_summary(const char *dir, const ps_run_result *res, const ps_case *cs,
                             const ps_report_state *state, ps_ctx *ctx);

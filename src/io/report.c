@@ -232,11 +232,62 @@ static int j_tips(const ps_case *cs, double tip[2][2], double dir[2][2],
 }
 
 /* J of the final state (Eq. 39 and 36) and K_I, K_II (interaction
- * integral) per tip and ring, in the crack-tip frame */
+ * integral) per tip and ring, in the crack-tip frame, into v (for each
+ * tip, each ring: J domain, J contour, K_I, K_II). Of a piece of a
+ * distributed state each process sums over its own particles (the first
+ * n_owned: their stresses and gradients are complete) and its own arms
+ * across the contours (their ends' gradients are too: the share holds
+ * two horizons of ghosts when J is asked for, ps_problem_share), and the
+ * sums are added over the processes (collective). */
+static int j_values(const ps_report_state *s, const ps_case *cs, int nt, double tip[2][2],
+                    double dir[2][2], double *v, ps_ctx *ctx) {
+  const ps_report_piece *pc = s->piece;
+  const ps_network *net = s->net;
+  ps_particles own = *s->P; /* the particles the sums run over */
+  double *sig = ps_calloc(4 * (size_t)s->P->n + 1, sizeof *sig, ctx);
+  double *H = ps_calloc(4 * (size_t)s->P->n + 1, sizeof *H, ctx);
+  double *T_own = pc ? ps_calloc((size_t)net->n_arm + 1, sizeof *T_own, ctx) : NULL;
+  int bad = !sig || !H || (pc && !T_own);
+  if (pc ? ps_comm_any(pc->comm, bad) : bad) {
+    free(sig);
+    free(H);
+    free(T_own);
+    return ps_error(ctx, PS_ERR_NOMEM, "J-integral: out of memory (here or on another "
+                    "process)");
+  }
+  const double *T = s->T;
+  if (pc) {
+    own.n = pc->n_owned;
+    for (ps_int i = 0; i < net->n_arm; i++) T_own[i] = pc->own_arm[i] ? s->T[i] : 0.0;
+    T = T_own; /* (the contour skips arms with no tension) */
+  }
+  ps_post_stress_tensor(s->P, net, s->T, s->q, sig);
+  ps_post_displacement_gradient(s->P, net, s->st, s->u, H);
+  int n = 0;
+  for (int t = 0; t < nt; t++)
+    for (int i = 0; i < cs->output.n_j_rings; i++) {
+      double l = cs->output.j_rings[i];
+      v[n++] = ps_post_j_domain_dir(&own, sig, H, tip[t], dir[t], 0.5 * l, l);
+      v[n++] = ps_post_j_contour_dir(&own, net, T, s->q, sig, H, tip[t], dir[t], l,
+                                     cs->spacing);
+      ps_post_k_interaction(&own, sig, H, tip[t], dir[t], 0.5 * l, l, s->mat->E, s->mat->nu,
+                            s->mat->plane, &v[n]);
+      n += 2;
+    }
+  if (pc) ps_comm_sum(pc->comm, v, n);
+  free(sig);
+  free(H);
+  free(T_own);
+  return PS_OK;
+}
+
+/* J and K into f (NULL: computed only, on the processes of a distributed
+ * state that do not write) and the log, from j_values */
 static int write_j_integral(const ps_report_state *s, const ps_case *cs, FILE *f,
                             ps_ctx *ctx) {
-  double tip[2][2], dir[2][2];
+  double tip[2][2], dir[2][2], v[2 * PS_MAX_J_RINGS * 4];
   const char *prefix[2];
+  char b[40];
   int nt = j_tips(cs, tip, dir, prefix);
   if (nt == 0) {
     ps_log(ctx, 1, "# J-integral: output.j_integral.crack %d is not a crack segment of "
@@ -244,40 +295,26 @@ static int write_j_integral(const ps_report_state *s, const ps_case *cs, FILE *f
            cs->output.j_crack, cs->n_cracks);
     return PS_OK;
   }
-  double *sig = ps_calloc(4 * (size_t)s->P->n, sizeof *sig, ctx);
-  double *H = ps_calloc(4 * (size_t)s->P->n, sizeof *H, ctx);
-  char b[40];
-  if (!sig || !H) {
-    free(sig);
-    free(H);
-    return ps_error(ctx, PS_ERR_NOMEM, "J-integral: out of memory");
-  }
-  ps_post_stress_tensor(s->P, s->net, s->T, s->q, sig);
-  ps_post_displacement_gradient(s->P, s->net, s->st, s->u, H);
-  for (int t = 0; t < nt; t++)
-    for (int i = 0; i < cs->output.n_j_rings; i++) {
-      double l = cs->output.j_rings[i], K[2];
-      double J = ps_post_j_domain_dir(s->P, sig, H, tip[t], dir[t], 0.5 * l, l);
-      double Jc = ps_post_j_contour_dir(s->P, s->net, s->T, s->q, sig, H, tip[t], dir[t], l,
-                                        cs->spacing);
-      ps_post_k_interaction(s->P, sig, H, tip[t], dir[t], 0.5 * l, l, s->mat->E,
-                            s->mat->nu, s->mat->plane, K);
-      fprintf(f, "%sj_domain_ring_%.6gm_N_per_m: %s\n", prefix[t], l,
-              ps_fmt_or_na(J, 8, b, sizeof b));
-      fprintf(f, "%sj_contour_%.6gm_N_per_m: %s\n", prefix[t], l,
-              ps_fmt_or_na(Jc, 8, b, sizeof b));
-      fprintf(f, "%sk_I_ring_%.6gm_Pa_sqrt_m: %s\n", prefix[t], l,
-              ps_fmt_or_na(K[0], 8, b, sizeof b));
-      fprintf(f, "%sk_II_ring_%.6gm_Pa_sqrt_m: %s\n", prefix[t], l,
-              ps_fmt_or_na(K[1], 8, b, sizeof b));
+  PS_CHECK(j_values(s, cs, nt, tip, dir, v, ctx));
+  for (int t = 0, n = 0; t < nt; t++)
+    for (int i = 0; i < cs->output.n_j_rings; i++, n += 4) {
+      double l = cs->output.j_rings[i], J = v[n], Jc = v[n + 1], K[2] = {v[n + 2], v[n + 3]};
+      if (f) {
+        fprintf(f, "%sj_domain_ring_%.6gm_N_per_m: %s\n", prefix[t], l,
+                ps_fmt_or_na(J, 8, b, sizeof b));
+        fprintf(f, "%sj_contour_%.6gm_N_per_m: %s\n", prefix[t], l,
+                ps_fmt_or_na(Jc, 8, b, sizeof b));
+        fprintf(f, "%sk_I_ring_%.6gm_Pa_sqrt_m: %s\n", prefix[t], l,
+                ps_fmt_or_na(K[0], 8, b, sizeof b));
+        fprintf(f, "%sk_II_ring_%.6gm_Pa_sqrt_m: %s\n", prefix[t], l,
+                ps_fmt_or_na(K[1], 8, b, sizeof b));
+      }
       ps_log(ctx, 1, "# J-integral around (%.6g, %.6g), crack direction (%.4g, %.4g), "
                      "square of half-width %.4g m: %.6g N/m (domain form, Eq. 39, q from "
                      "l/2 to l), %.6g N/m (contour form, Eq. 36); K_I %.6g, K_II %.6g "
                      "Pa sqrt(m) (interaction integral)\n",
              tip[t][0], tip[t][1], dir[t][0], dir[t][1], l, J, Jc, K[0], K[1]);
     }
-  free(sig);
-  free(H);
   return PS_OK;
 }
 
@@ -285,17 +322,22 @@ int ps_report_write_summary(const char *dir, const ps_run_result *res, const ps_
                             const ps_report_state *state, ps_ctx *ctx) {
   char path[1400], buf[64];
   ps_outfile o;
+  const ps_report_piece *pc = state ? state->piece : NULL;
+  const int writes = !pc || ps_comm_rank(pc->comm) == 0, with_j =
+      state && cs->output.n_j_rings > 0 && state->P->dim == 2;
+  if (!writes) return with_j ? write_j_integral(state, cs, NULL, ctx) : PS_OK;
   snprintf(path, sizeof path, "%s/summary.txt", dir);
-  PS_CHECK(ps_outfile_open(&o, path, ctx));
+  int status = ps_outfile_open(&o, path, ctx);
+  if (status < 0) { /* (the others sum J all the same) */
+    if (pc && with_j) write_j_integral(state, cs, NULL, ctx);
+    return status;
+  }
   for (size_t i = 0; i < N_SUMMARY_KEYS; i++)
     fprintf(o.f, "%s: %s\n", summary_keys[i].key,
             format_value(&summary_keys[i], res, buf, sizeof buf));
-  if (cs->output.n_j_rings > 0 && state->P->dim == 2) {
-    int status = write_j_integral(state, cs, o.f, ctx);
-    if (status < 0) {
-      ps_outfile_abort(&o);
-      return status;
-    }
+  if (with_j && (status = write_j_integral(state, cs, o.f, ctx)) < 0) {
+    ps_outfile_abort(&o);
+    return status;
   }
   return ps_outfile_commit(&o, ctx);
 }

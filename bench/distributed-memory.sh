@@ -7,10 +7,12 @@
 # GNU time, the run's wall time, Newton and KSP iterations from
 # summary.txt, and the largest difference of the displacements from the
 # one-rank run's over the largest (particles.csv). Writes
-# bench/distributed-memory.csv and prints it. make bench-distributed-memory
+# bench/distributed-memory.csv (a row per case, layout and repeat) and
+# prints it, then the medians. make bench-distributed-memory
 # (a build configured --with-petsc); not part of make check.
 #   DMEM_CASES   case files (default: data/cases/penny-crack-3d-250k.yaml,
 #                253,500 particles, CG + ICC)
+#   DMEM_REPEATS repeats (default 3)
 #   DMEM_PC      PETSc options on several ranks (default: block-Jacobi ICC,
 #                "-pc_type bjacobi -sub_pc_type icc"; ICC itself is serial)
 set -eu
@@ -35,9 +37,12 @@ udiff() {
         v = a[FNR, k] < 0 ? -a[FNR, k] : a[FNR, k]; if (v > u) u = v } }
     END { if (u == 0) print "nan"; else printf "%.2g\n", m / u }' "$1" "$2"
 }
-echo "case,layout,ranks,particles,arms,rss_rank_MiB,rss_max_MiB,wall_s,newton,ksp_its,du_vs_one_rank" > "$csv.tmp"
+reps=${DMEM_REPEATS:-3}
+echo "case,repeat,layout,ranks,particles,arms,rss_rank_MiB,rss_max_MiB,wall_s,newton,ksp_its,du_vs_one_rank" > "$csv.tmp"
 for cs in $cases; do
-  name=$(basename "$cs" .yaml)
+ name=$(basename "$cs" .yaml)
+ rep=1
+ while [ "$rep" -le "$reps" ]; do
   for run in "one:1:replicated" "distributed:2:distributed" "replicated:2:replicated"; do
     label=${run%%:*} rest=${run#*:}
     np=${rest%%:*} layout=${rest#*:}
@@ -57,8 +62,16 @@ for cs in $cases; do
     rmax=$(cat "$work/$name-$label".rss.* | awk '/^[0-9]+$/ && $1 > m {m = $1} END {printf "%.0f", m / 1024}')
     du=0
     [ "$label" != one ] && du=$(udiff "$work/out-$name-one/particles.csv" "$out/particles.csv")
-    echo "$name,$(key distributed "$s" | sed 's/yes/distributed/;s/no/whole/'),$np,$(key particles "$s"),$(key arms "$s"),$rss,$rmax,$(key wall_s "$s"),$(key newton_iterations "$s"),$(key ksp_iterations "$s"),$du" >> "$csv.tmp"
+    echo "$name,$rep,$(key distributed "$s" | sed 's/yes/distributed/;s/no/whole/'),$np,$(key particles "$s"),$(key arms "$s"),$rss,$rmax,$(key wall_s "$s"),$(key newton_iterations "$s"),$(key ksp_iterations "$s"),$du" >> "$csv.tmp"
     tail -1 "$csv.tmp"
   done
+  rep=$((rep + 1))
+ done
 done
 mv "$csv.tmp" "$csv"
+# medians per case, layout and ranks: peak memory of the largest rank, wall
+awk -F, 'NR > 1 { k = $1 " " $3 " on " $4; n[k]++; m[k, n[k]] = $8; w[k, n[k]] = $9 }
+  function med(a, k, c,   i, j, t, v) { for (i = 1; i <= c; i++) v[i] = a[k, i];
+    for (i = 1; i <= c; i++) for (j = i + 1; j <= c; j++) if (v[j] < v[i]) { t = v[i]; v[i] = v[j]; v[j] = t }
+    return c % 2 ? v[(c + 1) / 2] : (v[c / 2] + v[c / 2 + 1]) / 2 }
+  END { for (k in n) printf "%s: largest rank %.0f MiB, %.1f s (median of %d)\n", k, med(m, k, n[k]), med(w, k, n[k]), n[k] }' "$csv" | sort

@@ -492,10 +492,7 @@ static int create_solver(run_state *r, ps_ctx *ctx) {
   sigaddset(&block, SIGINT);
   sigaddset(&block, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &block, &saved);
-  if (r->comm) { /* PETSc's factor of each Newton system (ps_solver_create_share) */
-    opts.reuse_factor = 0;
-    opts.majorant = 0;
-  }
+  if (r->comm) opts.majorant = 0; /* (not on a share: ps_solver_create_share) */
   int status = ps_solver_create_share(&r->s, &pb->P, &pb->net, ps_model_type_find(cs->model),
                                       &r->mat, pb->fixed, pb->ubar, &opts,
                                       r->comm ? &r->part.solver_share : NULL, ctx);
@@ -551,8 +548,7 @@ static void log_start(const run_state *r, double delta, const ps_ctx *ctx) {
          breaking, st.threads, st.threads > 1 ? "s" : "");
   if (r->comm)
     ps_log(ctx, 1, "# distributed over %d processes (solver.layout): %lld particles and "
-                   "%lld ghosts here, a PETSc factor for each Newton system, no "
-                   "checkpoints\n",
+                   "%lld ghosts here, no checkpoints\n",
            r->comm->size, (long long)r->part.sh.n_owned,
            (long long)(r->part.sh.P.n - r->part.sh.n_owned));
   ps_log(ctx, 1, "# %4s %9s %10s %6s %9s %8s %7s %6s\n", "step", "lambda", "sig/sig_y",

@@ -165,7 +165,7 @@ static void system_apply(void *sys, const double *x, double *y) {
 }
 
 ps_operator ps_system_operator(ps_system *s) {
-  ps_operator op = {s->n_free, system_apply, s};
+  ps_operator op = {s->n_free, system_apply, s, NULL};
   return op;
 }
 

@@ -127,7 +127,7 @@ static void csc_apply(void *A, const double *x, double *y) {
 }
 
 ps_operator ps_csc_operator(const ps_csc *A) {
-  ps_operator op = {A->n, csc_apply, (void *)A};
+  ps_operator op = {A->n, csc_apply, (void *)A, NULL};
   return op;
 }
 
@@ -139,10 +139,16 @@ int ps_linsolve_precondition(ps_linsolve *M, const double *r, double *z, ps_ctx 
   return ps_linsolve_solve(M, r, z, ctx);
 }
 
-/* a . b over the run's processes (ctx->comm) */
-static double dot(ps_int n, const double *a, const double *b, const ps_ctx *ctx) {
+/* a . b over A's own entries (A->owned) and the run's processes
+ * (ctx->comm) */
+static double dot(const ps_operator *A, const double *a, const double *b, const ps_ctx *ctx) {
   double s = 0.0;
-  for (ps_int k = 0; k < n; k++) s += a[k] * b[k];
+  if (A->owned) {
+    for (ps_int k = 0; k < A->n; k++)
+      if (A->owned[k]) s += a[k] * b[k];
+  } else {
+    for (ps_int k = 0; k < A->n; k++) s += a[k] * b[k];
+  }
   return ps_comm_sum1(ctx->comm, s);
 }
 
@@ -151,17 +157,17 @@ int ps_linsolve_pcg(ps_linsolve *M, const ps_operator *A, const double *b,
                     ps_ctx *ctx) {
   ps_int n = A->n;
   double *r = work, *z = work + n, *p = work + 2 * n, *Ap = work + 3 * n;
-  double bnorm = sqrt(dot(n, b, b, ctx));
+  double bnorm = sqrt(dot(A, b, b, ctx));
   *its = 0;
   memset(x, 0, (size_t)n * sizeof *x);
   if (bnorm == 0.0) return PS_OK;
   memcpy(r, b, (size_t)n * sizeof *r);
   PS_CHECK(ps_linsolve_precondition(M, r, z, ctx)); /* z = M^-1 r */
   memcpy(p, z, (size_t)n * sizeof *p);
-  double rz = dot(n, r, z, ctx);
+  double rz = dot(A, r, z, ctx);
   for (int it = 1; it <= maxit; it++) {
     A->apply(A->data, p, Ap);
-    double pAp = dot(n, p, Ap, ctx);
+    double pAp = dot(A, p, Ap, ctx);
     if (!(rz > 0)) return PS_DIVERGED; /* the preconditioner is not SPD */
     if (!(pAp > 0)) { /* A is not positive definite along p */
       if (it == 1) memcpy(x, p, (size_t)n * sizeof *x); /* p = M^-1 b */
@@ -173,9 +179,9 @@ int ps_linsolve_pcg(ps_linsolve *M, const ps_operator *A, const double *b,
       r[k] -= alpha * Ap[k];
     }
     *its = it;
-    if (sqrt(dot(n, r, r, ctx)) <= rtol * bnorm) return PS_OK;
+    if (sqrt(dot(A, r, r, ctx)) <= rtol * bnorm) return PS_OK;
     PS_CHECK(ps_linsolve_precondition(M, r, z, ctx));
-    double rz1 = dot(n, r, z, ctx), beta = rz1 / rz;
+    double rz1 = dot(A, r, z, ctx), beta = rz1 / rz;
     rz = rz1;
     for (ps_int k = 0; k < n; k++) p[k] = z[k] + beta * p[k];
   }
@@ -188,7 +194,7 @@ int ps_linsolve_gmres(ps_linsolve *M, const ps_operator *A, const double *b, dou
   const int m = maxit > 0 ? maxit : 1;
   *its = 0;
   memset(x, 0, (size_t)n * sizeof *x);
-  double beta = sqrt(dot(n, b, b, ctx));
+  double beta = sqrt(dot(A, b, b, ctx));
   if (beta == 0.0) return PS_OK;
   /* V: the Krylov basis (m + 1 columns of n); H: the Hessenberg matrix,
    * column j at H + j (m + 1), made upper triangular by the rotations
@@ -216,10 +222,10 @@ int ps_linsolve_gmres(ps_linsolve *M, const ps_operator *A, const double *b, dou
     A->apply(A->data, z, w); /* w = A z, orthogonalised (modified Gram-Schmidt) */
     for (int i = 0; i <= j; i++) {
       const double *vi = V + (size_t)i * n;
-      h[i] = dot(n, w, vi, ctx);
+      h[i] = dot(A, w, vi, ctx);
       for (ps_int q = 0; q < n; q++) w[q] -= h[i] * vi[q];
     }
-    double hn = h[j + 1] = sqrt(dot(n, w, w, ctx));
+    double hn = h[j + 1] = sqrt(dot(A, w, w, ctx));
     if (hn > 0)
       for (ps_int q = 0; q < n; q++) w[q] /= hn;
     for (int i = 0; i < j; i++) { /* the earlier rotations on column j */

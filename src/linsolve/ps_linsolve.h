@@ -204,6 +204,10 @@ typedef struct ps_operator {
   ps_int n;
   void (*apply)(void *data, const double *x, double *y);
   void *data;
+  const unsigned char *owned; /* [n] 1: the entry counts in the dot products
+                                 of CG and GMRES (a share's own dofs: its
+                                 ghosts' entries are another process's);
+                                 NULL: every entry */
 } ps_operator;
 
 /* The operator of a symmetric CSC matrix (one triangle; ps_csc_symv). */

@@ -123,7 +123,7 @@ int ps_nl_factor_tangent(ps_solver *s, ps_ctx *ctx) {
 static int pcg(ps_solver *s, ps_linsolve *ls, int maxit, int *its, ps_ctx *ctx) {
   double t0 = ps_wtime();
   *its = 0;
-  ps_operator K = {s->prob.n_free, apply_tangent, &s->prob};
+  ps_operator K = {s->prob.n_free, apply_tangent, &s->prob, s->prob.owned_free};
   int status = ps_linsolve_pcg(ls, &K, s->rhs, s->du, s->cg_rtol, maxit,
                                s->pcg_work, its, ctx);
   s->t_pcg += ps_wtime() - t0;
@@ -347,7 +347,7 @@ int ps_nl_shifted_gmres(ps_solver *s, int refactor, ps_ctx *ctx) {
     int status = ps_nl_factor_shifted(s, ctx);
     if (status != PS_OK) return status < 0 ? status : PS_DIVERGED;
   }
-  ps_operator K = {s->prob.n_free, apply_tangent, &s->prob};
+  ps_operator K = {s->prob.n_free, apply_tangent, &s->prob, s->prob.owned_free};
   int its = 0;
   double t0 = ps_wtime();
   int status = ps_linsolve_gmres(&s->ls, &K, s->rhs, s->du, s->cg_rtol, PS_GMRES_MAX_ITERATIONS,

@@ -83,7 +83,7 @@ static const ps_nl_problem_ops pd_ops = {pd_evaluate, pd_apply,   pd_assemble,
 ps_nl_problem ps_pd_problem(ps_pd *pd) {
   ps_nl_problem p = {&pd_ops,       pd,           pd->sys.n_dof,     pd->sys.n_free,
                      pd->sys.dof_of_free, pd->sys.fixed, pd->have_majorant, pd->comm,
-                     pd->owned_dof};
+                     pd->owned_dof, pd->owned_free};
   return p;
 }
 
@@ -96,6 +96,7 @@ void ps_pd_free(ps_pd *pd) {
   ps_model_free(&pd->model);
   free(pd->arm_state_at_factor);
   free(pd->owned_dof);
+  free(pd->owned_free);
   free(pd);
 }
 
@@ -106,9 +107,13 @@ int ps_pd_set_share(ps_pd *pd, const unsigned char *own_arm, const unsigned char
   pd->model.own_particle = own_particle;
   pd->model.global = global;
   free(pd->owned_dof);
+  free(pd->owned_free);
   pd->owned_dof = ps_calloc((size_t)pd->sys.n_dof + 1, 1, ctx);
-  if (!pd->owned_dof) return PS_ERR_NOMEM;
+  pd->owned_free = ps_calloc((size_t)pd->sys.n_free + 1, 1, ctx);
+  if (!pd->owned_dof || !pd->owned_free) return PS_ERR_NOMEM;
   for (ps_int j = 0; j < pd->sys.n_dof; j++) pd->owned_dof[j] = own_particle[j / d];
+  for (ps_int k = 0; k < pd->sys.n_free; k++)
+    pd->owned_free[k] = pd->owned_dof[pd->sys.dof_of_free[k]];
   return PS_OK;
 }
 

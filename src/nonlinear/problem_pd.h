@@ -34,6 +34,7 @@ typedef struct ps_pd {
   const ps_comm *comm;        /* the run's processes (ctx->comm at create;
                                  NULL: one): the energy, the dissipation
                                  and the counts below are summed over them */
+  unsigned char *owned_free;  /* [n_free] owned_dof of each free dof */
   unsigned char *owned_dof;   /* [n_dof] a share's owned dofs
                                  (ps_pd_set_share; NULL: all) */
 } ps_pd;

@@ -64,6 +64,9 @@ typedef struct ps_nl_problem {
                                    distributed problem also holds ghost
                                    dofs, free or prescribed, whose values
                                    are their owners'); NULL: every dof */
+  const unsigned char *owned_free; /* [n_free] owned of each free dof (the
+                                   dot products of CG and GMRES); NULL:
+                                   every free dof */
 } ps_nl_problem;
 
 #endif

@@ -91,10 +91,13 @@ typedef struct ps_solver_share {
 /* ps_solver_create on a share of a distributed model (share NULL: the
  * same as ps_solver_create): P, net, fixed and ubar are the share's
  * (owned particles, then ghosts), ctx->comm the run's processes (every
- * call is collective), opts must choose PETSc with a factor for each
- * Newton system (linear petsc, reuse_factor 0: PS_ERR_INPUT otherwise).
+ * call is collective), opts must choose PETSc and no majorant (linear
+ * petsc; majorant 0 where reuse_factor is 1: PS_ERR_INPUT otherwise).
  * The ghosts' displacements follow their owners' through the linear
- * solves (each process gets the whole solution at its free dofs).
+ * solves (each process gets the whole solution at its free dofs); CG
+ * with the old factor (reuse_factor) sums its dot products over the own
+ * free dofs (its ghost entries of the preconditioned residual, and so of
+ * its directions, are their owners', the residual's are not used).
  * External forces (ps_solver_set_forces) are the share's: only those at
  * owned dofs do work. Not yet on a share: arc-length and dissipation
  * control and breaking (PS_ERR_INPUT), and the reuse of factors as CG's

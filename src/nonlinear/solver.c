@@ -170,10 +170,9 @@ int ps_solver_create_share(ps_solver **out, const ps_particles *P, const ps_netw
                     "unknown linear solver '%s' (solver.linear: cholmod, "
                     "cholmod-simplicial, umfpack or petsc)",
                     opts->linear);
-  if (share && (linear != ps_linsolve_petsc || opts->reuse_factor))
-    return ps_error(ctx, PS_ERR_INPUT, "a distributed model is solved by PETSc with a "
-                    "factor for each Newton system (solver.linear: petsc, reuse_factor: "
-                    "false)");
+  if (share && (linear != ps_linsolve_petsc || (opts->reuse_factor && opts->majorant)))
+    return ps_error(ctx, PS_ERR_INPUT, "a distributed model is solved by PETSc, with no "
+                    "majorant (solver.linear: petsc, majorant: false)");
   if ((status = check_directions(net, fixed, ctx)) != PS_OK) return status;
   ps_solver *s = ps_calloc(1, sizeof *s, ctx);
   if (!s) return PS_ERR_NOMEM;

@@ -40,8 +40,10 @@
 #     model (tests/solve_check: each rank's share solved through PETSc's
 #     MUMPS with the rows of its owned dofs, two load increments, the
 #     second past yield: owned and ghost displacements within 1e-8 of the
-#     largest of the serial CHOLMOD solution, yielding arms as serial; the
-#     small disk, the 3D tension block and the three-body plate);
+#     largest of the serial CHOLMOD solution, yielding arms as serial;
+#     then an arc-length and a dissipation-controlled step: load factor
+#     and displacements within 1e-8; the small disk, the 3D tension block
+#     and the three-body plate);
 # (f) an unknown -pc_type is a clear error (exit 2, PETSc's words) and
 #     leaves no output folder; solver.petsc_options that are not options
 #     are refused naming the file and line (exit 1).
@@ -274,9 +276,10 @@ for np in 1 2 3; do
     out=$("$MPIEXEC" -n "$np" ./tests/solve_check "$C/$cs.yaml" 2>&1)
     rc=$?
     n=$(printf '%s\n' "$out" | grep -c "^solve_check: rank [0-9]* of $np: load factor [0-9.]*: ok ")
-    if [ "$rc" -eq 0 ] && [ "$n" -eq $((2 * np)) ]; then
-      ok "$cs on $np ranks: Newton on the distributed model, displacements as the serial solution's ($(printf '%s\n' "$out" | grep 'rank 0 of.*1.1:' | sed 's/.*displacements off by \([^ ]*\) (owned).*/\1/') of the largest)"
-    else ko "$cs on $np ranks: exit $rc, $n of $((2 * np)) ok: $(printf '%s' "$out" | grep -v '^ *$' | head -4)"; fi
+    m=$(printf '%s\n' "$out" | grep -c "^solve_check: rank [0-9]* of $np: [a-z-]* step: ok ")
+    if [ "$rc" -eq 0 ] && [ "$n" -eq $((2 * np)) ] && [ "$m" -eq $((2 * np)) ]; then
+      ok "$cs on $np ranks: Newton, an arc-length and a dissipation step on the distributed model, displacements and load factors as the serial solution's ($(printf '%s\n' "$out" | grep 'rank 0 of.*1.1:' | sed 's/.*displacements off by \([^ ]*\) (owned).*/\1/') of the largest)"
+    else ko "$cs on $np ranks: exit $rc, $n and $m of $((2 * np)) ok: $(printf '%s' "$out" | grep -v ': ok ' | grep -v '^ *$' | head -4)"; fi
   done
 done
 
@@ -368,6 +371,27 @@ for pair in "block-x block-d 3 block-x.yaml block-d.yaml" "worst-x worst-d 2 wor
     if cmp -s "$T/$1.h" "$T/$2.h"; then ok "$2: history.csv (but wall_s, relative_residual) as $1's"
     else ko "$2: history.csv differs: $(diff "$T/$1.h" "$T/$2.h" | head -3)"; fi
     u_ok "$2" "$1" 1e-8
+  fi
+done
+# path following on the distributed model: 25 increments of the
+# perforated plate under arc-length control (fibre, past yield) on 3
+# ranks and of the notched plate with softening arms under dissipation
+# control (bond) on 2, fresh factors in both backends: history.csv (but
+# wall_s, relative_residual) identical as printed, displacements within
+# 1e-8
+for pair in "arc 3 perforated-plate-arclength" "soft 2 notched-plate-softening"; do
+  set -- $pair
+  sed 's/^  max_increments: .*/  max_increments: 25/' "$C/$3.yaml" > "$T/$1.yaml"
+  with_solver "$T/$1.yaml" "$T/$1-x.yaml" "  reuse_factor: false"
+  with_petsc "$T/$1.yaml" "$T/$1-d.yaml" "  reuse_factor: false"
+  if run "$1-x" 0 "$T/$1-x.yaml" && run "$1-d" "$2" "$T/$1-d.yaml"; then
+    hist "$T/$1-x/history.csv" > "$T/$1-x.h"
+    hist "$T/$1-d/history.csv" > "$T/$1-d.h"
+    if [ "$(val "$T/$1-d/summary.txt" distributed)" = yes ] &&
+       [ "$(val "$T/$1-d/summary.txt" increments)" = 25 ] && cmp -s "$T/$1-x.h" "$T/$1-d.h"; then
+      ok "$1-d: $3 on $2 distributed ranks, 25 increments, history.csv as serial CHOLMOD's"
+    else ko "$1-d: $(grep -E '^(distributed|increments):' "$T/$1-d/summary.txt" | tr '\n' ' ') $(diff "$T/$1-x.h" "$T/$1-d.h" | head -3)"; fi
+    u_ok "$1-d" "$1-x" 1e-8
   fi
 done
 # a case that asks for the distributed layout and cannot have it (the

@@ -20,8 +20,6 @@ int ps_problem_distributable(const ps_problem *pb, int ranks, int restart, char 
     no = "its arms may break by a criterion that reads more than the arm's own state "
          "(the deviatoric yield rule, the three-body model): not there yet on a distributed "
          "model";
-  else if (cs->path.control != PS_CONTROL_LOAD)
-    no = "path.control is not load (arc-length and dissipation control are not there yet)";
   else if (!type || ps_model_share_horizons(type, &pb->mat) <= 0)
     no = "its moduli correction balances weights over the whole cloud";
   else if (restart)

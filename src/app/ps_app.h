@@ -57,7 +57,7 @@ typedef struct ps_problem {
 /* Can the set-up problem pb run as a distributed model on `ranks` MPI
  * processes (restart: the run continues a checkpoint)? Today that needs
  * solver.linear petsc, arms that cannot break or break by a criterion on
- * their own state (ps_model_breaks_alike), load control, a model whose
+ * their own state (ps_model_breaks_alike), a model whose
  * constants are local, no restart and at least a particle per process
  * (a distributed run writes no checkpoints). Returns 1, or 0 with the first reason it
  * cannot in why[len] (for the progress line or the error of a case that

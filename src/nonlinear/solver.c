@@ -429,6 +429,12 @@ typedef struct step_constraint {
   int damped;
 } step_constraint;
 
+/* 1 when free dof k is this process's (counted in the constraints'
+ * sums; a share's ghost dofs are their owners') */
+static inline int own_free(const ps_solver *s, ps_int k) {
+  return !s->prob.owned_free || s->prob.owned_free[k];
+}
+
 /* arc-length: ||Du_f||^2 / U^2 + psi^2 Dlambda^2 = ds^2 */
 typedef struct arc_constraint {
   double ds, psi, lambda0;
@@ -439,7 +445,8 @@ static int arc_predict(ps_solver *s, void *data, const double *v, double *dlam, 
   const arc_constraint *c = data;
   const ps_int nf = s->prob.n_free, *dof = s->prob.dof_of_free;
   double vv = 0, p2 = c->psi * c->psi;
-  for (ps_int k = 0; k < nf; k++) vv += v[k] * v[k];
+  for (ps_int k = 0; k < nf; k++)
+    if (own_free(s, k)) vv += v[k] * v[k];
   vv = ps_comm_sum1(s->prob.comm, vv);
   if (!(s->al_scale > 0)) {
     s->al_scale = sqrt(vv);
@@ -453,7 +460,8 @@ static int arc_predict(ps_solver *s, void *data, const double *v, double *dlam, 
   *dlam = c->ds / sqrt(vv / U2 + p2);
   if (s->al_have_dir) {
     double d = 0;
-    for (ps_int k = 0; k < nf; k++) d += (s->u_saved[dof[k]] - s->u_prev[dof[k]]) * v[k];
+    for (ps_int k = 0; k < nf; k++)
+      if (own_free(s, k)) d += (s->u_saved[dof[k]] - s->u_prev[dof[k]]) * v[k];
     d = ps_comm_sum1(s->prob.comm, d);
     if (d / U2 + p2 * (c->lambda0 - s->lambda_prev) < 0) *dlam = -*dlam;
   }
@@ -470,6 +478,7 @@ static int arc_correct(ps_solver *s, void *data, const double *dr, const double 
   double dl = s->pd->lambda - c->lambda0;
   double m[6] = {0, 0, 0, 0, 0, 0};
   for (ps_int k = 0; k < nf; k++) {
+    if (!own_free(s, k)) continue;
     double Du = s->u[dof[k]] - s->u_saved[dof[k]], w = Du + dr[k];
     m[0] += v[k] * v[k];
     m[1] += w * v[k];
@@ -506,13 +515,15 @@ typedef struct dissipation_constraint {
   double tau;
 } dissipation_constraint;
 
-/* dD/dlambda along du_f = x_f, du_p = ubar_p (g of the last evaluation) */
+/* dD/dlambda along du_f = x_f, du_p = ubar_p (g of the last evaluation;
+ * on a share complete at its own dofs, which the sums count) */
 static double dissipation_rate(const ps_solver *s, const double *g, const double *x) {
   const ps_nl_problem *sys = &s->prob;
   double r = 0;
-  for (ps_int k = 0; k < sys->n_free; k++) r += g[sys->dof_of_free[k]] * x[k];
+  for (ps_int k = 0; k < sys->n_free; k++)
+    if (own_free(s, k)) r += g[sys->dof_of_free[k]] * x[k];
   for (ps_int j = 0; j < sys->n_dof; j++)
-    if (sys->fixed[j]) r += g[j] * s->ubar[j];
+    if (sys->fixed[j] && (!sys->owned || sys->owned[j])) r += g[j] * s->ubar[j];
   return ps_comm_sum1(sys->comm, r);
 }
 
@@ -523,7 +534,8 @@ static int dissipation_update(ps_solver *s, const dissipation_constraint *c, con
   const ps_int nf = s->prob.n_free, *dof = s->prob.dof_of_free;
   double G = ps_pd_dissipation(s->pd, s->al_g) - c->tau, gdr = 0;
   if (dr) {
-    for (ps_int k = 0; k < nf; k++) gdr += s->al_g[dof[k]] * dr[k];
+    for (ps_int k = 0; k < nf; k++)
+      if (own_free(s, k)) gdr += s->al_g[dof[k]] * dr[k];
     gdr = ps_comm_sum1(s->prob.comm, gdr);
   }
   double rate = dissipation_rate(s, s->al_g, v);
@@ -581,9 +593,6 @@ static int constrained_step(ps_solver *s, const step_constraint *con, void *c, c
   /* no truncated directions: past a limit point K is indefinite, where
    * CG's truncated iterate would not solve the bordered system (the
    * predictor solves to cg_tolerance, the corrector to the forcing rule) */
-  if (s->prob.owned) /* (their sums over free dofs would count ghosts) */
-    return ps_error(ctx, PS_ERR_INPUT, "arc-length and dissipation control are not there yet "
-                    "for a distributed model (doc/parallel.md)");
   int truncate = s->opts.cg_truncate;
   s->opts.cg_truncate = 0;
   s->cg_rtol = s->opts.pcg_rtol;

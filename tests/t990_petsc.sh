@@ -334,6 +334,11 @@ if run plastic-chol 0 "$T/plastic-exact.yaml"; then
   for np in 2 3; do
     run "plastic-n$np" "$np" "$T/plastic-petsc.yaml" && dist_ok "plastic-n$np" plastic-chol "$np" 0003
   done
+  # a distributed run's folder (its pieces and .pvtu files) is one of
+  # ours: a second run replaces it
+  if run plastic-n2 2 "$T/plastic-petsc.yaml"; then
+    ok "plastic-n2: a second run replaced the first one's folder of pieces"
+  fi
 fi
 # and the default, CG with the old MUMPS factor (reuse_factor), its dot
 # products over each rank's own dofs: within CG's and Newton's tolerances
@@ -394,6 +399,24 @@ for pair in "arc 3 perforated-plate-arclength" "soft 2 notched-plate-softening";
     u_ok "$1-d" "$1-x" 1e-8
   fi
 done
+# breaking judged by the arms' owners only (the three-body model: the
+# criterion reads the family's rotation), the other copies taking their
+# flags through the arms' halo: the notched three-body plate at 30 x 30
+# to fracture on 2 ranks, sigma_f, broken arms and increments as serial
+# CHOLMOD's, displacements within 1e-8
+sed -e 's/counts: \[60, 60\]/counts: [30, 30]/' \
+  -e 's/spacing: 8.333333333333333e-4/spacing: 1.6666666666666666e-3/' \
+  "$C/notched-plate-threebody.yaml" > "$T/tb.yaml"
+with_solver "$T/tb.yaml" "$T/tb-x.yaml" "  reuse_factor: false"
+with_petsc "$T/tb.yaml" "$T/tb-d.yaml" "  reuse_factor: false"
+if run tb-x 0 "$T/tb-x.yaml" && run tb-d 2 "$T/tb-d.yaml"; then
+  if [ "$(val "$T/tb-d/summary.txt" distributed)" = yes ]; then ok "tb-d: distributed over 2"
+  else ko "tb-d: not distributed"; fi
+  same_val tb-d tb-x sigma_failure_over_sigma_y
+  same_val tb-d tb-x arms_broken
+  same_val tb-d tb-x increments
+  u_ok tb-d tb-x 1e-8
+fi
 # a case that asks for the distributed layout and cannot have it (the
 # deviatoric yield rule: a ghost arm's plastic strain reads its family)
 # is refused before anything is written
@@ -401,7 +424,7 @@ sed 's/^material:/material:\n  yield_rule: deviatoric/' "$T/disk.yaml" > "$T/dis
 with_solver "$T/disk-dev.yaml" "$T/disk-dist.yaml" "  layout: distributed"
 out=$("$MPIEXEC" -n 2 $P run -q -t 1 -o "$T/dist-refused" "$T/disk-dist.yaml" 2>&1 >/dev/null)
 rc=$?
-if [ "$rc" -eq 1 ] && printf '%s' "$out" | grep -q "solver.layout: distributed, but its arms may break by a criterion" \
+if [ "$rc" -eq 1 ] && printf '%s' "$out" | grep -q "solver.layout: distributed, but the deviatoric yield rule" \
    && [ ! -d "$T/dist-refused" ]; then
   ok "solver.layout: distributed on a breaking case: exit 1, says why, no output folder"
 else ko "solver.layout: distributed on a breaking case: exit $rc, message: $out"; fi

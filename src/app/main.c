@@ -136,8 +136,7 @@ static const char *HELP_RUN =
     "solver.petsc_options and the command line (-ksp_type cg -pc_type gamg;\n"
     "default MUMPS Cholesky); mpiexec -n P peristatic run CASE.yaml runs on P\n"
     "ranks: each holds its share of the particles and arms where the case\n"
-    "allows it (solver.layout; today: breaking, if any, by each arm's own\n"
-    "state), else the\n"
+    "allows it (solver.layout; today: not the deviatoric yield rule), else the\n"
     "whole model with the matrix and its solve shared; rank 0 writes the\n"
     "results, every rank its VTK pieces (doc/parallel.md).\n";
 

@@ -56,10 +56,10 @@ typedef struct ps_problem {
 
 /* Can the set-up problem pb run as a distributed model on `ranks` MPI
  * processes (restart: the run continues a checkpoint)? Today that needs
- * solver.linear petsc, arms that cannot break or break by a criterion on
- * their own state (ps_model_breaks_alike), a model whose
- * constants are local, no restart and at least a particle per process
- * (a distributed run writes no checkpoints). Returns 1, or 0 with the first reason it
+ * solver.linear petsc, the total yield rule (ps_material.yield_rule),
+ * a model whose constants are local, no restart and
+ * at least a particle per process (a distributed run writes no
+ * checkpoints). Returns 1, or 0 with the first reason it
  * cannot in why[len] (for the progress line or the error of a case that
  * asks for solver.layout: distributed). */
 int ps_problem_distributable(const ps_problem *pb, int ranks, int restart, char *why,
@@ -76,6 +76,7 @@ typedef struct ps_problem_part {
   ps_partition pt;
   ps_share sh;
   ps_int *rows, row0;           /* ps_share_global_rows */
+  int *owner;                   /* [sh.P.n] the process of each particle */
   ps_problem local;
   ps_solver_share solver_share; /* for ps_solver_create_share */
   ps_report_piece piece;        /* for the field files */

@@ -60,6 +60,69 @@ int ps_model_breaks_alike(const ps_model_type *type, const ps_material *mat) {
   return type->break_local && mat->yield_rule == PS_YIELD_TOTAL;
 }
 
+void ps_arm_halo_free(ps_arm_halo *ah) {
+  if (!ah) return;
+  ps_halo_free(&ah->h);
+  free(ah->order);
+  free(ah->x);
+  memset(ah, 0, sizeof *ah);
+}
+
+int ps_arm_halo_create(ps_arm_halo *ah, const ps_model *m, const int *owner, ps_int n_global,
+                       const ps_comm *comm, ps_ctx *ctx) {
+  const ps_network *net = m->net;
+  const ps_int n = net->n_arm;
+  memset(ah, 0, sizeof *ah);
+  if (ps_comm_any(comm, n_global > 3000000000LL)) /* (ga n_global + gb < 2^63) */
+    return ps_error(ctx, PS_ERR_INPUT, "%lld particles: too many to name the arms of a "
+                    "distributed model", (long long)n_global);
+  ah->order = ps_calloc((size_t)n + 1, sizeof *ah->order, ctx);
+  ah->x = ps_calloc((size_t)n + 1, sizeof *ah->x, ctx);
+  ps_int *key = ps_calloc((size_t)n + 1, sizeof *key, ctx);
+  int *arm_owner = ps_calloc((size_t)n + 1, sizeof *arm_owner, ctx);
+  int status = PS_OK;
+  if (ps_comm_any(comm, !ah->order || !ah->x || !key || !arm_owner)) {
+    status = ps_error(ctx, PS_ERR_NOMEM, "out of memory for the arms' halo (here or on "
+                      "another process)");
+    goto cleanup;
+  }
+  ps_int k = 0;
+  for (int own = 1; own >= 0; own--) { /* own arms first */
+    for (ps_int i = 0; i < n; i++)
+      if (ps_model_owns_arm(m, i) == own) ah->order[k++] = i;
+    if (own) ah->n_own = k;
+  }
+  for (ps_int j = 0; j < n; j++) {
+    ps_int i = ah->order[j], a = net->a[i], b = net->b[i];
+    ps_int ga = m->global[a], gb = m->global[b];
+    if (ga > gb) {
+      ps_int t = ga;
+      ga = gb;
+      gb = t;
+      a = b; /* the lower end */
+    }
+    key[j] = ga * n_global + gb;
+    if (j >= ah->n_own) arm_owner[j - ah->n_own] = owner[a];
+  }
+  status = ps_halo_create(&ah->h, comm, n, ah->n_own, key, arm_owner, ctx);
+cleanup:
+  free(key);
+  free(arm_owner);
+  if (status < 0) ps_arm_halo_free(ah);
+  return status;
+}
+
+/* The other copies of the arms take their owners' broken flags (st's own
+ * arms are judged; collective) */
+static int broken_from_owners(const ps_model *m, ps_arm_state *st, ps_ctx *ctx) {
+  ps_arm_halo *ah = m->arm_halo;
+  const ps_int n = m->net->n_arm;
+  for (ps_int j = 0; j < ah->n_own; j++) ah->x[j] = st->broken[ah->order[j]];
+  PS_CHECK(ps_halo_exchange(&ah->h, ctx->comm, ah->x, 1, ctx));
+  for (ps_int j = ah->n_own; j < n; j++) st->broken[ah->order[j]] = ah->x[j] != 0.0;
+  return PS_OK;
+}
+
 ps_int ps_model_count_past(const ps_model *m, const ps_arm_state *st) {
   double (*excess)(const ps_model *, const ps_arm_state *, ps_int) = m->type->break_excess;
   ps_int nc = 0;
@@ -83,7 +146,7 @@ double ps_model_max_excess(const ps_model *m, const ps_arm_state *st) {
  * all, sorted again; every process then breaks its copies of the chosen
  * arms (own and ghost: the ends' numbers name them). Collective. */
 static int break_worst_shared(const ps_model *m, ps_arm_state *st, const candidate *cand,
-                              ps_int nc, ps_int max_count, ps_ctx *ctx) {
+                              ps_int nc, ps_int max_count, int alike, ps_ctx *ctx) {
   ps_int k = nc < max_count ? nc : max_count, n_all = 0;
   double *mine = ps_calloc((size_t)(3 * k) + 1, sizeof *mine, ctx), *all = NULL;
   int status = PS_OK;
@@ -112,6 +175,7 @@ static int break_worst_shared(const ps_model *m, ps_arm_state *st, const candida
   qsort(chosen, (size_t)n_chosen, sizeof *chosen, by_ends);
   for (ps_int i = 0; i < m->net->n_arm; i++) {
     if (st->broken[i]) continue;
+    if (!alike && !ps_model_owns_arm(m, i)) continue; /* (its owner's flag comes) */
     candidate key = candidate_of(m, i, 0.0);
     if (bsearch(&key, chosen, (size_t)n_chosen, sizeof *chosen, by_ends)) break_one(m, st, i);
   }
@@ -130,23 +194,25 @@ int ps_model_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
   if (!ps_material_breaks(&m->mat) || !excess) return PS_OK;
   /* the decision between all and the worst is the run's (every process
    * counts its own arms). On several processes each breaks its copies of
-   * the arms past the criterion, own and ghost alike: a ghost copy must
-   * be judged as its owner judges it, so the criterion must read the
-   * arm's own state only (ps_model_breaks_alike); the others (the
-   * deviatoric yield rule's family strains, the three-body model's
-   * rotations) wait for ghost arms' states from their owners (step 4 of
-   * doc/design-distributed.md) */
+   * the arms past the criterion, own and ghost alike, when a ghost copy
+   * is judged as its owner judges it: a criterion on the arm's own state
+   * (ps_model_breaks_alike); otherwise (the deviatoric yield rule's
+   * family strains, the three-body model's rotations, which a ghost's
+   * truncated family gets wrong) each judges its own arms and the other
+   * copies take the owners' flags (ps_model.arm_halo) */
   ps_int nc_here = ps_model_count_past(m, st), nc = ps_comm_count(ctx->comm, nc_here);
   if (nc == 0) return PS_OK;
   const int shared = ctx->comm && ctx->comm->size > 1;
-  if (shared && !ps_model_breaks_alike(m->type, &m->mat))
+  const int alike = !shared || ps_model_breaks_alike(m->type, &m->mat);
+  if (!alike && !m->arm_halo)
     return ps_error(ctx, PS_ERR_INPUT, "%lld arms reached the breaking criterion: breaking in "
-                    "a distributed model needs a criterion on each arm's own state (not the "
-                    "deviatoric yield rule, not the three-body model), not there yet "
-                    "(doc/parallel.md)", (long long)nc);
+                    "a distributed model by a criterion that reads more than the arm's own "
+                    "state needs the arms' halo (ps_model.arm_halo)", (long long)nc);
   if (max_count <= 0 || nc <= max_count) {
     for (ps_int i = 0; i < net->n_arm; i++)
-      if (!st->broken[i] && excess(m, st, i) > 0) break_one(m, st, i);
+      if (!st->broken[i] && (alike || ps_model_owns_arm(m, i)) && excess(m, st, i) > 0)
+        break_one(m, st, i);
+    if (!alike) PS_CHECK(broken_from_owners(m, st, ctx));
     *n_broken = nc;
     return PS_OK;
   }
@@ -165,10 +231,11 @@ int ps_model_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
   }
   qsort(c, (size_t)k, sizeof *c, by_excess_desc);
   int status = PS_OK;
-  if (shared)
-    status = break_worst_shared(m, st, c, k, max_count, ctx);
-  else
+  if (!shared)
     for (ps_int j = 0; j < max_count; j++) break_one(m, st, c[j].arm);
+  else
+    status = break_worst_shared(m, st, c, k, max_count, alike, ctx);
+  if (status == PS_OK && !alike) status = broken_from_owners(m, st, ctx);
   free(c);
   if (status < 0) return status;
   *n_broken = max_count;

@@ -323,7 +323,31 @@ struct ps_model {
                                         over the processes are named by
                                         their ends' numbers); NULL: its
                                         own (one process) */
+  struct ps_arm_halo *arm_halo;      /* a share's arms' broken flags from
+                                        their owners (criteria not judged
+                                        alike, ps_model_breaks_alike);
+                                        NULL: none. Not owned by the model */
 };
+
+/* The arms of a share as the items of a halo (ps_halo): its own arms
+ * first, then the others, each named by its ends' numbers in the whole
+ * model (ga < gb: ga n_global + gb) and asked of the process owning its
+ * lower end, which owns the arm (ps_share). Breaking sends the owners'
+ * broken flags to the other copies through it. */
+typedef struct ps_arm_halo {
+  ps_halo h;
+  ps_int *order; /* [n_arm] the local arm at each position */
+  ps_int n_own;
+  double *x;     /* [n_arm] the flags exchanged, by position */
+} ps_arm_halo;
+
+/* The arm halo of model m (own_arm and global set) on the processes of
+ * comm: owner[n_particle] the process of each local particle, n_global
+ * the whole model's particles. Collective. PS_OK, PS_ERR_INPUT (the
+ * halo's, or more than 3e9 particles), PS_ERR_NOMEM (*ah then empty). */
+int ps_arm_halo_create(ps_arm_halo *ah, const ps_model *m, const int *owner, ps_int n_global,
+                       const ps_comm *comm, ps_ctx *ctx);
+void ps_arm_halo_free(ps_arm_halo *ah);
 
 /* 1 when arm i (particle a) is this process's: its energy and counts are
  * the process's share (ps_model.own_arm, own_particle) */
@@ -373,10 +397,12 @@ ps_int ps_model_count_past(const ps_model *m, const ps_arm_state *st);
  * breaking them all fails); adds their energy (of the arms m owns) to
  * st->broken_energy. On several processes (ctx->comm) every count and
  * choice is the run's and each process marks its copies, own and ghost
- * (collective; m->global names the arms). One mechanism for every model
- * (model/breaking.c). Returns PS_OK, PS_ERR_INPUT (several processes
- * and !ps_model_breaks_alike) or PS_ERR_NOMEM (then no arm is marked and
- * *n_broken = 0). */
+ * (collective; m->global names the arms; where !ps_model_breaks_alike
+ * each process judges its own arms and m->arm_halo brings the owners'
+ * flags to the other copies). One mechanism for every model
+ * (model/breaking.c). Returns PS_OK, PS_ERR_INPUT (several processes,
+ * !ps_model_breaks_alike and no arm halo) or PS_ERR_NOMEM (then no arm
+ * is marked and *n_broken = 0). */
 int ps_model_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
                         ps_int *n_broken, ps_ctx *ctx);
 
@@ -384,7 +410,9 @@ int ps_model_break_arms(const ps_model *m, ps_arm_state *st, ps_int max_count,
  * criterion reads the arm's own state (ps_model_type.break_local) and
  * the yield rule is total (the deviatoric rule's plastic strains read
  * the family's mean strain, which a ghost's truncated family gets
- * wrong). A distributed model breaks arms only then. */
+ * wrong). Otherwise a distributed model's arms are judged by their
+ * owners only, and the other copies take the owners' flags
+ * (ps_model.arm_halo). */
 int ps_model_breaks_alike(const ps_model_type *type, const ps_material *mat);
 
 /* The largest break_excess over the intact arms of st that m owns (-1

@@ -97,11 +97,12 @@ void ps_pd_free(ps_pd *pd) {
   free(pd->arm_state_at_factor);
   free(pd->owned_dof);
   free(pd->owned_free);
+  ps_arm_halo_free(&pd->arm_halo);
   free(pd);
 }
 
 int ps_pd_set_share(ps_pd *pd, const unsigned char *own_arm, const unsigned char *own_particle,
-                    const ps_int *global, ps_ctx *ctx) {
+                    const ps_int *global, const int *owner, ps_int n_global, ps_ctx *ctx) {
   int d = pd->net->dim;
   pd->model.own_arm = own_arm;
   pd->model.own_particle = own_particle;
@@ -114,6 +115,14 @@ int ps_pd_set_share(ps_pd *pd, const unsigned char *own_arm, const unsigned char
   for (ps_int j = 0; j < pd->sys.n_dof; j++) pd->owned_dof[j] = own_particle[j / d];
   for (ps_int k = 0; k < pd->sys.n_free; k++)
     pd->owned_free[k] = pd->owned_dof[pd->sys.dof_of_free[k]];
+  /* (the same on every process: one material) */
+  if (pd->comm && pd->comm->size > 1 && global && owner && ps_material_breaks(&pd->model.mat) &&
+      !ps_model_breaks_alike(pd->model.type, &pd->model.mat)) {
+    ps_arm_halo_free(&pd->arm_halo);
+    pd->model.arm_halo = NULL;
+    PS_CHECK(ps_arm_halo_create(&pd->arm_halo, &pd->model, owner, n_global, pd->comm, ctx));
+    pd->model.arm_halo = &pd->arm_halo;
+  }
   return PS_OK;
 }
 

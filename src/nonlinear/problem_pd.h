@@ -37,6 +37,8 @@ typedef struct ps_pd {
   unsigned char *owned_free;  /* [n_free] owned_dof of each free dof */
   unsigned char *owned_dof;   /* [n_dof] a share's owned dofs
                                  (ps_pd_set_share; NULL: all) */
+  ps_arm_halo arm_halo;       /* a share's, where its arms are judged by
+                                 their owners (model.arm_halo points here) */
 } ps_pd;
 
 /* Create the problem: the model of `type` on the network, the system's
@@ -54,9 +56,13 @@ void ps_pd_free(ps_pd *pd);
  * energy and counts (ps_model), and only the owned particles' dofs in the
  * solver's norms (ps_nl_problem.owned); global (borrowed, NULL on one
  * process) gives each particle's number in the whole model, which names
- * the arms breaking chooses over the processes. PS_OK or PS_ERR_NOMEM. */
+ * the arms breaking chooses over the processes; owner (borrowed) the
+ * process of each particle and n_global the whole model's particles,
+ * for the arms' halo of a material whose arms only their owners judge
+ * (ps_model_breaks_alike; collective then). PS_OK, PS_ERR_INPUT or
+ * PS_ERR_NOMEM. */
 int ps_pd_set_share(ps_pd *pd, const unsigned char *own_arm, const unsigned char *own_particle,
-                    const ps_int *global, ps_ctx *ctx);
+                    const ps_int *global, const int *owner, ps_int n_global, ps_ctx *ctx);
 
 /* The problem's ps_nl_problem (data = pd). */
 ps_nl_problem ps_pd_problem(ps_pd *pd);

@@ -86,6 +86,9 @@ typedef struct ps_solver_share {
                                model (ps_share.global; borrowed): names
                                the arms breaking chooses over the
                                processes (NULL: no breaking on several) */
+  const int *owner;         /* [P.n] the process owning each particle
+                               (borrowed): the arms' halo of criteria that
+                               only an arm's owner judges (NULL: none) */
 } ps_solver_share;
 
 /* ps_solver_create on a share of a distributed model (share NULL: the

@@ -186,7 +186,7 @@ int ps_solver_create_share(ps_solver **out, const ps_particles *P, const ps_netw
                              opts->reuse_factor && opts->matrix_free, ctx));
   if (share) {
     PS_CHECK_GOTO(ps_pd_set_share(s->pd, share->own_arm, share->own_particle, share->global,
-                                  ctx));
+                                  share->owner, share->n_global / P->dim, ctx));
   }
   s->prob = ps_pd_problem(s->pd);
   if ((status = create_linear(s, P, ctx)) < 0) goto cleanup; /* traced */

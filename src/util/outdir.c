@@ -59,6 +59,18 @@ static int numbered(const char *s, const char *prefix, const char *suffix) {
   return d == n - x;
 }
 
+/* 1 when s is prefix, digits, "_p", digits, ".vtu": a distributed run's
+ * piece of a field file (particles_0010_p1.vtu) */
+static int piece(const char *s, const char *prefix) {
+  size_t p = strlen(prefix), d = p;
+  if (strncmp(s, prefix, p)) return 0;
+  while (s[d] >= '0' && s[d] <= '9') d++;
+  if (d == p || strncmp(s + d, "_p", 2)) return 0;
+  size_t r = d += 2;
+  while (s[d] >= '0' && s[d] <= '9') d++;
+  return d > r && !strcmp(s + d, ".vtu");
+}
+
 /* 1 when name is a file peristatic writes into an output folder (a run's
  * or a sweep's; with ".tmp" appended while it is being written) */
 static int our_file(const char *name, int tmp_ok) {
@@ -67,15 +79,18 @@ static int our_file(const char *name, int tmp_ok) {
                                       "griffith.png",   "griffith_fit.txt", "path.gp",
                                       "path.png",       "particles.pvd", "arms.pvd",
                                       "checkpoint.bin", NULL};
-  /* NAME_N.SUFFIX; .vtk: the legacy field files of earlier versions */
+  /* NAME_N.SUFFIX; .vtk: the legacy field files of earlier versions;
+   * .pvtu: a distributed run's, which joins its pieces */
   static const char *const numbered_names[][2] = {
       {"particles_", ".vtu"}, {"arms_", ".vtu"}, {"particles_", ".vtk"},
-      {"arms_", ".vtk"},      {"job-", ".log"}};
+      {"arms_", ".vtk"},      {"job-", ".log"}, {"particles_", ".pvtu"},
+      {"arms_", ".pvtu"}};
   size_t n = strlen(name);
   for (int i = 0; fixed[i]; i++)
     if (!strcmp(name, fixed[i])) return 1;
   for (size_t i = 0; i < sizeof numbered_names / sizeof numbered_names[0]; i++)
     if (numbered(name, numbered_names[i][0], numbered_names[i][1])) return 1;
+  if (piece(name, "particles_") || piece(name, "arms_")) return 1;
   if (tmp_ok && n > 4 && !strcmp(name + n - 4, ".tmp")) {
     char base[256];
     if (n - 4 >= sizeof base) return 0;

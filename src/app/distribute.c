@@ -5,7 +5,6 @@
  * own dofs give PETSc, and its boundary conditions and named groups. */
 #include "ps_app.h"
 
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 

@@ -23,20 +23,19 @@ typedef struct {
   ps_int arm, ga, gb;
 } candidate;
 
-/* the larger excess first; ties by the arm's ends in the whole model,
- * i.e. by its number there (the order qsort, which is not stable, must
- * not choose, and the same on every process) */
-static int by_excess_desc(const void *u, const void *v) {
-  const candidate *cu = u, *cv = v;
-  if (cu->excess != cv->excess) return cu->excess > cv->excess ? -1 : 1;
-  if (cu->ga != cv->ga) return (cu->ga > cv->ga) - (cu->ga < cv->ga);
-  return (cu->gb > cv->gb) - (cu->gb < cv->gb);
-}
-
+/* by the arm's ends in the whole model, i.e. by its number there */
 static int by_ends(const void *u, const void *v) {
   const candidate *cu = u, *cv = v;
   if (cu->ga != cv->ga) return (cu->ga > cv->ga) - (cu->ga < cv->ga);
   return (cu->gb > cv->gb) - (cu->gb < cv->gb);
+}
+
+/* the larger excess first; ties by_ends (the order qsort, which is not
+ * stable, must not choose, and the same on every process) */
+static int by_excess_desc(const void *u, const void *v) {
+  const candidate *cu = u, *cv = v;
+  if (cu->excess != cv->excess) return cu->excess > cv->excess ? -1 : 1;
+  return by_ends(u, v);
 }
 
 /* arm i as a candidate with excess e */
@@ -93,16 +92,11 @@ int ps_arm_halo_create(ps_arm_halo *ah, const ps_model *m, const int *owner, ps_
     if (own) ah->n_own = k;
   }
   for (ps_int j = 0; j < n; j++) {
-    ps_int i = ah->order[j], a = net->a[i], b = net->b[i];
-    ps_int ga = m->global[a], gb = m->global[b];
-    if (ga > gb) {
-      ps_int t = ga;
-      ga = gb;
-      gb = t;
-      a = b; /* the lower end */
-    }
-    key[j] = ga * n_global + gb;
-    if (j >= ah->n_own) arm_owner[j - ah->n_own] = owner[a];
+    ps_int i = ah->order[j];
+    candidate c = candidate_of(m, i, 0.0);
+    key[j] = c.ga * n_global + c.gb;
+    if (j >= ah->n_own) /* (asked of the owner of the lower end) */
+      arm_owner[j - ah->n_own] = owner[m->global[net->a[i]] == c.ga ? net->a[i] : net->b[i]];
   }
   status = ps_halo_create(&ah->h, comm, n, ah->n_own, key, arm_owner, ctx);
 cleanup:

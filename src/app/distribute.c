@@ -15,10 +15,6 @@ int ps_problem_distributable(const ps_problem *pb, int ranks, int restart, char 
   const char *no = NULL;
   if (strcmp(cs->solver.linear, "petsc") != 0)
     no = "solver.linear is not petsc";
-  else if (pb->mat.yield_rule == PS_YIELD_DEVIATORIC)
-    no = "the deviatoric yield rule's plastic strains read the family's mean strain, which "
-         "a ghost's truncated family gets wrong (ghost arms' states from their owners: not "
-         "there yet)";
   else if (!type || ps_model_share_horizons(type, &pb->mat) <= 0)
     no = "its moduli correction balances weights over the whole cloud";
   else if (restart)

@@ -448,6 +448,59 @@ if [ "$rc" -eq 1 ] && printf '%s' "$out" | grep -q "solver.layout: distributed, 
   ok "solver.layout: distributed with the moduli correction: exit 1, says why, no output folder"
 else ko "solver.layout: distributed with the moduli correction: exit $rc, message: $out"; fi
 
+# checkpoints of the distributed model: each rank writes its share's
+# state (checkpoint_pR.bin, its kept factor matrix among it); the
+# restart-disk of t915 (yielding and breaking arms) on 2 ranks, stopped
+# at 13 increments and restarted in place, then stopped again and
+# restarted into another folder, gives the uninterrupted 2-rank run's
+# history.csv (but wall_s), particles.csv, summary.txt's counts and VTK
+# files (pieces, .pvtu, .pvd) to the byte; a restart on 3 ranks is
+# refused (exit 1, nothing written), as is one process's restart of it
+R="$srcdir/tests/data/restart"
+{ cat "$R/disk.yaml"; echo 'solver: {linear: petsc}'; } > "$T/rd.yaml"
+sed 's/max_load: 3.0}/max_load: 3.0, max_increments: 13}/' "$T/rd.yaml" > "$T/rd-cut.yaml"
+same_run() { # A B WHAT: B's outputs are A's (but the wall times)
+  bad=""
+  drop_columns "$T/$1/history.csv" wall_s > "$T/$1.hw"
+  drop_columns "$T/$2/history.csv" wall_s > "$T/$2.hw"
+  cmp -s "$T/$1.hw" "$T/$2.hw" || bad="$bad history.csv"
+  cmp -s "$T/$1/particles.csv" "$T/$2/particles.csv" || bad="$bad particles.csv"
+  grep -v '_s:\|_MiB:' "$T/$1/summary.txt" > "$T/$1.sw"
+  grep -v '_s:\|_MiB:' "$T/$2/summary.txt" > "$T/$2.sw"
+  cmp -s "$T/$1.sw" "$T/$2.sw" || bad="$bad summary.txt"
+  nf=0
+  for f in "$T/$1"/*.vtu "$T/$1"/*.pvtu "$T/$1"/*.pvd; do
+    nf=$((nf + 1))
+    cmp -s "$f" "$T/$2/${f##*/}" || bad="$bad ${f##*/}"
+  done
+  if [ -z "$bad" ] && [ "$nf" -gt 6 ] && [ -f "$T/$2/checkpoint_p1.bin" ]; then
+    ok "$3: history.csv (but wall_s), particles.csv, summary.txt's counts and $nf VTK files as the uninterrupted run's"
+  else ko "$3: differs from the uninterrupted run in$bad ($nf VTK files)"; fi
+}
+if run rd-full 2 "$T/rd.yaml" && run rd-cut 2 "$T/rd-cut.yaml"; then
+  if [ "$(($(wc -l < "$T/rd-cut/history.csv") - 1))" -eq 13 ] &&
+     [ -f "$T/rd-cut/checkpoint_p0.bin" ] && [ -f "$T/rd-cut/checkpoint_p1.bin" ] &&
+     [ ! -e "$T/rd-cut/checkpoint.bin" ]; then
+    ok "rd-cut: 13 increments, a checkpoint per rank"
+  else ko "rd-cut: $(ls "$T/rd-cut" | grep checkpoint | tr '\n' ' ')"; fi
+  out=$("$MPIEXEC" -n 3 $P run -q -t 1 --restart "$T/rd-cut" -o "$T/rd-3" "$T/rd.yaml" 2>&1 >/dev/null)
+  rc=$?
+  if [ "$rc" -eq 1 ] && printf '%s' "$out" | grep -q "checkpoint_p0.bin is the checkpoint of process 0 of a distributed run on 2" \
+     && [ ! -d "$T/rd-3" ]; then
+    ok "a restart of a 2-rank checkpoint on 3 ranks: exit 1, says why, nothing written"
+  else ko "a restart on 3 ranks: exit $rc, message: $out"; fi
+  expect 1 "has no checkpoint.bin but checkpoint_p0.bin" -- run -q -t 1 --restart "$T/rd-cut" \
+    -o "$T/rd-1" "$T/rd.yaml"
+  if run rd-cut 2 "$T/rd.yaml" --restart "$T/rd-cut"; then
+    same_run rd-full rd-cut "2 ranks stopped at 13 increments, restarted in place"
+  fi
+  # the cut run again over the restarted one's folder (its checkpoint
+  # pieces are ours), then restarted into another folder
+  if run rd-cut 2 "$T/rd-cut.yaml" && run rd-other 2 "$T/rd.yaml" --restart "$T/rd-cut"; then
+    same_run rd-full rd-other "2 ranks stopped at 13, restarted into another folder"
+  fi
+fi
+
 # (f) bad PETSc options
 out=$("$MPIEXEC" -n 2 $P run -q -t 1 -o "$T/badrows" -peristatic_rows diagonal "$T/edge.yaml" 2>&1 >/dev/null)
 rc=$?

@@ -291,7 +291,7 @@ static int layout(peristatic *ps, ps_problem *pb, int info) {
   const int ranks = ps_parallel_size(), want = pb->cs.solver.layout;
   char why[200];
   if (info || ranks < 2 || want == PS_LAYOUT_REPLICATED) return PS_OK;
-  if (!ps_problem_distributable(pb, ranks, ps->restart[0] != 0, why, sizeof why)) {
+  if (!ps_problem_distributable(pb, ranks, why, sizeof why)) {
     if (want == PS_LAYOUT_DISTRIBUTED)
       return ps_error(ps->ctx, PS_ERR_INPUT, "%s: solver.layout: distributed, but %s (or "
                       "solver.layout: replicated)", pb->cs.file, why);

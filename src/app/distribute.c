@@ -8,8 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-int ps_problem_distributable(const ps_problem *pb, int ranks, int restart, char *why,
-                             size_t len) {
+int ps_problem_distributable(const ps_problem *pb, int ranks, char *why, size_t len) {
   const ps_case *cs = &pb->cs;
   const ps_model_type *type = ps_model_type_find(cs->model);
   const char *no = NULL;
@@ -17,8 +16,6 @@ int ps_problem_distributable(const ps_problem *pb, int ranks, int restart, char 
     no = "solver.linear is not petsc";
   else if (!type || ps_model_share_horizons(type, &pb->mat) <= 0)
     no = "its moduli correction balances weights over the whole cloud";
-  else if (restart)
-    no = "a restart needs the whole model (not there yet)";
   else if (pb->P.n < ranks)
     no = "it has fewer particles than processes";
   if (why) snprintf(why, len, "%s", no ? no : "");
@@ -123,6 +120,8 @@ int ps_problem_part_create(ps_problem_part *pa, const ps_problem *pb, const ps_c
   lp->group_bc = pb->group_bc;
   lp->threads = pb->threads;
   lp->t_network = pb->t_network;
+  lp->checkpoint = pb->checkpoint; /* each process its share's checkpoint */
+  lp->restart = pb->restart;
   pa->solver_share = (ps_solver_share){.own_arm = pa->sh.own_arm,
                                        .own_particle = pa->sh.own_particle,
                                        .global_row = pa->rows,

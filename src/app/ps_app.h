@@ -55,15 +55,12 @@ typedef struct ps_problem {
 } ps_problem;
 
 /* Can the set-up problem pb run as a distributed model on `ranks` MPI
- * processes (restart: the run continues a checkpoint)? Today that needs
- * solver.linear petsc, the total yield rule (ps_material.yield_rule),
- * a model whose constants are local, no restart and
- * at least a particle per process (a distributed run writes no
- * checkpoints). Returns 1, or 0 with the first reason it
+ * processes? Today that needs solver.linear petsc, a model whose
+ * constants are local (not the fibre/state moduli correction) and at
+ * least a particle per process. Returns 1, or 0 with the first reason it
  * cannot in why[len] (for the progress line or the error of a case that
  * asks for solver.layout: distributed). */
-int ps_problem_distributable(const ps_problem *pb, int ranks, int restart, char *why,
-                             size_t len);
+int ps_problem_distributable(const ps_problem *pb, int ranks, char *why, size_t len);
 
 /* A process's part of a distributed problem: the partition (space-filling
  * curve, ps_partition_curve), its share (ps_problem_share), the rows of
@@ -168,7 +165,9 @@ int ps_run(ps_problem *pb, double delta, const char *out_dir,
  * increment) and its VTK files of steps up to k are kept, the rest is
  * dropped, and the run goes on as the uninterrupted run would have:
  * history.csv and particles.csv are the same to the last bit (but the
- * wall column). */
+ * wall column). A distributed run (pb->comm) writes and reads one
+ * checkpoint per process (checkpoint_pR.bin: its share's state), to be
+ * restarted on as many processes. */
 
 /* ps_run without the lock, for a caller whose lock covers out_dir (the
  * sweep's runs, in folders inside the sweep's). */

@@ -99,16 +99,26 @@ static int history_open(run_state *r, ps_ctx *ctx) {
   return status;
 }
 
-/* the step of a field file of ours (particles_NNNN.vtu, arms_NNNN.vtu),
- * or -1 */
-static long vtu_step(const char *name) {
+/* the step of a field file of ours (particles_NNNN.vtu, arms_NNNN.vtu;
+ * a distributed run's pieces particles_NNNN_pR.vtu and the
+ * particles_NNNN.pvtu that joins them), or -1; *listed = 1 for the file
+ * the .pvd series lists (.vtu of one process, .pvtu of several) */
+static long vtu_step(const char *name, int *listed) {
   const char *p = !strncmp(name, "particles_", 10) ? name + 10
                   : !strncmp(name, "arms_", 5)      ? name + 5
                                                     : NULL;
   char *end = NULL;
+  *listed = 0;
   if (!p || *p < '0' || *p > '9') return -1;
   long step = strtol(p, &end, 10);
-  return end && !strcmp(end, ".vtu") ? step : -1;
+  if (!end) return -1;
+  if (!strcmp(end, ".vtu") || !strcmp(end, ".pvtu")) {
+    *listed = 1;
+    return step;
+  }
+  if (strncmp(end, "_p", 2) != 0 || end[2] < '0' || end[2] > '9') return -1;
+  strtol(end + 2, &end, 10);
+  return !strcmp(end, ".vtu") ? step : -1;
 }
 
 static int step_order(const void *a, const void *b) {
@@ -155,8 +165,10 @@ static int restart_fields(run_state *r, int in_place, ps_ctx *ctx) {
   struct dirent *e;
   int status = PS_OK;
   if (!d) return ps_error(ctx, PS_ERR_IO, "%s: cannot list: %s", r->from, strerror(errno));
+  r->series.pvtu = r->comm != NULL;
   while (status == PS_OK && (e = readdir(d))) {
-    long step = vtu_step(e->d_name);
+    int listed;
+    long step = vtu_step(e->d_name, &listed);
     if (step < 0) continue;
     snprintf(src, sizeof src, "%s/%s", r->from, e->d_name);
     snprintf(dst, sizeof dst, "%s/%s", r->staging, e->d_name);
@@ -164,7 +176,8 @@ static int restart_fields(run_state *r, int in_place, ps_ctx *ctx) {
       status = ps_error(ctx, PS_ERR_IO, "%s: cannot remove: %s", src, strerror(errno));
     else if (!in_place && keeps_fields(r, step))
       status = copy_file(src, dst, ctx);
-    if (status == PS_OK && keeps_fields(r, step) && !strncmp(e->d_name, "particles_", 10)) {
+    if (status == PS_OK && keeps_fields(r, step) && listed &&
+        !strncmp(e->d_name, "particles_", 10)) {
       if (n_kept == cap) {
         void *q = kept;
         cap = cap ? 2 * cap : 16;
@@ -350,7 +363,9 @@ static ps_checkpoint_head checkpoint_head(const run_state *r, int64_t increment)
                           .dofs = nd,
                           .free_dofs = nfree,
                           .increment = increment,
-                          .wall = ps_wtime() - r->t0};
+                          .wall = ps_wtime() - r->t0,
+                          .processes = r->comm ? r->comm->size : 0,
+                          .rank = r->comm ? r->comm->rank : 0};
   ps_case_restart_part_fingerprints(&pb->cs, h.parts);
   return h;
 }
@@ -371,8 +386,10 @@ static int write_checkpoint(run_state *r, ps_path *p, ps_ctx *ctx) {
   ps_checkpoint_head h = checkpoint_head(r, p->increments);
   PS_CHECK_GOTO(ps_checkpoint_write(r->staging, &h, which, A, &l, ctx));
   r->last_checkpoint = p->increments;
-  ps_log(ctx, 2, "# checkpoint at increment %lld: %s/%s\n", (long long)p->increments,
-         r->staging, PS_CHECKPOINT_FILE);
+  char name[64];
+  ps_checkpoint_name(h.processes, h.rank, name, sizeof name);
+  ps_log(ctx, 2, "# checkpoint at increment %lld: %s/%s%s\n", (long long)p->increments,
+         r->staging, name, r->comm ? " (and the other processes')" : "");
 cleanup:
   ps_state_list_free(&l);
   return status;
@@ -548,7 +565,7 @@ static void log_start(const run_state *r, double delta, const ps_ctx *ctx) {
          breaking, st.threads, st.threads > 1 ? "s" : "");
   if (r->comm)
     ps_log(ctx, 1, "# distributed over %d processes (solver.layout): %lld particles and "
-                   "%lld ghosts here, no checkpoints\n",
+                   "%lld ghosts here\n",
            r->comm->size, (long long)r->part.sh.n_owned,
            (long long)(r->part.sh.P.n - r->part.sh.n_owned));
   ps_log(ctx, 1, "# %4s %9s %10s %6s %9s %8s %7s %6s\n", "step", "lambda", "sig/sig_y",
@@ -607,25 +624,52 @@ static int restart_rows(run_state *r, ps_ctx *ctx) {
   }
   if (status == PS_OK && n < k)
     status = ps_error(ctx, PS_ERR_INPUT, "%s has %lld complete rows, fewer than the %lld "
-                      "increments of its checkpoint %s/%s: restart from the checkpoint's own "
-                      "folder", path, (long long)(n < 0 ? 0 : n), (long long)k, r->from,
-                      PS_CHECKPOINT_FILE);
+                      "increments of its checkpoint %s: restart from the checkpoint's own "
+                      "folder", path, (long long)(n < 0 ? 0 : n), (long long)k, r->ck.path);
   return status;
 }
 
 /* The checkpoint of pb->restart (DIR.partial's when it has one, else
- * DIR's), checked against this run, and its history rows. Nothing is
- * changed on disk. Returns PS_OK or fatal. */
+ * DIR's), checked against this run, and its history rows; in a
+ * distributed run each process's own checkpoint_pR.bin, all from the
+ * same folder and of the same increment. Nothing is changed on disk.
+ * Returns PS_OK or fatal (collective: a failure on one process fails
+ * all). */
 static int load_restart(run_state *r, ps_ctx *ctx) {
   const char *dir = r->pb->restart;
-  char path[1400];
+  char path[1400], name[64];
+  const int processes = r->comm ? r->comm->size : 0, rank = r->comm ? r->comm->rank : 0;
+  ps_checkpoint_name(processes, rank, name, sizeof name);
   snprintf(r->from, sizeof r->from, "%s.partial", dir);
-  if (!has_file(r->from, PS_CHECKPOINT_FILE)) snprintf(r->from, sizeof r->from, "%s", dir);
-  snprintf(path, sizeof path, "%s/%s", r->from, PS_CHECKPOINT_FILE);
-  PS_CHECK(ps_checkpoint_read(path, &r->ck, ctx));
+  int partial = has_file(r->from, name), status = PS_OK;
+  ps_int in_partial = ps_comm_count(r->comm, partial);
+  if (in_partial > 0 && in_partial < (r->comm ? r->comm->size : 1))
+    return ps_error(ctx, PS_ERR_INPUT, "%s.partial holds the checkpoints of %lld of the %d "
+                    "processes: restart with the run's number of processes", dir,
+                    (long long)in_partial, r->comm->size);
+  if (!partial) snprintf(r->from, sizeof r->from, "%s", dir);
+  snprintf(path, sizeof path, "%s/%s", r->from, name);
+  status = ps_checkpoint_read(path, &r->ck, ctx);
+  if (status == PS_ERR_INPUT && !has_file(r->from, name)) { /* another layout's? */
+    char other[64];
+    ps_checkpoint_name(processes ? 0 : 1, 0, other, sizeof other);
+    if (has_file(r->from, other))
+      status = ps_error(ctx, PS_ERR_INPUT, "%s has no %s but %s: the checkpoint of a run %s; "
+                        "restart it %s", r->from, name, other,
+                        processes ? "that held the whole model" : "distributed over several "
+                        "processes", processes ? "with solver.layout: replicated or on one "
+                        "process" : "with mpiexec -n P, P its processes");
+  }
   ps_checkpoint_head want = checkpoint_head(r, 0);
-  PS_CHECK(ps_checkpoint_check(&r->ck, &want, r->pb->cs.file, ctx));
-  PS_CHECK(restart_rows(r, ctx));
+  if (status >= 0) status = ps_checkpoint_check(&r->ck, &want, r->pb->cs.file, ctx);
+  if (status >= 0) status = restart_rows(r, ctx);
+  PS_CHECK(agree(r, status, ctx));
+  double inc[2] = {(double)r->ck.head.increment, -(double)r->ck.head.increment};
+  ps_comm_max(r->comm, inc, 2);
+  if (inc[0] != -inc[1])
+    return ps_error(ctx, PS_ERR_INPUT, "the checkpoints of %s's processes are of different "
+                    "increments (%.0f to %.0f: a run stopped while writing them); run the "
+                    "case afresh", r->from, -inc[1], inc[0]);
   r->restarting = 1;
   r->last_checkpoint = r->ck.head.increment;
   r->t0 -= r->ck.head.wall; /* the wall column goes on from the checkpoint's */
@@ -664,7 +708,7 @@ static int run_case(ps_problem *pb, double delta, const char *out_dir, ps_run_re
   PS_CHECK_GOTO(agree(&r, status, ctx));
   if (pb->restart) PS_CHECK_GOTO(load_restart(&r, ctx));
   PS_CHECK_GOTO(create_solver(&r, ctx));
-  if ((r.pb->checkpoint && out_dir) || r.restarting) /* (a part's: none) */
+  if ((r.pb->checkpoint && out_dir) || r.restarting) /* (a part: its share's) */
     PS_CHECK_GOTO(ps_solver_keep_factors(r.s, ctx));
   if (ps_comm_any(r.comm, ps_signal_received() != 0)) { /* before the first increment:
                                                            nothing to keep */

@@ -39,7 +39,7 @@ static void put_body(writer *w, const ps_checkpoint_head *hd, int which, const p
   put_u32(w, PS_CHECKPOINT_FORMAT);
   put_u32(w, PS_BYTE_ORDER);
   put_u32(w, (uint32_t)hd->algorithm);
-  put_u32(w, 0);
+  put_u32(w, (uint32_t)hd->processes);
   put_u64(w, hd->fingerprint);
   for (int k = 0; k < PS_RESTART_PARTS; k++) put_u64(w, hd->parts[k]);
   put_f64(w, hd->delta);
@@ -51,7 +51,7 @@ static void put_body(writer *w, const ps_checkpoint_head *hd, int which, const p
   put_f64(w, hd->wall);
   int64_t n = A ? A->n : 0, nz = A ? A->p[A->n] : 0;
   put_i32(w, A ? which : 0);
-  put_i32(w, 0);
+  put_i32(w, hd->rank);
   put_i64(w, n);
   put_i64(w, nz);
   if (A) {
@@ -79,10 +79,18 @@ static void sync_dir(const char *dir) {
   close(fd);
 }
 
+void ps_checkpoint_name(int processes, int rank, char *buf, size_t len) {
+  if (processes > 0)
+    snprintf(buf, len, "checkpoint_p%d.bin", rank);
+  else
+    snprintf(buf, len, "%s", PS_CHECKPOINT_FILE);
+}
+
 int ps_checkpoint_write(const char *dir, const ps_checkpoint_head *head, int which,
                         const ps_csc *A, const ps_state_list *l, ps_ctx *ctx) {
-  char path[1200];
-  snprintf(path, sizeof path, "%s/%s", dir, PS_CHECKPOINT_FILE);
+  char path[1200], name[64];
+  ps_checkpoint_name(head->processes, head->rank, name, sizeof name);
+  snprintf(path, sizeof path, "%s/%s", dir, name);
   ps_outfile o;
   PS_CHECK(ps_outfile_open(&o, path, ctx));
   writer w = {o.f, PS_FNV_START, 0};
@@ -230,7 +238,7 @@ int ps_checkpoint_read(const char *path, ps_checkpoint *ck, ps_ctx *ctx) {
   r.size = ck->size - sizeof stored;
   ps_checkpoint_head *hd = &ck->head;
   hd->algorithm = (int)get_u32(&r);
-  (void)get_u32(&r);
+  hd->processes = (int)get_u32(&r);
   hd->fingerprint = get_u64(&r);
   for (int k = 0; k < PS_RESTART_PARTS; k++) hd->parts[k] = get_u64(&r);
   hd->delta = get_f64(&r);
@@ -241,7 +249,7 @@ int ps_checkpoint_read(const char *path, ps_checkpoint *ck, ps_ctx *ctx) {
   hd->increment = get_i64(&r);
   hd->wall = get_f64(&r);
   ck->which = get_i32(&r);
-  (void)get_i32(&r);
+  hd->rank = get_i32(&r);
   int64_t n = get_i64(&r), nz = get_i64(&r);
   size_t left = r.size - r.at;
   if (r.short_read || n < 0 || nz < 0 || (size_t)n >= left / 8 || (size_t)nz > left / 16) {
@@ -319,6 +327,21 @@ int ps_checkpoint_check(const ps_checkpoint *ck, const ps_checkpoint_head *want,
                     ck->path, n ? parts : "geometry, material, loading, solver or path",
                     case_file, (unsigned long long)h->fingerprint, case_file,
                     (unsigned long long)want->fingerprint, case_file);
+  }
+  if (h->processes != want->processes || h->rank != want->rank) {
+    char had[64], has[64];
+    if (h->processes > 0)
+      snprintf(had, sizeof had, "process %d of a distributed run on %d", h->rank,
+               h->processes);
+    else
+      snprintf(had, sizeof had, "a run holding the whole model");
+    if (want->processes > 0)
+      snprintf(has, sizeof has, "is distributed over %d processes", want->processes);
+    else
+      snprintf(has, sizeof has, "holds the whole model");
+    return ps_error(ctx, PS_ERR_INPUT, "%s is the checkpoint of %s, and this run %s: restart "
+                    "it with as many processes and the same solver.layout", ck->path, had,
+                    has);
   }
   const char *what = NULL;
   long long a = 0, b = 0;

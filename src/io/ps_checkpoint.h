@@ -10,12 +10,14 @@
  * another):
  *   "PSCHKPT\n"                       magic (8 bytes)
  *   u32 format version (PS_CHECKPOINT_FORMAT), u32 0x01020304 (byte
- *   order), u32 algorithm version, u32 0
+ *   order), u32 algorithm version, u32 processes of a distributed run
+ *   (0: one process, the whole model)
  *   u64 restart fingerprint (ps_case_restart_fingerprint), u64 those of
  *   its PS_RESTART_PARTS parts (ps_case_restart_part_fingerprints)
  *   f64 delta, i64 particles, arms, dofs, free dofs
  *   i64 increment, f64 wall seconds of the run up to it
- *   i32 factor (0 none, 1..4: ps_solver_factor_matrix), i32 0,
+ *   i32 factor (0 none, 1..4: ps_solver_factor_matrix), i32 rank (the
+ *   process of a distributed run whose share it holds; 0 for one),
  *   i64 order n, i64 nonzeros nz, i64 p[n + 1], i64 i[nz], f64 x[nz]
  *   i64 number of items, then per item: u32 name length, the name, u64
  *   bytes, the bytes
@@ -28,7 +30,9 @@
 
 #include "ps_io.h"
 
-/* the file's name inside a run's output folder */
+/* the file's name inside a run's output folder: one process's; a
+ * distributed run writes one file per process, checkpoint_pR.bin for
+ * rank R (ps_checkpoint_name) */
 #define PS_CHECKPOINT_FILE "checkpoint.bin"
 /* the version of the layout above */
 #define PS_CHECKPOINT_FORMAT 1
@@ -42,12 +46,22 @@ typedef struct ps_checkpoint_head {
   int64_t particles, arms, dofs, free_dofs;
   int64_t increment;       /* the increments done (history.csv's rows) */
   double wall;             /* wall seconds of the run up to it */
+  int processes;           /* a distributed run's processes, each of which
+                              writes its share's state (0: one process,
+                              the whole model) */
+  int rank;                /* the process whose share it holds (0) */
 } ps_checkpoint_head;
 
-/* Write dir/checkpoint.bin atomically (checkpoint.bin.tmp, fsync, renamed,
- * the folder synced): head, the factor matrix A (which = its number, 0
- * and A NULL for none) and the bytes of every item of l. Returns PS_OK or
- * PS_ERR_IO (nothing replaced). */
+/* The file name of the checkpoint of process `rank` of a distributed run
+ * on `processes` (checkpoint_pR.bin), or of a one-process run
+ * (processes 0: PS_CHECKPOINT_FILE), into buf[len]. */
+void ps_checkpoint_name(int processes, int rank, char *buf, size_t len);
+
+/* Write dir/checkpoint.bin (the name of head's processes and rank:
+ * ps_checkpoint_name) atomically (NAME.tmp, fsync, renamed, the folder
+ * synced): head, the factor matrix A (which = its number, 0 and A NULL
+ * for none) and the bytes of every item of l. Returns PS_OK or PS_ERR_IO
+ * (nothing replaced). */
 int ps_checkpoint_write(const char *dir, const ps_checkpoint_head *head, int which,
                         const ps_csc *A, const ps_state_list *l, ps_ctx *ctx);
 
@@ -70,7 +84,8 @@ typedef struct ps_checkpoint {
 int ps_checkpoint_read(const char *path, ps_checkpoint *ck, ps_ctx *ctx);
 
 /* Compare ck's head with want's (algorithm version, fingerprint, delta,
- * sizes; not increment and wall). Returns PS_OK, or PS_ERR_INPUT with a
+ * processes and rank, sizes; not increment and wall). Returns PS_OK, or
+ * PS_ERR_INPUT with a
  * message that names the file (and case) and says what differs. */
 int ps_checkpoint_check(const ps_checkpoint *ck, const ps_checkpoint_head *want,
                         const char *case_file, ps_ctx *ctx);

@@ -104,7 +104,7 @@ static void world_alltoallv(void *data, const void *send, const int *scount,
                             const int *sdispl, void *recv, const int *rcount,
                             const int *rdispl) {
   (void)data;
-  MPI_Alltoallv(send, scount, sdispl, MPI_BYTE, recv, rcount, rdispl, MPI_BYTE,
+  (void)MPI_Alltoallv(send, scount, sdispl, MPI_BYTE, recv, rcount, rdispl, MPI_BYTE,
                 PETSC_COMM_WORLD);
 }
 

@@ -80,11 +80,12 @@ static int our_file(const char *name, int tmp_ok) {
                                       "path.png",       "particles.pvd", "arms.pvd",
                                       "checkpoint.bin", NULL};
   /* NAME_N.SUFFIX; .vtk: the legacy field files of earlier versions;
-   * .pvtu: a distributed run's, which joins its pieces */
+   * .pvtu: a distributed run's, which joins its pieces;
+   * checkpoint_pR.bin: a distributed run's process R's checkpoint */
   static const char *const numbered_names[][2] = {
       {"particles_", ".vtu"}, {"arms_", ".vtu"}, {"particles_", ".vtk"},
       {"arms_", ".vtk"},      {"job-", ".log"}, {"particles_", ".pvtu"},
-      {"arms_", ".pvtu"}};
+      {"arms_", ".pvtu"}, {"checkpoint_p", ".bin"}};
   size_t n = strlen(name);
   for (int i = 0; fixed[i]; i++)
     if (!strcmp(name, fixed[i])) return 1;

@@ -224,7 +224,9 @@ void ps_state_list_free(ps_state_list *l);
  * (the marker, summary.txt, history.csv, particles.csv, particles_N.vtu,
  * arms_N.vtu, particles.pvd, arms.pvd, particles_N.vtk and arms_N.vtk of
  * earlier versions, griffith.csv/.gp/.png, path.gp/.png,
- * checkpoint.bin, griffith_fit.txt, job-N.log, any of
+ * checkpoint.bin, and a distributed run's particles_N_pR.vtu,
+ * arms_N_pR.vtu, particles_N.pvtu, arms_N.pvtu and checkpoint_pR.bin,
+ * griffith_fit.txt, job-N.log, any of
  * these + ".tmp", and a sweep's delta_cN folders, with .partial or .old,
  * holding such files, and delta_cN.claim). Anything else (another folder,
  * a file, a symbolic link, a folder of ours holding a file of someone

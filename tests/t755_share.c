@@ -21,10 +21,14 @@
  * The ghosts a share needs (ps_model_share_horizons) are checked too:
  * with one horizon less, the forces at owned dofs are off (by more than
  * 1e-9 of the largest, for 5 parts).
- * Cases: the small disk (fibre, total and deviatoric readings; a crack),
+ * With the fibre and state moduli correction, whose weights balance over
+ * the whole cloud, each share takes the whole model's constants
+ * (ps_model_share_constants) and (a)-(d) hold as well.
+ * Cases: the small disk (fibre, total and deviatoric readings, and with
+ * the moduli correction; a crack),
  * the notched PMB (bond, no surface correction: one horizon), the edge
  * crack (bond with the surface correction: two), the notched state plate
- * (two) and three-body plate (partial volumes and the surface correction:
+ * (two; with the moduli correction too) and three-body plate (partial volumes and the surface correction:
  * three), the 3D tension block (fibre, two). */
 #include "check.h"
 #include "common.h"
@@ -50,13 +54,14 @@ typedef struct result {
 } result;
 
 static ps_pd *evaluate(const ps_particles *P, const ps_network *net, const ps_model_type *type,
-                       const ps_material *mat, const unsigned char *own_arm,
-                       const unsigned char *own_particle, const double *u, const double *x,
-                       result *r, ps_ctx *ctx) {
+                       const ps_material *mat, const ps_model_given *given,
+                       const unsigned char *own_arm, const unsigned char *own_particle,
+                       const double *u, const double *x, result *r, ps_ctx *ctx) {
   ps_int nd = P->n * P->dim;
   unsigned char *fixed = calloc((size_t)nd, 1);
   ps_pd *pd;
-  if (ps_pd_create(&pd, P, net, type, mat, fixed, 0, 0, ctx)) die_ctx("ps_pd_create", ctx);
+  if (ps_pd_create_given(&pd, P, net, type, mat, given, fixed, 0, 0, ctx))
+    die_ctx("ps_pd_create", ctx);
   free(fixed);
   pd->model.own_arm = own_arm;
   pd->model.own_particle = own_particle;
@@ -91,7 +96,7 @@ typedef struct share_sum {
 
 static share_sum shares(const ps_particles *P, const ps_problem *pb, const ps_model_type *type,
                         double reach, int parts, const double *u, const double *x,
-                        const result *whole, ps_ctx *ctx) {
+                        const result *whole, const ps_model *whole_model, ps_ctx *ctx) {
   const int d = P->dim;
   share_sum r = {0};
   ps_partition pt;
@@ -107,9 +112,17 @@ static share_sum shares(const ps_particles *P, const ps_problem *pb, const ps_mo
         ul[a * d + k] = u[sh.global[a] * d + k];
         xl[a * d + k] = x[sh.global[a] * d + k];
       }
+    /* constants that read the whole cloud: the whole model's */
+    double *gk = NULL, *gs = NULL;
+    if (ps_model_whole_constants(type, &pb->mat) &&
+        ps_model_share_constants(whole_model, &sh.net, sh.global, &gk, &gs, ctx))
+      die_ctx("ps_model_share_constants", ctx);
+    ps_model_given given = {gk, gs};
     result loc;
-    ps_pd *pdl = evaluate(&sh.P, &sh.net, type, &pb->mat, sh.own_arm, sh.own_particle, ul, xl,
-                          &loc, ctx);
+    ps_pd *pdl = evaluate(&sh.P, &sh.net, type, &pb->mat, gk || gs ? &given : NULL,
+                          sh.own_arm, sh.own_particle, ul, xl, &loc, ctx);
+    free(gk);
+    free(gs);
     for (ps_int a = 0; a < sh.n_owned; a++)
       for (int k = 0; k < d; k++) {
         ps_int g = sh.global[a] * d + k;
@@ -175,7 +188,7 @@ static void check_case(const char *name, const char *extra, double strain, int w
       x[a * d + k] = 2 * gsl_rng_uniform(rng) - 1;
     }
   result whole;
-  ps_pd *pdw = evaluate(P, &pb.net, type, &pb.mat, NULL, NULL, u, x, &whole, &ctx);
+  ps_pd *pdw = evaluate(P, &pb.net, type, &pb.mat, NULL, NULL, NULL, u, x, &whole, &ctx);
   double fmax_ = 0, kmax = 0;
   for (ps_int j = 0; j < nd; j++) {
     fmax_ = fmax(fmax_, fabs(whole.f[j]));
@@ -188,7 +201,7 @@ static void check_case(const char *name, const char *extra, double strain, int w
   const int parts_list[] = {1, 2, 3, 5};
   for (size_t t = 0; t < sizeof parts_list / sizeof *parts_list; t++) {
     share_sum r = shares(P, &pb, type, h * pb.kernel.alpha * hmax, parts_list[t], u, x, &whole,
-                         &ctx);
+                         &pdw->model, &ctx);
     int parts = parts_list[t];
     if (parts == 1 || parts == 5)
       printf("  %s (%s), %d parts: forces %.1e, K x %.1e of the largest; energy %.1e, "
@@ -212,7 +225,8 @@ static void check_case(const char *name, const char *extra, double strain, int w
              (long long)whole.past, (long long)pb.net.n_arm);
   }
   if (h > 1) { /* one horizon less: the ghosts matter */
-    share_sum r = shares(P, &pb, type, (h - 1) * pb.kernel.alpha * hmax, 5, u, x, &whole, &ctx);
+    share_sum r = shares(P, &pb, type, (h - 1) * pb.kernel.alpha * hmax, 5, u, x, &whole,
+                         &pdw->model, &ctx);
     ps_check(r.df > 1e-9 * fmax_, "%s (%s), 5 parts, ghosts out to %d horizons only: forces "
              "off by %.1e of the largest", name, m, h - 1, r.df / fmax_);
   }
@@ -234,11 +248,18 @@ int main(void) {
   check_case("notched-plate-threebody", NULL, 0.002, 3);
   check_case("tension-block-3d", NULL, 0.004, 2);
   /* the moduli correction of the fibre and state models balances its
-   * weights over the whole cloud: no reach is local */
+   * weights over the whole cloud: no reach is local, a share takes the
+   * whole model's (ps_model_share_constants) */
+  check_case("small-disk", "surface_correction: true", 0.004, 2);
+  check_case("notched-plate-state", "surface_correction: true", 0.002, 2);
   ps_material mat = tc_material(0.3, PS_PLANE_STRAIN);
+  ps_check(!ps_model_whole_constants(ps_model_fibre, &mat) &&
+               !ps_model_whole_constants(ps_model_bond, &mat),
+           "fibre and bond without the correction: constants local");
   mat.surface_correction = 1;
-  ps_check(ps_model_share_horizons(ps_model_fibre, &mat) == 0 &&
-               ps_model_share_horizons(ps_model_state, &mat) == 0,
-           "fibre and state with the moduli correction: not local (0 horizons)");
+  ps_check(ps_model_whole_constants(ps_model_fibre, &mat) &&
+               ps_model_whole_constants(ps_model_state, &mat) &&
+               !ps_model_whole_constants(ps_model_bond, &mat),
+           "fibre and state with the moduli correction: constants from the whole (not bond)");
   return ps_check_summary();
 }

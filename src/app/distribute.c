@@ -14,8 +14,8 @@ int ps_problem_distributable(const ps_problem *pb, int ranks, char *why, size_t 
   const char *no = NULL;
   if (strcmp(cs->solver.linear, "petsc") != 0)
     no = "solver.linear is not petsc";
-  else if (!type || ps_model_share_horizons(type, &pb->mat) <= 0)
-    no = "its moduli correction balances weights over the whole cloud";
+  else if (!type)
+    no = "its model is unknown";
   else if (pb->P.n < ranks)
     no = "it has fewer particles than processes";
   if (why) snprintf(why, len, "%s", no ? no : "");
@@ -32,6 +32,8 @@ void ps_problem_part_free(ps_problem_part *pa) {
   free(pa->local.group_particle);
   free(pa->rows);
   free(pa->owner);
+  free(pa->given_k);
+  free(pa->given_side);
   ps_share_free(&pa->sh);
   ps_partition_free(&pa->pt);
   memset(pa, 0, sizeof *pa);
@@ -85,6 +87,29 @@ static int local_loading(ps_problem_part *pa, const ps_problem *pb, ps_ctx *ctx)
   return PS_OK;
 }
 
+/* The whole model's constants for the share's arms where they read the
+ * whole cloud (ps_model_whole_constants: the fibre and state moduli
+ * correction) into pa->given: the whole network and model built here,
+ * on every process alike, and freed once the share's constants are
+ * taken from them. */
+static int whole_constants(ps_problem_part *pa, const ps_problem *pb, ps_ctx *ctx) {
+  const ps_model_type *type = ps_model_type_find(pb->cs.model);
+  if (!type || !ps_model_whole_constants(type, &pb->mat)) return PS_OK;
+  ps_network net;
+  ps_model whole;
+  memset(&net, 0, sizeof net);
+  memset(&whole, 0, sizeof whole);
+  int status = ps_network_build(&net, &pb->P, &pb->kernel, pb->cracks, pb->n_cracks, ctx);
+  if (status == PS_OK) status = ps_model_create(&whole, type, &pb->P, &net, &pb->mat, ctx);
+  if (status == PS_OK)
+    status = ps_model_share_constants(&whole, &pa->sh.net, pa->sh.global, &pa->given_k,
+                                      &pa->given_side, ctx);
+  ps_model_free(&whole);
+  ps_network_free(&net);
+  pa->given = (ps_model_given){pa->given_k, pa->given_side};
+  return status;
+}
+
 int ps_problem_part_create(ps_problem_part *pa, const ps_problem *pb, const ps_comm *comm,
                            ps_ctx *ctx) {
   int status = PS_OK;
@@ -95,6 +120,7 @@ int ps_problem_part_create(ps_problem_part *pa, const ps_problem *pb, const ps_c
   if (status == PS_OK)
     status = ps_share_global_rows(&pa->sh, &pa->pt, d, &pa->rows, &pa->row0, ctx);
   if (status == PS_OK) status = local_loading(pa, pb, ctx);
+  if (status == PS_OK) status = whole_constants(pa, pb, ctx);
   if (status == PS_OK && !(pa->owner = ps_calloc((size_t)pa->sh.P.n + 1, sizeof *pa->owner, ctx)))
     status = PS_ERR_NOMEM;
   for (ps_int a = 0; status == PS_OK && a < pa->sh.P.n; a++)
@@ -129,7 +155,9 @@ int ps_problem_part_create(ps_problem_part *pa, const ps_problem *pb, const ps_c
                                        .row0 = pa->row0,
                                        .n_rows = pa->sh.n_owned * d,
                                        .global = pa->sh.global,
-                                       .owner = pa->owner};
+                                       .owner = pa->owner,
+                                       .given = pa->given_side || pa->given_k ? &pa->given
+                                                                              : NULL};
   pa->piece = (ps_report_piece){comm, pa->sh.n_owned, pa->sh.global, pa->sh.own_arm};
   ps_int own = 0;
   for (ps_int i = 0; i < pa->sh.net.n_arm; i++) own += pa->sh.own_arm[i];

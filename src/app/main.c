@@ -137,9 +137,9 @@ static const char *HELP_RUN =
     "solver.petsc_options and the command line (-ksp_type cg -pc_type gamg;\n"
     "default MUMPS Cholesky); mpiexec -n P peristatic run CASE.yaml runs on P\n"
     "ranks: each holds its share of the particles and arms where the case\n"
-    "allows it (solver.layout; not with the fibre/state moduli correction),\n"
-    "else the whole model with the matrix and its solve shared; rank 0 writes\n"
-    "the results, every rank its VTK pieces (doc/parallel.md).\n";
+    "allows it (solver.layout: auto, the default, or distributed), else the\n"
+    "whole model with the matrix and its solve shared; rank 0 writes the\n"
+    "results, every rank its VTK pieces and checkpoint (doc/parallel.md).\n";
 
 static const char *HELP_GRIFFITH =
     "peristatic griffith [-o DIR] [-q|-v] [--resume] [-j N] [-t N] [--max-memory GIB]\n"

@@ -55,9 +55,8 @@ typedef struct ps_problem {
 } ps_problem;
 
 /* Can the set-up problem pb run as a distributed model on `ranks` MPI
- * processes? Today that needs solver.linear petsc, a model whose
- * constants are local (not the fibre/state moduli correction) and at
- * least a particle per process. Returns 1, or 0 with the first reason it
+ * processes? Today that needs solver.linear petsc and at least a
+ * particle per process. Returns 1, or 0 with the first reason it
  * cannot in why[len] (for the progress line or the error of a case that
  * asks for solver.layout: distributed). */
 int ps_problem_distributable(const ps_problem *pb, int ranks, char *why, size_t len);
@@ -79,6 +78,10 @@ typedef struct ps_problem_part {
   ps_report_piece piece;        /* for the field files */
   ps_int arms;                  /* the whole model's arms (the sum of the
                                    processes' own) */
+  double *given_k, *given_side; /* the whole model's constants for the
+                                   share's arms (ps_model_whole_constants;
+                                   NULL: none) */
+  ps_model_given given;         /* them, for solver_share */
 } ps_problem_part;
 
 /* This process's part of pb (set up by ps_problem_setup_cloud) on the
@@ -92,9 +95,7 @@ void ps_problem_part_free(ps_problem_part *pa);
 /* The share of part `part` of pt (ps_share, doc/design-distributed.md)
  * of the set-up problem pb: ghosts out to ps_model_share_horizons of
  * its model (at least two with output.j_integral), the network with pb's
- * kernel and cracks. PS_OK,
- * PS_ERR_INPUT (a model whose constants are not local: the fibre and
- * state moduli correction), PS_ERR_NOMEM. */
+ * kernel and cracks. PS_OK, PS_ERR_INPUT (the network's), PS_ERR_NOMEM. */
 int ps_problem_share(const ps_problem *pb, const ps_partition *pt, int part, ps_share *sh,
                      ps_ctx *ctx);
 

@@ -14,11 +14,7 @@ int ps_problem_share(const ps_problem *pb, const ps_partition *pt, int part, ps_
   int h = ps_model_share_horizons(ps_model_type_find(pb->cs.model), &pb->mat);
   /* J's displacement gradients at the ghost ends of the arms across its
    * contours need those ghosts' whole families: two horizons */
-  if (h > 0 && h < 2 && pb->cs.output.n_j_rings > 0) h = 2;
-  if (h <= 0)
-    return ps_error(ctx, PS_ERR_INPUT, "%s: the %s model's moduli correction "
-                    "(material.surface_correction) balances its weights over the whole cloud: "
-                    "it cannot be distributed", pb->cs.file, pb->cs.model);
+  if (h < 2 && pb->cs.output.n_j_rings > 0) h = 2;
   double hmax = 0;
   for (ps_int a = 0; a < pb->P.n; a++) hmax = fmax(hmax, pb->P.h[a]);
   return ps_share_build(sh, &pb->P, pt, part, h * pb->kernel.alpha * hmax, &pb->kernel,

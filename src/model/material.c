@@ -232,19 +232,58 @@ double ps_model_cloud_reach(const ps_model_type *type, const ps_material *mat,
   return e > 0 && !mat->full_volumes ? delta + e * dx_max * (1 - 1e-9) : delta * (1 + 1e-9);
 }
 
+int ps_model_whole_constants(const ps_model_type *type, const ps_material *mat) {
+  return ps_moduli_correction_on(mat) && (type == ps_model_fibre || type == ps_model_state);
+}
+
 int ps_model_share_horizons(const ps_model_type *type, const ps_material *mat) {
-  if (ps_moduli_correction_on(mat) && (type == ps_model_fibre || type == ps_model_state))
-    return 0;
   int h = 1;
   if (type->family_coupling || type->rotations) h++;
   if ((type == ps_model_bond || type == ps_model_threebody) && mat->surface_correction) h++;
   return h;
 }
 
+int ps_model_share_constants(const ps_model *whole, const ps_network *net,
+                             const ps_int *global, double **arm_k, double **arm_side,
+                             ps_ctx *ctx) {
+  const ps_network *wn = whole->net;
+  const ps_int na = net->n_arm, wa = wn->n_arm;
+  *arm_k = *arm_side = NULL;
+  if (whole->arm_k && !(*arm_k = ps_calloc((size_t)na + 1, sizeof **arm_k, ctx)))
+    return PS_ERR_NOMEM;
+  if (whole->arm_side && !(*arm_side = ps_calloc((size_t)(2 * na) + 1, sizeof **arm_side, ctx)))
+    return PS_ERR_NOMEM;
+  for (ps_int i = 0; i < na; i++) {
+    ps_int ga = global[net->a[i]], gb = global[net->b[i]], j = -1;
+    for (ps_int k = wn->fam_ptr[ga]; k < wn->fam_ptr[ga + 1] && j < 0; k++) {
+      ps_int w = wn->fam_arm[k];
+      if ((wn->a[w] == ga && wn->b[w] == gb) || (wn->a[w] == gb && wn->b[w] == ga)) j = w;
+    }
+    if (j < 0)
+      return ps_error(ctx, PS_ERR_INTERNAL, "ps_model_share_constants: the arm of particles "
+                      "%lld and %lld is not in the whole network", (long long)ga,
+                      (long long)gb);
+    if (*arm_k) (*arm_k)[i] = whole->arm_k[j];
+    if (*arm_side) { /* sides in the share's orientation */
+      int same = wn->a[j] == ga;
+      (*arm_side)[i] = whole->arm_side[same ? j : wa + j];
+      (*arm_side)[na + i] = whole->arm_side[same ? wa + j : j];
+    }
+  }
+  return PS_OK;
+}
+
 int ps_model_create(ps_model *m, const ps_model_type *type,
                     const ps_particles *P, const ps_network *net,
                     const ps_material *mat, ps_ctx *ctx) {
+  return ps_model_create_given(m, type, P, net, mat, NULL, ctx);
+}
+
+int ps_model_create_given(ps_model *m, const ps_model_type *type, const ps_particles *P,
+                          const ps_network *net, const ps_material *mat,
+                          const ps_model_given *given, ps_ctx *ctx) {
   memset(m, 0, sizeof *m);
+  m->given = given;
   m->type = type;
   m->net = net;
   m->mat = *mat;
@@ -254,12 +293,10 @@ int ps_model_create(ps_model *m, const ps_model_type *type,
     ps_model_free(m);
     return PS_ERR_NOMEM;
   }
-  if (type->prepare) {
-    int status = type->prepare(m, P, ctx);
-    if (status < 0) ps_model_free(m);
-    return status;
-  }
-  return PS_OK;
+  int status = type->prepare ? type->prepare(m, P, ctx) : PS_OK;
+  m->given = NULL; /* (copied: not kept) */
+  if (status < 0) ps_model_free(m);
+  return status;
 }
 
 void ps_model_set_team(ps_model *m, ps_team *team, int parts) {

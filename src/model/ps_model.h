@@ -327,7 +327,21 @@ struct ps_model {
                                         their owners (criteria not judged
                                         alike, ps_model_breaks_alike);
                                         NULL: none. Not owned by the model */
+  const struct ps_model_given *given;/* constants prepare takes instead of
+                                        computing them (ps_model_create_given);
+                                        NULL: computed */
 };
+
+/* Per-arm constants a model takes from outside instead of computing them
+ * in its prepare: on a share of a distributed model, the whole model's
+ * where they read the whole cloud (ps_model_whole_constants), mapped to
+ * the share's arms by ps_model_share_constants. Arrays over the share's
+ * arms, borrowed (they must outlive the model's prepare only: it copies
+ * them). */
+typedef struct ps_model_given {
+  const double *arm_k;    /* [n_arm] the state model's arm_k, else NULL */
+  const double *arm_side; /* [2 n_arm] the fibre and state models' arm_side */
+} ps_model_given;
 
 /* The arms of a share as the items of a halo (ps_halo): its own arms
  * first, then the others, each named by its ends' numbers in the whole
@@ -521,11 +535,29 @@ const ps_model_type *ps_model_type_find(const char *name);
  * rows to be the whole model's: 1 for the arms of an owned particle, one
  * more for the family terms of its neighbours (family_coupling or
  * rotations), one more where an arm's constants read the families of its
- * ends (the bond and three-body surface correction). 0 where no number of
- * horizons will do: the fibre and state moduli correction balances its
- * weights over the whole cloud (ps_moduli_balance). tests/t755_share
- * checks each value and that one horizon less is not enough. */
+ * ends (the bond and three-body surface correction). The constants of
+ * ps_model_whole_constants are given to a share, not computed there.
+ * tests/t755_share checks each value and that one horizon less is not
+ * enough. */
 int ps_model_share_horizons(const ps_model_type *type, const ps_material *mat);
+
+/* 1 when the model's per-arm constants read the whole cloud, so that no
+ * number of horizons of ghosts gives a share the whole model's: the fibre
+ * and state moduli correction balances its weights over it
+ * (ps_moduli_balance); a share takes them from the whole model
+ * (ps_model_share_constants, ps_model_create_given). Else 0. */
+int ps_model_whole_constants(const ps_model_type *type, const ps_material *mat);
+
+/* The constants of the whole model `whole` (prepared on the whole
+ * network) for the arms of a share's network `net`, whose particle k is
+ * particle global[k] of the whole: *arm_k[net->n_arm] (NULL when whole
+ * has none) and *arm_side[2 net->n_arm] (NULL likewise), an arm's sides
+ * in the share's orientation; allocated here, the caller frees them.
+ * Returns PS_OK, PS_ERR_INTERNAL (a share arm the whole network lacks),
+ * PS_ERR_NOMEM. */
+int ps_model_share_constants(const ps_model *whole, const ps_network *net,
+                             const ps_int *global, double **arm_k, double **arm_side,
+                             ps_ctx *ctx);
 
 /* The reach of a lattice model's arms, in spacings, for a horizon of
  * horizon_factor spacings: m + e with m = horizon_factor, e =
@@ -551,6 +583,12 @@ double ps_model_cloud_reach(const ps_model_type *type, const ps_material *mat,
 int ps_model_create(ps_model *m, const ps_model_type *type,
                     const ps_particles *P, const ps_network *net,
                     const ps_material *mat, ps_ctx *ctx);
+/* ps_model_create with the constants of `given` taken instead of
+ * computed (NULL: ps_model_create), where the model computes them
+ * (ps_model_whole_constants). Same returns. */
+int ps_model_create_given(ps_model *m, const ps_model_type *type, const ps_particles *P,
+                          const ps_network *net, const ps_material *mat,
+                          const ps_model_given *given, ps_ctx *ctx);
 void ps_model_free(ps_model *m);
 
 #endif

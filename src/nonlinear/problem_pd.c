@@ -129,6 +129,13 @@ int ps_pd_set_share(ps_pd *pd, const unsigned char *own_arm, const unsigned char
 int ps_pd_create(ps_pd **out, const ps_particles *P, const ps_network *net,
                  const ps_model_type *type, const ps_material *mat,
                  const unsigned char *fixed, int majorant, int matrix_free, ps_ctx *ctx) {
+  return ps_pd_create_given(out, P, net, type, mat, NULL, fixed, majorant, matrix_free, ctx);
+}
+
+int ps_pd_create_given(ps_pd **out, const ps_particles *P, const ps_network *net,
+                       const ps_model_type *type, const ps_material *mat,
+                       const ps_model_given *given, const unsigned char *fixed, int majorant,
+                       int matrix_free, ps_ctx *ctx) {
   int status = PS_OK;
   *out = NULL;
   ps_pd *pd = ps_calloc(1, sizeof *pd, ctx);
@@ -138,7 +145,7 @@ int ps_pd_create(ps_pd **out, const ps_particles *P, const ps_network *net,
   pd->matrix_free = matrix_free;
   pd->comm = ctx->comm;
   pd->dissipation_valid = 1; /* dissipation_step 0 before any evaluation */
-  PS_CHECK_GOTO(ps_model_create(&pd->model, type, P, net, mat, ctx));
+  PS_CHECK_GOTO(ps_model_create_given(&pd->model, type, P, net, mat, given, ctx));
   PS_CHECK_GOTO(ps_system_create_pattern(&pd->sys, net, fixed, type->family_coupling, ctx));
   PS_CHECK_GOTO(ps_arm_state_alloc(&pd->st, net->n_arm, ctx));
   PS_CHECK_GOTO(ps_arm_state_alloc(&pd->st_saved, net->n_arm, ctx));

@@ -49,6 +49,12 @@ typedef struct ps_pd {
 int ps_pd_create(ps_pd **out, const ps_particles *P, const ps_network *net,
                  const ps_model_type *type, const ps_material *mat,
                  const unsigned char *fixed, int majorant, int matrix_free, ps_ctx *ctx);
+/* ps_pd_create with the model's constants given (ps_model_create_given;
+ * NULL: ps_pd_create). */
+int ps_pd_create_given(ps_pd **out, const ps_particles *P, const ps_network *net,
+                       const ps_model_type *type, const ps_material *mat,
+                       const ps_model_given *given, const unsigned char *fixed, int majorant,
+                       int matrix_free, ps_ctx *ctx);
 void ps_pd_free(ps_pd *pd);
 
 /* Make pd a share of a distributed problem (ps_share): only the arms and

@@ -89,6 +89,10 @@ typedef struct ps_solver_share {
   const int *owner;         /* [P.n] the process owning each particle
                                (borrowed): the arms' halo of criteria that
                                only an arm's owner judges (NULL: none) */
+  const ps_model_given *given; /* the whole model's constants for the
+                               share's arms where they read the whole
+                               cloud (ps_model_whole_constants; borrowed,
+                               read at creation), else NULL */
 } ps_solver_share;
 
 /* ps_solver_create on a share of a distributed model (share NULL: the
@@ -102,9 +106,9 @@ typedef struct ps_solver_share {
  * free dofs (its ghost entries of the preconditioned residual, and so of
  * its directions, are their owners', the residual's are not used).
  * External forces (ps_solver_set_forces) are the share's: only those at
- * owned dofs do work. Not yet on a share: arc-length and dissipation
- * control and breaking (PS_ERR_INPUT), and the reuse of factors as CG's
- * preconditioners (refused here). */
+ * owned dofs do work. Every step controller and breaking work on a share
+ * as on the whole (their sums over the own dofs and arms, breaking
+ * decided over the processes: doc/parallel.md). */
 int ps_solver_create_share(ps_solver **s, const ps_particles *P, const ps_network *net,
                            const ps_model_type *type, const ps_material *mat,
                            const unsigned char *fixed, const double *ubar,

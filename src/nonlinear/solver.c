@@ -181,9 +181,9 @@ int ps_solver_create_share(ps_solver **out, const ps_particles *P, const ps_netw
   /* the tangent is kept as data and applied matrix-free where CG uses it
    * (opts.reuse_factor) and opts.matrix_free; a majorant where CG uses it
    * and the model has family terms */
-  PS_CHECK_GOTO(ps_pd_create(&s->pd, P, net, type, mat, fixed,
-                             opts->majorant && opts->reuse_factor,
-                             opts->reuse_factor && opts->matrix_free, ctx));
+  PS_CHECK_GOTO(ps_pd_create_given(&s->pd, P, net, type, mat, share ? share->given : NULL,
+                                   fixed, opts->majorant && opts->reuse_factor,
+                                   opts->reuse_factor && opts->matrix_free, ctx));
   if (share) {
     PS_CHECK_GOTO(ps_pd_set_share(s->pd, share->own_arm, share->own_particle, share->global,
                                   share->owner, share->n_global / P->dim, ctx));

@@ -326,6 +326,8 @@ dist_ok() { # NAME REF NP STEP
     ok "$1: history.csv (but wall_s, relative_residual) as the serial run's"
   else ko "$1: history.csv differs: $(diff "$T/$2.h" "$T/$1.h" | head -3)"; fi
   u_ok "$1" "$2" 1e-8
+  # the whole tangent's size, counted over the shares' owned rows
+  same_val "$1" "$2" nnz_tangent_upper
   n=$(ls "$T/$1" | grep -c "^particles_$4_p[0-9]*\.vtu$")
   np=$(pieces "$1" particles "$4") na=$(pieces "$1" arms "$4")
   want_n=$(val "$T/$2/summary.txt" particles) want_a=$(val "$T/$2/summary.txt" arms)

@@ -101,6 +101,25 @@ void ps_pd_free(ps_pd *pd) {
   free(pd);
 }
 
+/* the whole free tangent's upper-triangle nonzeros from the shares'
+ * patterns: each share counts the entries of its owned rows in both
+ * triangles (an owned row of a share is the whole one's), the diagonal
+ * once; summed over the processes that is 2 off-diagonal + diagonal, and
+ * the upper triangle is (that + diagonal) / 2. Collective. */
+static double whole_nnz(const ps_pd *pd) {
+  const ps_csc *A = &pd->sys.A;
+  const unsigned char *own = pd->owned_free;
+  double c[2] = {0, 0}; /* owned rows' entries, owned diagonal entries */
+  for (ps_int j = 0; A->p && j < pd->sys.n_free; j++)
+    for (ps_int k = A->p[j]; k < A->p[j + 1]; k++) {
+      ps_int i = A->i[k];
+      c[0] += i == j ? own[j] : own[i] + own[j];
+      c[1] += i == j && own[j];
+    }
+  ps_comm_sum(pd->comm, c, 2);
+  return 0.5 * (c[0] + c[1]);
+}
+
 int ps_pd_set_share(ps_pd *pd, const unsigned char *own_arm, const unsigned char *own_particle,
                     const ps_int *global, const int *owner, ps_int n_global, ps_ctx *ctx) {
   int d = pd->net->dim;
@@ -115,6 +134,7 @@ int ps_pd_set_share(ps_pd *pd, const unsigned char *own_arm, const unsigned char
   for (ps_int j = 0; j < pd->sys.n_dof; j++) pd->owned_dof[j] = own_particle[j / d];
   for (ps_int k = 0; k < pd->sys.n_free; k++)
     pd->owned_free[k] = pd->owned_dof[pd->sys.dof_of_free[k]];
+  pd->nnz_whole = whole_nnz(pd);
   /* (the same on every process: one material) */
   if (pd->comm && pd->comm->size > 1 && global && owner && ps_material_breaks(&pd->model.mat) &&
       !ps_model_breaks_alike(pd->model.type, &pd->model.mat)) {
@@ -227,5 +247,6 @@ ps_int ps_pd_count_yielding(const ps_pd *pd) {
 }
 
 double ps_pd_nnz_tangent(const ps_pd *pd) {
+  if (pd->owned_free) return pd->nnz_whole;
   return pd->sys.A.p ? (double)pd->sys.A.p[pd->sys.n_free] : 0.0;
 }

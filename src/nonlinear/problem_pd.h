@@ -37,6 +37,8 @@ typedef struct ps_pd {
   unsigned char *owned_free;  /* [n_free] owned_dof of each free dof */
   unsigned char *owned_dof;   /* [n_dof] a share's owned dofs
                                  (ps_pd_set_share; NULL: all) */
+  double nnz_whole;           /* a share's: the whole free tangent's upper
+                                 triangle's nonzeros (ps_pd_set_share) */
   ps_arm_halo arm_halo;       /* a share's, where its arms are judged by
                                  their owners (model.arm_halo points here) */
 } ps_pd;
@@ -114,7 +116,8 @@ void ps_pd_coupling(ps_pd *pd, const double *du, double *out);
 ps_int ps_pd_count_yielding(const ps_pd *pd);
 
 /* nonzeros of the free tangent's upper triangle (0 before the first
- * assembly) */
+ * assembly); a share's: the whole model's (its pattern's, counted over
+ * the processes when the share was made) */
 double ps_pd_nnz_tangent(const ps_pd *pd);
 
 #endif

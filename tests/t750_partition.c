@@ -10,7 +10,11 @@
  *     part, with the same reference lengths and weights bit for bit, a
  *     crack included; every global arm is in the part of each of its
  *     ends;
- *  4. bad requests refused.
+ *  4. a part's ghosts out to 1 and 2 hops (ps_partition_ghost_hops) are
+ *     exactly the particles of other parts that a breadth-first search
+ *     over the crack-free global network reaches in as many arms, and
+ *     among the ghosts within hops alpha max h (fewer where sizes vary);
+ *  5. bad requests refused.
  * Clouds: jittered boxes with sizes varying 3x (tests/geomnet.c), 2D with
  * a crack segment and 3D, split into 1, 2, 3, 5 and 8 parts. */
 #include <math.h>
@@ -55,12 +59,45 @@ static arm_rec *records(const ps_network *net, const ps_int *glob, ps_int n_owne
   return r;
 }
 
+/* the particles of parts other than p that a breadth-first search over
+ * net reaches from part p's particles in at most `hops` arms, in
+ * increasing number, into *out; returns their count */
+static ps_int bfs_ghosts(const ps_network *net, const ps_partition *pt, int p, int hops,
+                         ps_int **out) {
+  ps_int n = net->n_particle, *dist = malloc((size_t)n * sizeof *dist);
+  ps_int *queue = malloc((size_t)n * sizeof *queue), q0 = 0, q1 = 0, count = 0;
+  for (ps_int a = 0; a < n; a++) dist[a] = -1;
+  for (ps_int j = pt->start[p]; j < pt->start[p + 1]; j++) {
+    dist[pt->order[j]] = 0;
+    queue[q1++] = pt->order[j];
+  }
+  while (q0 < q1) {
+    ps_int a = queue[q0++];
+    if (dist[a] == hops) continue;
+    for (ps_int k = net->fam_ptr[a]; k < net->fam_ptr[a + 1]; k++) {
+      ps_int i = net->fam_arm[k], b = net->a[i] == a ? net->b[i] : net->a[i];
+      if (dist[b] < 0) {
+        dist[b] = dist[a] + 1;
+        queue[q1++] = b;
+      }
+    }
+  }
+  *out = malloc(((size_t)n + 1) * sizeof **out);
+  for (ps_int b = 0; b < n; b++)
+    if (dist[b] > 0) (*out)[count++] = b;
+  free(dist);
+  free(queue);
+  return count;
+}
+
 static void check_cloud(const char *name, const ps_particles *P, double alpha,
                         const ps_crack *cracks, int n_cracks, ps_ctx *ctx) {
   ps_kernel K;
   if (ps_kernel_init(&K, P->dim, 2, alpha, ctx)) tg_die("ps_kernel_init", ctx);
   ps_network net;
   if (ps_network_build(&net, P, &K, cracks, n_cracks, ctx)) tg_die("ps_network_build", ctx);
+  ps_network open; /* without the cracks: the hops' reach */
+  if (ps_network_build(&open, P, &K, NULL, 0, ctx)) tg_die("ps_network_build", ctx);
   ps_int n_all;
   arm_rec *all = records(&net, NULL, -1, &n_all);
   double hmax = 0;
@@ -92,6 +129,31 @@ static void check_cloud(const char *name, const ps_particles *P, double alpha,
     ps_partition_free(&again);
 
     ps_int bad_ghosts = 0, bad_arms = 0, sum_arms = 0, total_ghosts = 0;
+    /* 4. ghosts by hops: the network's breadth-first search, among the
+     * ghosts within hops alpha max h */
+    ps_int bad_hops = 0, n_hops[2] = {0, 0}, n_reach[2] = {0, 0};
+    for (int p = 0; p < parts; p++)
+      for (int hops = 1; hops <= 2; hops++) {
+        ps_int *gh, ngh, *gb, ngb, *ge, nge;
+        if (ps_partition_ghost_hops(&pt, P, p, hops, alpha, &gh, &ngh, ctx) ||
+            ps_partition_ghosts(&pt, P, p, hops * reach, &ge, &nge, ctx))
+          tg_die("ghosts", ctx);
+        ngb = bfs_ghosts(&open, &pt, p, hops, &gb);
+        bad_hops += ngh != ngb || (ngh && memcmp(gh, gb, (size_t)ngh * sizeof *gh));
+        for (ps_int i = 0, j = 0; i < ngh; i++) { /* gh within ge (both increasing) */
+          while (j < nge && ge[j] < gh[i]) j++;
+          bad_hops += j == nge || ge[j] != gh[i];
+        }
+        n_hops[hops - 1] += ngh;
+        n_reach[hops - 1] += nge;
+        free(gh);
+        free(gb);
+        free(ge);
+      }
+    ps_check(bad_hops == 0, "%s, %d parts: ghosts by hops = the network's breadth-first search, "
+             "within the reach (1 hop %lld, 2 hops %lld ghosts; by the reach %lld, %lld)", name,
+             parts, (long long)n_hops[0], (long long)n_hops[1], (long long)n_reach[0],
+             (long long)n_reach[1]);
     ps_int *in_parts = calloc((size_t)n_all + 1, sizeof *in_parts);
     for (int p = 0; p < parts; p++) {
       /* 2. ghosts against brute force */
@@ -153,6 +215,7 @@ static void check_cloud(const char *name, const ps_particles *P, double alpha,
   }
   free(all);
   ps_network_free(&net);
+  ps_network_free(&open);
 }
 
 int main(void) {
@@ -204,7 +267,7 @@ int main(void) {
     ps_partition_free(&slabs);
   }
 
-  /* 4. bad requests */
+  /* 5. bad requests */
   ps_partition pt;
   ps_check(ps_partition_curve(&pt, &P, 0, &ctx) == PS_ERR_INPUT,
            "0 parts refused: %s", ctx.msg);
@@ -214,6 +277,9 @@ int main(void) {
   ps_int *g, ng;
   ps_check(ps_partition_ghosts(&pt, &P, 2, 1e-3, &g, &ng, &ctx) == PS_ERR_INPUT,
            "ghosts of a part that does not exist refused: %s", ctx.msg);
+  ps_check(ps_partition_ghost_hops(&pt, &P, 0, -1, 3.5, &g, &ng, &ctx) == PS_ERR_INPUT &&
+               ps_partition_ghost_hops(&pt, &P, 0, 1, 0.0, &g, &ng, &ctx) == PS_ERR_INPUT,
+           "ghosts by hops: hops < 0 and alpha 0 refused: %s", ctx.msg);
   ps_partition_free(&pt);
   ps_particles_free(&P);
   return ps_check_summary();

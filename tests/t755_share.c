@@ -86,7 +86,7 @@ static void result_free(result *r) {
   free(r->Kx);
 }
 
-/* the 1..parts shares of the whole problem pb with ghosts out to reach,
+/* the 1..parts shares of the whole problem pb with ghosts out to hops arms,
  * each evaluated at u (K times x): the largest differences from `whole` at
  * owned dofs and the sums of the shares' energies, dissipations, counts */
 typedef struct share_sum {
@@ -95,7 +95,7 @@ typedef struct share_sum {
 } share_sum;
 
 static share_sum shares(const ps_particles *P, const ps_problem *pb, const ps_model_type *type,
-                        double reach, int parts, const double *u, const double *x,
+                        int hops, int parts, const double *u, const double *x,
                         const result *whole, const ps_model *whole_model, ps_ctx *ctx) {
   const int d = P->dim;
   share_sum r = {0};
@@ -103,7 +103,7 @@ static share_sum shares(const ps_particles *P, const ps_problem *pb, const ps_mo
   if (ps_partition_curve(&pt, P, parts, ctx)) die_ctx("ps_partition_curve", ctx);
   for (int p = 0; p < parts; p++) {
     ps_share sh;
-    if (ps_share_build(&sh, P, &pt, p, reach, &pb->kernel, pb->cracks, pb->n_cracks, ctx))
+    if (ps_share_build(&sh, P, &pt, p, hops, &pb->kernel, pb->cracks, pb->n_cracks, ctx))
       die_ctx("ps_share_build", ctx);
     ps_int nl = sh.P.n;
     double *ul = malloc((size_t)(nl * d) * sizeof *ul), *xl = malloc((size_t)(nl * d) * sizeof *xl);
@@ -178,8 +178,6 @@ static void check_case(const char *name, const char *extra, double strain, int w
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
   gsl_rng_set(rng, 755);
   double *u = malloc((size_t)nd * sizeof *u), *x = malloc((size_t)nd * sizeof *x);
-  double hmax = 0;
-  for (ps_int a = 0; a < P->n; a++) hmax = fmax(hmax, P->h[a]);
   for (ps_int a = 0; a < P->n; a++)
     for (int k = 0; k < d; k++) {
       const double *X = &P->x[a * d];
@@ -200,7 +198,7 @@ static void check_case(const char *name, const char *extra, double strain, int w
            h, want_h);
   const int parts_list[] = {1, 2, 3, 5};
   for (size_t t = 0; t < sizeof parts_list / sizeof *parts_list; t++) {
-    share_sum r = shares(P, &pb, type, h * pb.kernel.alpha * hmax, parts_list[t], u, x, &whole,
+    share_sum r = shares(P, &pb, type, h, parts_list[t], u, x, &whole,
                          &pdw->model, &ctx);
     int parts = parts_list[t];
     if (parts == 1 || parts == 5)
@@ -225,7 +223,7 @@ static void check_case(const char *name, const char *extra, double strain, int w
              (long long)whole.past, (long long)pb.net.n_arm);
   }
   if (h > 1) { /* one horizon less: the ghosts matter */
-    share_sum r = shares(P, &pb, type, (h - 1) * pb.kernel.alpha * hmax, 5, u, x, &whole,
+    share_sum r = shares(P, &pb, type, h - 1, 5, u, x, &whole,
                          &pdw->model, &ctx);
     ps_check(r.df > 1e-9 * fmax_, "%s (%s), 5 parts, ghosts out to %d horizons only: forces "
              "off by %.1e of the largest", name, m, h - 1, r.df / fmax_);

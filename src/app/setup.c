@@ -15,10 +15,7 @@ int ps_problem_share(const ps_problem *pb, const ps_partition *pt, int part, ps_
   /* J's displacement gradients at the ghost ends of the arms across its
    * contours need those ghosts' whole families: two horizons */
   if (h < 2 && pb->cs.output.n_j_rings > 0) h = 2;
-  double hmax = 0;
-  for (ps_int a = 0; a < pb->P.n; a++) hmax = fmax(hmax, pb->P.h[a]);
-  return ps_share_build(sh, &pb->P, pt, part, h * pb->kernel.alpha * hmax, &pb->kernel,
-                        pb->cracks, pb->n_cracks, ctx);
+  return ps_share_build(sh, &pb->P, pt, part, h, &pb->kernel, pb->cracks, pb->n_cracks, ctx);
 }
 
 void ps_problem_free(ps_problem *pb) {

@@ -118,6 +118,71 @@ int ps_partition_ghosts(const ps_partition *pt, const ps_particles *P, int part,
   return status;
 }
 
+int ps_partition_ghost_hops(const ps_partition *pt, const ps_particles *P, int part, int hops,
+                            double alpha, ps_int **ghost, ps_int *n_ghost, ps_ctx *ctx) {
+  *ghost = NULL;
+  *n_ghost = 0;
+  if (part < 0 || part >= pt->parts || hops < 0 || !(alpha > 0))
+    return ps_error(ctx, PS_ERR_INPUT, "ghosts of part %d of %d, %d hops, alpha %g", part,
+                    pt->parts, hops, alpha);
+  const int dim = P->dim;
+  double hmax = 0.0;
+  for (ps_int a = 0; a < P->n; a++) hmax = fmax(hmax, P->h[a]);
+  ps_kdtree *tree = NULL;
+  PS_CHECK(ps_kdtree_build(&tree, P->x, P->n, dim, ctx));
+  unsigned char *mark = ps_calloc((size_t)P->n + 1, 1, ctx);
+  ps_int *layer = ps_calloc((size_t)P->n + 1, sizeof *layer, ctx); /* this hop's, then the
+                                                                      next's after it */
+  ps_int *found = NULL, cap = 0, count = 0, n_all = 0;
+  int status = mark && layer ? PS_OK : PS_ERR_NOMEM;
+  /* layer[l0, l1): the particles first reached at the last hop */
+  ps_int l0 = 0, l1 = 0;
+  for (ps_int j = pt->start[part]; status == PS_OK && j < pt->start[part + 1]; j++) {
+    mark[pt->order[j]] = 1;
+    layer[l1++] = pt->order[j];
+  }
+  for (int hop = 0; status == PS_OK && hop < hops; hop++) {
+    ps_int end = l1;
+    for (ps_int j = l0; status == PS_OK && j < end; j++) {
+      ps_int a = layer[j];
+      const double *xa = &P->x[a * dim];
+      double ra = alpha * P->h[a];
+      status = ps_kdtree_radius(tree, xa, alpha * hmax, &found, &cap, &count, ctx);
+      for (ps_int i = 0; status == PS_OK && i < count; i++) {
+        ps_int b = found[i];
+        if (mark[b]) continue;
+        double d2 = 0.0, rb = alpha * P->h[b];
+        for (int k = 0; k < dim; k++) {
+          double d = P->x[b * dim + k] - xa[k];
+          d2 += d * d;
+        }
+        if (d2 < ra * ra || d2 < rb * rb) { /* an arm of the network (either end's query) */
+          mark[b] = 1;
+          layer[l1++] = b;
+        }
+      }
+    }
+    l0 = end;
+  }
+  ps_int *g = NULL;
+  if (status == PS_OK) {
+    for (ps_int b = 0; b < P->n; b++) n_all += mark[b] && pt->part_of[b] != part;
+    if (!(g = ps_calloc((size_t)n_all + 1, sizeof *g, ctx))) status = PS_ERR_NOMEM;
+  }
+  if (status == PS_OK) {
+    ps_int w = 0;
+    for (ps_int b = 0; b < P->n; b++)
+      if (mark[b] && pt->part_of[b] != part) g[w++] = b;
+    *ghost = g;
+    *n_ghost = n_all;
+  }
+  free(found);
+  free(mark);
+  free(layer);
+  ps_kdtree_free(&tree);
+  return status;
+}
+
 void ps_partition_free(ps_partition *pt) {
   free(pt->order);
   free(pt->start);

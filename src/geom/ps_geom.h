@@ -165,6 +165,19 @@ int ps_partition_curve(ps_partition *pt, const ps_particles *P, int parts, ps_ct
  * PS_OK, PS_ERR_INPUT (part out of range, reach not >= 0) or PS_ERR_NOMEM. */
 int ps_partition_ghosts(const ps_partition *pt, const ps_particles *P, int part, double reach,
                         ps_int **ghost, ps_int *n_ghost, ps_ctx *ctx);
+/* The ghosts of part `part` out to `hops` arms of a network whose arms
+ * are r < alpha max(h_a, h_b) (ps_network_build, cracks aside): the
+ * particles of other parts reached from the part's in at most hops such
+ * steps, in increasing number, into *ghost (allocated here, *n_ghost of
+ * them). The same arm test as the network's (squared distances against
+ * (alpha h)^2 of either end), so on a cloud without cracks they are the
+ * network's hops exactly; a crack only removes arms, so it leaves a
+ * superset. Where the sizes vary this is far fewer particles than
+ * ps_partition_ghosts at hops alpha max h (the paper's disk on 2 parts:
+ * doc/parallel.md). Returns PS_OK, PS_ERR_INPUT (part out of range, hops
+ * < 0, alpha not > 0) or PS_ERR_NOMEM. */
+int ps_partition_ghost_hops(const ps_partition *pt, const ps_particles *P, int part, int hops,
+                            double alpha, ps_int **ghost, ps_int *n_ghost, ps_ctx *ctx);
 void ps_partition_free(ps_partition *pt);
 
 /* ---- k-d tree over a cloud (static, built once) ---- */

@@ -118,7 +118,7 @@ void ps_network_free(ps_network *net);
 
 /* The network of one part of a cloud (doc/design-distributed.md): p holds
  * the part's n_owned particles first, then its ghosts
- * (ps_partition_ghosts, reach alpha max h). Every arm with an owned end is
+ * (ps_partition_ghost_hops, at least one hop). Every arm with an owned end is
  * the global network's arm (the same r0 and weights, ends in p's
  * numbering); arms between two ghosts are those the ghosts have among
  * themselves. As ps_network_build, except that only the owned particles
@@ -145,13 +145,13 @@ typedef struct ps_share {
 } ps_share;
 
 /* The share of part `part` of pt over the whole cloud P with ghosts out
- * to reach (m): ps_model_share_horizons times alpha max h (1 to 3
- * horizons by the model; ps_problem_share computes it), and its network
- * with the kernel and cracks of the whole one. Returns
- * PS_OK, PS_ERR_INPUT (part out of range, reach not >= 0, the network's
+ * to `hops` arms (ps_partition_ghost_hops with the kernel's alpha;
+ * ps_model_share_horizons, 1 to 3 by the model: ps_problem_share), and
+ * its network with the kernel and cracks of the whole one. Returns
+ * PS_OK, PS_ERR_INPUT (part out of range, hops < 0, the network's
  * errors) or PS_ERR_NOMEM (*sh then empty). */
 int ps_share_build(ps_share *sh, const ps_particles *P, const ps_partition *pt, int part,
-                   double reach, const ps_kernel *K, const ps_crack *cracks, int n_cracks,
+                   int hops, const ps_kernel *K, const ps_crack *cracks, int n_cracks,
                    ps_ctx *ctx);
 void ps_share_free(ps_share *sh);
 /* The rows of the whole system (dim per particle, particles in pt's curve

@@ -17,12 +17,12 @@ void ps_share_free(ps_share *sh) {
 }
 
 int ps_share_build(ps_share *sh, const ps_particles *P, const ps_partition *pt, int part,
-                   double reach, const ps_kernel *K, const ps_crack *cracks, int n_cracks,
+                   int hops, const ps_kernel *K, const ps_crack *cracks, int n_cracks,
                    ps_ctx *ctx) {
   int status = PS_OK;
   ps_int *ghost = NULL, n_ghost = 0;
   memset(sh, 0, sizeof *sh);
-  PS_CHECK(ps_partition_ghosts(pt, P, part, reach, &ghost, &n_ghost, ctx));
+  PS_CHECK(ps_partition_ghost_hops(pt, P, part, hops, K->alpha, &ghost, &n_ghost, ctx));
   sh->part = part;
   sh->n_owned = pt->start[part + 1] - pt->start[part];
   ps_int n = sh->n_owned + n_ghost;

@@ -99,28 +99,6 @@ static int history_open(run_state *r, ps_ctx *ctx) {
   return status;
 }
 
-/* the step of a field file of ours (particles_NNNN.vtu, arms_NNNN.vtu;
- * a distributed run's pieces particles_NNNN_pR.vtu and the
- * particles_NNNN.pvtu that joins them), or -1; *listed = 1 for the file
- * the .pvd series lists (.vtu of one process, .pvtu of several) */
-static long vtu_step(const char *name, int *listed) {
-  const char *p = !strncmp(name, "particles_", 10) ? name + 10
-                  : !strncmp(name, "arms_", 5)      ? name + 5
-                                                    : NULL;
-  char *end = NULL;
-  *listed = 0;
-  if (!p || *p < '0' || *p > '9') return -1;
-  long step = strtol(p, &end, 10);
-  if (!end) return -1;
-  if (!strcmp(end, ".vtu") || !strcmp(end, ".pvtu")) {
-    *listed = 1;
-    return step;
-  }
-  if (strncmp(end, "_p", 2) != 0 || end[2] < '0' || end[2] > '9') return -1;
-  strtol(end + 2, &end, 10);
-  return !strcmp(end, ".vtu") ? step : -1;
-}
-
 static int step_order(const void *a, const void *b) {
   long x = *(const long *)a, y = *(const long *)b;
   return x < y ? -1 : x > y;
@@ -168,7 +146,7 @@ static int restart_fields(run_state *r, int in_place, ps_ctx *ctx) {
   r->series.pvtu = r->comm != NULL;
   while (status == PS_OK && (e = readdir(d))) {
     int listed;
-    long step = vtu_step(e->d_name, &listed);
+    long step = ps_outdir_field_step(e->d_name, &listed);
     if (step < 0) continue;
     snprintf(src, sizeof src, "%s/%s", r->from, e->d_name);
     snprintf(dst, sizeof dst, "%s/%s", r->staging, e->d_name);

@@ -80,6 +80,21 @@ int ps_partition_curve(ps_partition *pt, const ps_particles *P, int parts, ps_ct
   return PS_OK;
 }
 
+/* the marked particles of parts other than `part`, in increasing number,
+ * into *ghost (allocated here) and *n_ghost. PS_OK or PS_ERR_NOMEM. */
+static int marked_ghosts(const ps_partition *pt, int part, const unsigned char *mark,
+                         ps_int **ghost, ps_int *n_ghost, ps_ctx *ctx) {
+  ps_int n = 0, w = 0;
+  for (ps_int b = 0; b < pt->n; b++) n += mark[b] && pt->part_of[b] != part;
+  ps_int *g = ps_calloc((size_t)n + 1, sizeof *g, ctx);
+  if (!g) return PS_ERR_NOMEM;
+  for (ps_int b = 0; b < pt->n; b++)
+    if (mark[b] && pt->part_of[b] != part) g[w++] = b;
+  *ghost = g;
+  *n_ghost = n;
+  return PS_OK;
+}
+
 int ps_partition_ghosts(const ps_partition *pt, const ps_particles *P, int part, double reach,
                         ps_int **ghost, ps_int *n_ghost, ps_ctx *ctx) {
   *ghost = NULL;
@@ -90,28 +105,14 @@ int ps_partition_ghosts(const ps_partition *pt, const ps_particles *P, int part,
   ps_kdtree *tree = NULL;
   PS_CHECK(ps_kdtree_build(&tree, P->x, P->n, P->dim, ctx));
   unsigned char *mark = ps_calloc((size_t)P->n + 1, 1, ctx);
-  ps_int *found = NULL, cap = 0, count = 0, n = 0;
+  ps_int *found = NULL, cap = 0, count = 0;
   int status = mark ? PS_OK : PS_ERR_NOMEM;
   for (ps_int j = pt->start[part]; j < pt->start[part + 1] && status == PS_OK; j++) {
     ps_int a = pt->order[j];
     status = ps_kdtree_radius(tree, &P->x[a * P->dim], reach, &found, &cap, &count, ctx);
-    for (ps_int i = 0; status == PS_OK && i < count; i++) {
-      ps_int b = found[i];
-      if (pt->part_of[b] != part && !mark[b]) {
-        mark[b] = 1;
-        n++;
-      }
-    }
+    for (ps_int i = 0; status == PS_OK && i < count; i++) mark[found[i]] = 1;
   }
-  ps_int *g = status == PS_OK ? ps_calloc((size_t)n + 1, sizeof *g, ctx) : NULL;
-  if (status == PS_OK && !g) status = PS_ERR_NOMEM;
-  if (status == PS_OK) {
-    ps_int w = 0;
-    for (ps_int b = 0; b < P->n; b++)
-      if (mark[b]) g[w++] = b;
-    *ghost = g;
-    *n_ghost = n;
-  }
+  if (status == PS_OK) status = marked_ghosts(pt, part, mark, ghost, n_ghost, ctx);
   free(found);
   free(mark);
   ps_kdtree_free(&tree);
@@ -133,7 +134,7 @@ int ps_partition_ghost_hops(const ps_partition *pt, const ps_particles *P, int p
   unsigned char *mark = ps_calloc((size_t)P->n + 1, 1, ctx);
   ps_int *layer = ps_calloc((size_t)P->n + 1, sizeof *layer, ctx); /* this hop's, then the
                                                                       next's after it */
-  ps_int *found = NULL, cap = 0, count = 0, n_all = 0;
+  ps_int *found = NULL, cap = 0, count = 0;
   int status = mark && layer ? PS_OK : PS_ERR_NOMEM;
   /* layer[l0, l1): the particles first reached at the last hop */
   ps_int l0 = 0, l1 = 0;
@@ -164,18 +165,7 @@ int ps_partition_ghost_hops(const ps_partition *pt, const ps_particles *P, int p
     }
     l0 = end;
   }
-  ps_int *g = NULL;
-  if (status == PS_OK) {
-    for (ps_int b = 0; b < P->n; b++) n_all += mark[b] && pt->part_of[b] != part;
-    if (!(g = ps_calloc((size_t)n_all + 1, sizeof *g, ctx))) status = PS_ERR_NOMEM;
-  }
-  if (status == PS_OK) {
-    ps_int w = 0;
-    for (ps_int b = 0; b < P->n; b++)
-      if (mark[b] && pt->part_of[b] != part) g[w++] = b;
-    *ghost = g;
-    *n_ghost = n_all;
-  }
+  if (status == PS_OK) status = marked_ghosts(pt, part, mark, ghost, n_ghost, ctx);
   free(found);
   free(mark);
   free(layer);

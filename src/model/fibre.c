@@ -26,7 +26,6 @@
 
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
 
 /* the half-arm weights of arm i: a's side (A_ab), b's side (A_ba), the
  * corrected ones when the model has them */
@@ -307,10 +306,8 @@ static int fibre_correct(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
 }
 
 static int fibre_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
-  if (ps_moduli_correction_on(&m->mat) && m->given && m->given->arm_side) { /* a share's */
-    size_t n = (size_t)(2 * m->net->n_arm);
-    if (!(m->arm_side = ps_calloc(n + 1, sizeof *m->arm_side, ctx))) return PS_ERR_NOMEM;
-    memcpy(m->arm_side, m->given->arm_side, n * sizeof *m->arm_side);
+  if (ps_moduli_correction_on(&m->mat) && m->given) { /* a share's: the whole model's */
+    PS_CHECK(ps_model_take_given(m, ctx));
   } else if (ps_moduli_correction_on(&m->mat)) {
     PS_CHECK(fibre_correct(m, P, ctx));
   }

@@ -273,6 +273,17 @@ int ps_model_share_constants(const ps_model *whole, const ps_network *net,
   return PS_OK;
 }
 
+int ps_model_take_given(ps_model *m, ps_ctx *ctx) {
+  const ps_int na = m->net->n_arm;
+  if (m->given->arm_k && m->arm_k)
+    memcpy(m->arm_k, m->given->arm_k, (size_t)na * sizeof *m->arm_k);
+  if (!m->given->arm_side) return PS_OK;
+  if (!m->arm_side && !(m->arm_side = ps_calloc((size_t)(2 * na) + 1, sizeof *m->arm_side, ctx)))
+    return PS_ERR_NOMEM;
+  memcpy(m->arm_side, m->given->arm_side, (size_t)(2 * na) * sizeof *m->arm_side);
+  return PS_OK;
+}
+
 int ps_model_create(ps_model *m, const ps_model_type *type,
                     const ps_particles *P, const ps_network *net,
                     const ps_material *mat, ps_ctx *ctx) {

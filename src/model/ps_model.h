@@ -583,6 +583,10 @@ double ps_model_cloud_reach(const ps_model_type *type, const ps_material *mat,
 int ps_model_create(ps_model *m, const ps_model_type *type,
                     const ps_particles *P, const ps_network *net,
                     const ps_material *mat, ps_ctx *ctx);
+/* For a type's prepare: the constants of m->given into the model, arm_k
+ * over m->arm_k (allocated by prepare) when given has them, arm_side into
+ * m->arm_side (allocated here when NULL). Returns PS_OK or PS_ERR_NOMEM. */
+int ps_model_take_given(ps_model *m, ps_ctx *ctx);
 /* ps_model_create with the constants of `given` taken instead of
  * computed (NULL: ps_model_create), where the model computes them
  * (ps_model_whole_constants). Same returns. */

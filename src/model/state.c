@@ -44,7 +44,6 @@
 #include <gsl/gsl_math.h>
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
 
 typedef struct {
   double a, b, d;
@@ -156,12 +155,8 @@ static int state_prepare(ps_model *m, const ps_particles *P, ps_ctx *ctx) {
     }
   }
   for (ps_int a = 0; a < net->n_particle; a++) m->R[a] = P->volume[a]; /* V_a */
-  if (ps_moduli_correction_on(mat) && m->given && m->given->arm_k && m->given->arm_side) {
-    /* a share's: the whole model's corrected constants */
-    if (!m->arm_side && !(m->arm_side = ps_calloc((size_t)(2 * na), sizeof *m->arm_side, ctx)))
-      return PS_ERR_NOMEM;
-    memcpy(m->arm_k, m->given->arm_k, (size_t)na * sizeof *m->arm_k);
-    memcpy(m->arm_side, m->given->arm_side, (size_t)(2 * na) * sizeof *m->arm_side);
+  if (ps_moduli_correction_on(mat) && m->given) { /* a share's: the whole model's */
+    PS_CHECK(ps_model_take_given(m, ctx));
   } else if (ps_moduli_correction_on(mat)) {
     PS_CHECK(state_correct(m, P, ctx));
   }

@@ -12,6 +12,7 @@
 #include <ftw.h>
 #include <signal.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/file.h>
 #include <sys/stat.h>
@@ -59,16 +60,21 @@ static int numbered(const char *s, const char *prefix, const char *suffix) {
   return d == n - x;
 }
 
-/* 1 when s is prefix, digits, "_p", digits, ".vtu": a distributed run's
- * piece of a field file (particles_0010_p1.vtu) */
-static int piece(const char *s, const char *prefix) {
-  size_t p = strlen(prefix), d = p;
-  if (strncmp(s, prefix, p)) return 0;
-  while (s[d] >= '0' && s[d] <= '9') d++;
-  if (d == p || strncmp(s + d, "_p", 2)) return 0;
-  size_t r = d += 2;
-  while (s[d] >= '0' && s[d] <= '9') d++;
-  return d > r && !strcmp(s + d, ".vtu");
+long ps_outdir_field_step(const char *name, int *listed) {
+  const char *p = !strncmp(name, "particles_", 10) ? name + 10
+                  : !strncmp(name, "arms_", 5)      ? name + 5
+                                                    : NULL;
+  char *end = NULL;
+  if (listed) *listed = 0;
+  if (!p || *p < '0' || *p > '9') return -1;
+  long step = strtol(p, &end, 10);
+  if (!strcmp(end, ".vtu") || !strcmp(end, ".pvtu")) {
+    if (listed) *listed = 1;
+    return step;
+  }
+  if (strncmp(end, "_p", 2) != 0 || end[2] < '0' || end[2] > '9') return -1;
+  strtol(end + 2, &end, 10);
+  return !strcmp(end, ".vtu") ? step : -1;
 }
 
 /* 1 when name is a file peristatic writes into an output folder (a run's
@@ -80,18 +86,18 @@ static int our_file(const char *name, int tmp_ok) {
                                       "path.png",       "particles.pvd", "arms.pvd",
                                       "checkpoint.bin", NULL};
   /* NAME_N.SUFFIX; .vtk: the legacy field files of earlier versions;
-   * .pvtu: a distributed run's, which joins its pieces;
-   * checkpoint_pR.bin: a distributed run's process R's checkpoint */
-  static const char *const numbered_names[][2] = {
-      {"particles_", ".vtu"}, {"arms_", ".vtu"}, {"particles_", ".vtk"},
-      {"arms_", ".vtk"},      {"job-", ".log"}, {"particles_", ".pvtu"},
-      {"arms_", ".pvtu"}, {"checkpoint_p", ".bin"}};
+   * checkpoint_pR.bin: a distributed run's process R's checkpoint (the
+   * field files: ps_outdir_field_step) */
+  static const char *const numbered_names[][2] = {{"particles_", ".vtk"},
+                                                  {"arms_", ".vtk"},
+                                                  {"job-", ".log"},
+                                                  {"checkpoint_p", ".bin"}};
   size_t n = strlen(name);
   for (int i = 0; fixed[i]; i++)
     if (!strcmp(name, fixed[i])) return 1;
   for (size_t i = 0; i < sizeof numbered_names / sizeof numbered_names[0]; i++)
     if (numbered(name, numbered_names[i][0], numbered_names[i][1])) return 1;
-  if (piece(name, "particles_") || piece(name, "arms_")) return 1;
+  if (ps_outdir_field_step(name, NULL) >= 0) return 1;
   if (tmp_ok && n > 4 && !strcmp(name + n - 4, ".tmp")) {
     char base[256];
     if (n - 4 >= sizeof base) return 0;

@@ -242,6 +242,13 @@ void ps_state_list_free(ps_state_list *l);
  * anything else, described in why (e.g. "is a file, not a folder", or
  * "holds files peristatic did not write (a, b, c, ...)"). */
 int ps_outdir_owned(const char *path, char *why, size_t len);
+/* The step of a field file of an output folder: particles_NNNN.vtu,
+ * arms_NNNN.vtu, a distributed run's pieces particles_NNNN_pR.vtu and
+ * arms_NNNN_pR.vtu and the particles_NNNN.pvtu and arms_NNNN.pvtu that
+ * join them; -1 for any other name. With listed, *listed = 1 for the
+ * files the .pvd series list (.vtu of one process, .pvtu of several), 0
+ * for the pieces. */
+long ps_outdir_field_step(const char *name, int *listed);
 /* Make the output folder dir ready for a writer (the caller holds its
  * lock): when dir is missing, or an empty folder, and dir.old (ours)
  * holds the previous results, a kill hit the commit's rename window:
